@@ -63,10 +63,15 @@ class PositioningNoise:
 
 @dataclass(frozen=True)
 class OdometryNoise:
-    """Standard deviations of odometry increments, applied only while moving."""
+    """Odometry noise, applied only while moving, so that it accumulates with motion.
 
-    sigma_translation: float = 0.0  # m per step of translation
-    sigma_rotation: float = 0.0  # rad per step of rotation
+    Each step's measured increment is the true one plus Gaussian noise whose
+    standard deviation is ``sigma_translation`` per metre travelled and
+    ``sigma_rotation`` per radian turned (so the result does not depend on dt).
+    """
+
+    sigma_translation: float = 0.0  # m of noise per m travelled
+    sigma_rotation: float = 0.0  # rad of noise per rad turned
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,18 @@
+"""Drive straight to the goal at full speed, turning on the spot first if needed.
+
+The paper's "simple algorithm to drive the robots to their goals" (section 4).
+It ignores obstacles: see ``wall_aware`` for one that does not.
+"""
+
+import numpy as np
+
+
+def step(robot):
+    """Head for the goal; full speed when facing it, slower the more it is off."""
+    if robot.goal is None:
+        return 0.0, robot.heading
+    x, y, theta = robot.pose
+    gx, gy = robot.goal
+    heading = np.arctan2(gy - y, gx - x)
+    alignment = np.cos(heading - theta)
+    return robot.type.max_speed * max(alignment, 0.0), heading

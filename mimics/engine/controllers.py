@@ -1,0 +1,224 @@
+"""Running user algorithms: the contract, timing, and containment of their failures.
+
+An algorithm is any of:
+
+* a function ``step(robot) -> (speed_ref, heading_ref)``, with an optional
+  ``reset(robot)`` beside it in the same module, called once per robot before
+  the first step;
+* a class with ``step(self, robot)`` (and optional ``reset(self, robot)``):
+  one instance per robot, so ``self`` is that robot's private memory;
+* a team function ``team_step(team) -> (speed_refs, heading_refs)`` (arrays
+  over ``team.ids``), or a class with ``team_step``, for vectorised teams.
+
+``speed_ref`` is in m/s, ``heading_ref`` an absolute heading in radians. Each
+per-robot call is timed on its own, one robot after another.
+"""
+
+from __future__ import annotations
+
+import inspect
+from abc import ABC, abstractmethod
+import math
+import time
+import traceback
+from dataclasses import dataclass
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mimics.engine.robot_view import Robot, Team
+from mimics.world.errors import AlgorithmError
+
+if TYPE_CHECKING:
+    from mimics.engine.simulation import Simulation
+
+
+@dataclass(frozen=True)
+class UserFailure:
+    """An exception or invalid output of user code."""
+
+    robot: int  # -1 when a team call failed as a whole
+    time: float
+    kind: str  # exception class name, or "InvalidOutput"
+    message: str
+    traceback: str
+
+
+class Controller(ABC):
+    """Drives a set of robots from an algorithm; subclasses wrap each calling form."""
+
+    name: str = "algorithm"
+    is_team: bool = False
+
+    def reset(self, sim: Simulation) -> list[UserFailure]:
+        """Prepare for a new run; returns failures of user reset hooks."""
+        return []
+
+    @abstractmethod
+    def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
+        """Write references for robots ``ids`` into ``sim.state.reference``."""
+
+
+def _failure_from_exception(robot: int, now: float, exc: BaseException) -> UserFailure:
+    tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
+    return UserFailure(robot, now, type(exc).__name__, str(exc) or type(exc).__name__, tb)
+
+
+def _invalid(robot: int, now: float, message: str) -> UserFailure:
+    return UserFailure(robot, now, "InvalidOutput", message, "")
+
+
+def _as_references(output: Any, robot: int, now: float) -> tuple[float, float] | UserFailure:
+    """Check a per-robot return value: two finite numbers."""
+    try:
+        speed, heading = output
+        speed, heading = float(speed), float(heading)
+    except (TypeError, ValueError):
+        return _invalid(robot, now, f"robot {robot}: step() must return (speed_ref, heading_ref),"
+                                    f" two numbers; got {output!r}")
+    if not (math.isfinite(speed) and math.isfinite(heading)):
+        return _invalid(robot, now, f"robot {robot}: step() returned a non-finite reference "
+                                    f"(speed_ref={speed}, heading_ref={heading})")
+    return speed, heading
+
+
+class PerRobotController(Controller):
+    """Calls ``step(robot)`` for each robot in turn, each call timed on its own."""
+
+    def __init__(self, name: str, step: Any = None, reset: Any = None,
+                 factory: type | None = None) -> None:
+        self.name = name
+        self._step_fn = step
+        self._reset_fn = reset
+        self._factory = factory
+        self._instances: list[Any] = []
+        self._robots: list[Robot] = []
+
+    def reset(self, sim: Simulation) -> list[UserFailure]:
+        failures = []
+        self._robots = [Robot(sim, i) for i in range(sim.state.n)]
+        self._instances = []
+        for robot in self._robots:
+            try:
+                instance = self._factory() if self._factory is not None else None
+                self._instances.append(instance)
+                hook = getattr(instance, "reset", None) if instance is not None else self._reset_fn
+                if hook is not None:
+                    hook(robot)
+            except Exception as exc:  # user code: contain everything it raises
+                self._instances.append(None)
+                failures.append(_failure_from_exception(robot.id, sim.state.time, exc))
+        return failures
+
+    def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
+        failures = []
+        state = sim.state
+        now = state.time
+        clock = time.perf_counter
+        for i in ids.tolist():
+            instance = self._instances[i]
+            step = instance.step if instance is not None else self._step_fn
+            robot = self._robots[i]
+            start = clock()
+            try:
+                output = step(robot)
+            except Exception as exc:  # user code: contain everything it raises
+                state.user_time[i] = clock() - start
+                failures.append(_failure_from_exception(i, now, exc))
+                continue
+            state.user_time[i] = clock() - start
+            refs = _as_references(output, i, now)
+            if isinstance(refs, UserFailure):
+                failures.append(refs)
+            else:
+                state.reference[i] = refs
+        return failures
+
+
+class TeamController(Controller):
+    """Calls ``team_step(team)`` once per step with arrays for all active robots."""
+
+    is_team = True
+
+    def __init__(self, name: str, team_step: Any = None, reset: Any = None,
+                 factory: type | None = None) -> None:
+        self.name = name
+        self._team_step = team_step
+        self._reset_fn = reset
+        self._factory = factory
+        self._instance: Any = None
+
+    def reset(self, sim: Simulation) -> list[UserFailure]:
+        ids = np.flatnonzero(sim.state.active)
+        try:
+            self._instance = self._factory() if self._factory is not None else None
+            hook = getattr(self._instance, "reset", None) if self._instance else self._reset_fn
+            if hook is not None:
+                hook(Team(sim, ids))
+        except Exception as exc:  # user code: contain everything it raises
+            return [_failure_from_exception(-1, sim.state.time, exc)]
+        return []
+
+    def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
+        state = sim.state
+        now = state.time
+        step = self._instance.team_step if self._instance is not None else self._team_step
+        start = time.perf_counter()
+        try:
+            output = step(Team(sim, ids))
+        except Exception as exc:  # user code: contain everything it raises
+            state.user_time[ids] = (time.perf_counter() - start) / max(len(ids), 1)
+            return [_failure_from_exception(-1, now, exc)]
+        state.user_time[ids] = (time.perf_counter() - start) / max(len(ids), 1)
+        try:
+            speed, heading = output
+            speed = np.broadcast_to(np.asarray(speed, dtype=np.float64), ids.shape)
+            heading = np.broadcast_to(np.asarray(heading, dtype=np.float64), ids.shape)
+        except (TypeError, ValueError):
+            return [_invalid(-1, now, f"team_step() must return (speed_refs, heading_refs), "
+                                      f"two arrays of length {len(ids)}; got {output!r:.200}")]
+        good = np.isfinite(speed) & np.isfinite(heading)
+        state.reference[ids[good], 0] = speed[good]
+        state.reference[ids[good], 1] = heading[good]
+        return [_invalid(int(i), now, f"robot {int(i)}: team_step() returned a non-finite "
+                                      f"reference (speed_ref={s}, heading_ref={h})")
+                for i, s, h in zip(ids[~good], speed[~good], heading[~good], strict=True)]
+
+
+def controller_from(algorithm: Any, name: str | None = None) -> Controller:
+    """Wrap a module, function, class or instance following the contract above."""
+    if isinstance(algorithm, Controller):
+        return algorithm
+    label = name or getattr(algorithm, "__name__", type(algorithm).__name__)
+    if isinstance(algorithm, ModuleType):
+        found = _from_namespace(vars(algorithm), label)
+        if found is None:
+            raise AlgorithmError(f"algorithm {label!r}: define step(robot), team_step(team), or a "
+                                 "class with a step or team_step method")
+        return found
+    if inspect.isclass(algorithm):
+        if hasattr(algorithm, "team_step"):
+            return TeamController(label, factory=algorithm)
+        if hasattr(algorithm, "step"):
+            return PerRobotController(label, factory=algorithm)
+        raise AlgorithmError(f"algorithm class {label!r} has neither step nor team_step")
+    if callable(algorithm):
+        return PerRobotController(label, step=algorithm)
+    raise AlgorithmError(f"algorithm {label!r}: expected a function, class or module, "
+                         f"got {type(algorithm).__name__}")
+
+
+def _from_namespace(namespace: dict[str, Any], name: str) -> Controller | None:
+    """Find the algorithm in a module's namespace (``step`` first, then classes)."""
+    if callable(namespace.get("team_step")):
+        return TeamController(name, team_step=namespace["team_step"],
+                              reset=namespace.get("team_reset"))
+    if callable(namespace.get("step")):
+        return PerRobotController(name, step=namespace["step"], reset=namespace.get("reset"))
+    module_name = namespace.get("__name__")
+    for value in namespace.values():
+        if (inspect.isclass(value) and getattr(value, "__module__", None) == module_name
+                and (hasattr(value, "step") or hasattr(value, "team_step"))):
+            return controller_from(value, name)
+    return None

@@ -1,0 +1,158 @@
+"""What a run produced: events as they happen, and the counts at the end."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from mimics.engine.state import Status, WorldState
+
+
+@dataclass(frozen=True)
+class Event:
+    """Something that happened to a robot at a simulated time.
+
+    ``kind`` is one of: reached_goal, collision, escaped, deadlock, deadlock_end,
+    livelock, livelock_end, exception. ``other`` is the robot hit in a
+    robot-robot collision (-1 for a wall, -2 when not applicable).
+    """
+
+    time: float
+    robot: int
+    kind: str
+    detail: str = ""
+    other: int = -2
+    start: float = float("nan")  # when a stall began
+    traceback: str = ""
+
+
+class TimingStats:
+    """Streaming statistics of user-code call times, in bounded memory.
+
+    Mean and max are exact; percentiles come from a log-spaced histogram
+    (bins 2% wide), accurate to about 1%.
+    """
+
+    _EDGES = np.geomspace(1e-8, 1e3, 1281)
+
+    def __init__(self) -> None:
+        self.count = 0
+        self.total = 0.0
+        self.maximum = 0.0
+        self._histogram = np.zeros(len(self._EDGES) + 1, dtype=np.int64)
+
+    def add(self, seconds: np.ndarray) -> None:
+        """Record a batch of call times (s)."""
+        if seconds.size == 0:
+            return
+        self.count += seconds.size
+        self.total += float(seconds.sum())
+        self.maximum = max(self.maximum, float(seconds.max()))
+        bins = np.searchsorted(self._EDGES, seconds)
+        self._histogram += np.bincount(bins, minlength=len(self._histogram))
+
+    def percentile(self, q: float) -> float:
+        """The q-th percentile (0-100) of call times (s)."""
+        if self.count == 0:
+            return 0.0
+        rank = np.searchsorted(np.cumsum(self._histogram), q / 100 * self.count)
+        rank = min(int(rank), len(self._EDGES) - 1)
+        return float(min(self._EDGES[rank], self.maximum))
+
+    def summary(self) -> dict[str, float | int]:
+        """Calls, mean, p95 and max (s)."""
+        return {"calls": self.count, "mean": self.total / self.count if self.count else 0.0,
+                "p95": self.percentile(95), "max": self.maximum}
+
+
+@dataclass
+class RunResult:
+    """The outcome of one simulation (``summary()`` is what summary.json holds)."""
+
+    status: str
+    scenario: str
+    algorithm: str
+    seed: int
+    robots: int
+    sim_time: float
+    wall_time: float
+    steps: int
+    final_status: np.ndarray
+    collided_with: np.ndarray
+    goal_time: np.ndarray
+    path_length: np.ndarray
+    start_goal_distance: np.ndarray
+    ever_deadlocked: np.ndarray
+    ever_livelocked: np.ndarray
+    events: list[Event] = field(default_factory=list)
+    user_timing: dict[str, float | int] = field(default_factory=dict)
+    parameters: dict[str, Any] = field(default_factory=dict)
+    error: str = ""
+
+    def count(self, status: Status) -> int:
+        """Robots whose final status is ``status``."""
+        return int(np.sum(self.final_status == status))
+
+    @property
+    def reached_goal(self) -> int:
+        """Robots that reached their goal."""
+        return self.count(Status.REACHED_GOAL)
+
+    @property
+    def collisions(self) -> int:
+        """Robots deactivated by a collision."""
+        return self.count(Status.COLLIDED)
+
+    def summary(self) -> dict[str, Any]:
+        """A JSON-ready dict of the outcome."""
+        collided = self.final_status == Status.COLLIDED
+        reached = self.final_status == Status.REACHED_GOAL
+        times = self.goal_time[reached]
+        efficiency = self.start_goal_distance[reached] / np.maximum(self.path_length[reached],
+                                                                    1e-12)
+        return {
+            "status": self.status,
+            "scenario": self.scenario,
+            "algorithm": self.algorithm,
+            "seed": self.seed,
+            "parameters": self.parameters,
+            "robots": self.robots,
+            "sim_time": round(self.sim_time, 9),
+            "wall_time": self.wall_time,
+            "steps": self.steps,
+            "sim_speed": self.sim_time / self.wall_time if self.wall_time > 0 else None,
+            "reached_goal": self.reached_goal,
+            "collisions": self.collisions,
+            "robot_collisions": int(np.sum(collided & (self.collided_with >= 0))),
+            "wall_collisions": int(np.sum(collided & (self.collided_with == -1))),
+            "escaped": self.count(Status.ESCAPED),
+            "deadlocks": int(self.ever_deadlocked.sum()),
+            "livelocks": int(self.ever_livelocked.sum()),
+            "exceptions": sum(1 for e in self.events if e.kind == "exception"),
+            "active_at_end": self.count(Status.ACTIVE),
+            "error": self.error,
+            "user_code_time": self.user_timing,
+            "time_to_goal": _stats(times),
+            "path_length": _stats(self.path_length),
+            "path_efficiency": _stats(efficiency),
+        }
+
+    def events_as_dicts(self) -> list[dict[str, Any]]:
+        """Events as plain dicts."""
+        return [asdict(e) for e in self.events]
+
+
+def _stats(values: np.ndarray) -> dict[str, float | None]:
+    if values.size == 0:
+        return {"mean": None, "min": None, "max": None}
+    return {"mean": float(values.mean()), "min": float(values.min()),
+            "max": float(values.max())}
+
+
+def result_from_state(state: WorldState, **fields_: Any) -> RunResult:
+    """Collect the final per-robot arrays of a run into a :class:`RunResult`."""
+    return RunResult(final_status=state.status.copy(), collided_with=state.collided_with.copy(),
+                     goal_time=state.goal_time.copy(), path_length=state.path_length.copy(),
+                     **fields_)

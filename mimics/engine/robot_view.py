@@ -1,0 +1,299 @@
+"""What user code sees: ``robot`` (one robot) and ``team`` (all active robots).
+
+Both are thin views over the world's arrays: reading ``robot.pose`` gives a
+read-only view of that robot's row, never a copy of the world.
+
+>>> # inside an algorithm
+>>> # x, y, theta = robot.pose;  ranges = robot.scan.ranges;  gx, gy = robot.goal
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mimics.engine.sensors import COMMS_COLUMNS, within_range
+from mimics.world.maps import Map
+from mimics.world.robot_types import RobotType
+
+if TYPE_CHECKING:
+    from mimics.engine.simulation import Simulation
+
+
+def _frozen(view: np.ndarray) -> np.ndarray:
+    view.flags.writeable = False
+    return view
+
+
+class Scan:
+    """One robot's latest ranger reading."""
+
+    __slots__ = ("_index", "_sim")
+
+    def __init__(self, sim: Simulation, index: int) -> None:
+        self._sim = sim
+        self._index = index
+
+    @property
+    def ranges(self) -> np.ndarray:
+        """Distance per beam (m); ``max_range`` where nothing was hit."""
+        count = self._sim.types.beam_count[self._index]
+        return _frozen(self._sim.state.scan[self._index, :count])
+
+    @property
+    def angles(self) -> np.ndarray:
+        """Beam angles relative to the robot's heading (rad), right to left."""
+        count = self._sim.types.beam_count[self._index]
+        return _frozen(self._sim.types.beam_offsets[self._index, :count])
+
+    @property
+    def hits(self) -> np.ndarray:
+        """True where a beam hit something within range."""
+        count = self._sim.types.beam_count[self._index]
+        return self._sim.state.scan_hit[self._index, :count] != -2
+
+    @property
+    def max_range(self) -> float:
+        """The ranger's range (m)."""
+        return float(self._sim.types.max_range[self._index])
+
+    def points(self) -> np.ndarray:
+        """Hit points in the world frame ``(hits, 2)``, from the measured pose."""
+        x, y, theta = self._sim.state.measured_pose[self._index]
+        hit = self.hits
+        angles = theta + self.angles[hit]
+        r = self.ranges[hit]
+        return np.column_stack([x + r * np.cos(angles), y + r * np.sin(angles)])
+
+
+class Robot:
+    """One robot as its algorithm sees it; every sensor is one attribute away.
+
+    Measured (noisy) values: ``pose``, ``position``, ``velocity``,
+    ``acceleration``, ``odometry``, ``scan``, ``comms``. Ground truth:
+    ``true_pose``, ``true_velocity``. Also ``goal``, ``time``, ``dt``, ``map``,
+    ``memory`` (a dict kept between steps), ``rng`` (seeded), ``log(msg)``,
+    ``send(msg, to=None)`` and ``inbox``.
+    """
+
+    __slots__ = ("_sim", "id", "scan")
+
+    def __init__(self, sim: Simulation, index: int) -> None:
+        self._sim = sim
+        self.id = index
+        self.scan = Scan(sim, index)
+
+    @property
+    def pose(self) -> np.ndarray:
+        """Measured ``(x, y, theta)``."""
+        return _frozen(self._sim.state.measured_pose[self.id])
+
+    @property
+    def position(self) -> np.ndarray:
+        """Measured ``(x, y)``."""
+        return _frozen(self._sim.state.measured_pose[self.id, :2])
+
+    @property
+    def heading(self) -> float:
+        """Measured heading (rad)."""
+        return float(self._sim.state.measured_pose[self.id, 2])
+
+    @property
+    def true_pose(self) -> np.ndarray:
+        """Ground-truth ``(x, y, theta)``."""
+        return _frozen(self._sim.state.pose[self.id])
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Measured ``(v, w)``: speed (m/s) and turn rate (rad/s)."""
+        return _frozen(self._sim.state.measured_velocity[self.id])
+
+    @property
+    def true_velocity(self) -> np.ndarray:
+        """Ground-truth ``(v, w)``."""
+        return _frozen(self._sim.state.velocity[self.id])
+
+    @property
+    def acceleration(self) -> np.ndarray:
+        """Measured ``(dv/dt, dw/dt)``."""
+        return _frozen(self._sim.state.measured_acceleration[self.id])
+
+    @property
+    def odometry(self) -> np.ndarray:
+        """The odometer's integrated ``(x, y, theta)`` estimate (drifts with motion)."""
+        return _frozen(self._sim.state.odometry[self.id])
+
+    @property
+    def goal(self) -> tuple[float, float] | None:
+        """``(x, y)`` of the goal, or None for robots without one."""
+        gx, gy = self._sim.state.goal[self.id]
+        return None if np.isnan(gx) else (float(gx), float(gy))
+
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+        return self._sim.state.time
+
+    @property
+    def dt(self) -> float:
+        """The simulation step (s)."""
+        return self._sim.scenario.settings.dt
+
+    @property
+    def type(self) -> RobotType:
+        """This robot's type (dimensions, dynamics, sensors)."""
+        return self._sim.scenario.robot_type(self.id)
+
+    @property
+    def map(self) -> Map:
+        """The static map."""
+        return self._sim.scenario.map
+
+    @property
+    def memory(self) -> dict[str, Any]:
+        """A dict that persists between this robot's steps."""
+        return self._sim.state.memory[self.id]
+
+    @property
+    def rng(self) -> np.random.Generator:
+        """A generator seeded by the simulation's seed, for user code."""
+        return self._sim.user_rng
+
+    @property
+    def comms(self) -> np.ndarray:
+        """Rows ``[id, x, y, theta, v, w]`` of active robots within communication range."""
+        x, y = self._sim.state.measured_pose[self.id, :2]
+        return within_range(self._sim.comms_table(), x, y, self._sim.scenario.settings.comm_range)
+
+    comms_columns = COMMS_COLUMNS
+
+    @property
+    def inbox(self) -> list[tuple[int, Any]]:
+        """Messages ``(sender_id, message)`` delivered to this robot this step."""
+        return self._sim.messages.inbox(self.id)
+
+    def send(self, message: Any, to: int | None = None) -> None:
+        """Send a message to robot ``to`` (or to all within range); it arrives next step."""
+        self._sim.messages.send(self.id, message, to)
+
+    def log(self, message: str) -> None:
+        """Add a message to this step's ``user_msg`` column of the log."""
+        current = self._sim.state.user_message[self.id]
+        self._sim.state.user_message[self.id] = f"{current} | {message}" if current else str(message)
+
+    def __repr__(self) -> str:
+        x, y, theta = self._sim.state.pose[self.id]
+        return f"Robot(id={self.id}, x={x:.3f}, y={y:.3f}, theta={theta:.3f})"
+
+
+class TeamScan:
+    """Latest scans of the team's robots: ``ranges (k, B)`` and ``angles (k, B)``."""
+
+    __slots__ = ("_rows", "_sim")
+
+    def __init__(self, sim: Simulation, rows: np.ndarray) -> None:
+        self._sim = sim
+        self._rows = rows
+
+    @property
+    def ranges(self) -> np.ndarray:
+        """Distances ``(k, B)``; NaN in slots beyond a robot's beam count."""
+        return self._sim.state.scan[self._rows]
+
+    @property
+    def angles(self) -> np.ndarray:
+        """Beam angles relative to each heading ``(k, B)``."""
+        return self._sim.types.beam_offsets[self._rows]
+
+    @property
+    def hits(self) -> np.ndarray:
+        """True where a beam hit something."""
+        return self._sim.state.scan_hit[self._rows] != -2
+
+    @property
+    def max_range(self) -> np.ndarray:
+        """Each robot's ranger range ``(k,)``."""
+        return self._sim.types.max_range[self._rows]
+
+
+class Team:
+    """All robots an algorithm drives in one call, as arrays (first axis = robot).
+
+    ``ids`` are the robots' indices; ``pose``, ``velocity``, ``goal`` (NaN rows
+    for no goal), ``scan.ranges`` etc. are arrays of matching rows.
+    """
+
+    __slots__ = ("_sim", "ids", "scan")
+
+    def __init__(self, sim: Simulation, ids: np.ndarray) -> None:
+        self._sim = sim
+        self.ids = ids
+        self.scan = TeamScan(sim, ids)
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+    @property
+    def pose(self) -> np.ndarray:
+        """Measured poses ``(k, 3)``."""
+        return self._sim.state.measured_pose[self.ids]
+
+    @property
+    def true_pose(self) -> np.ndarray:
+        """Ground-truth poses ``(k, 3)``."""
+        return self._sim.state.pose[self.ids]
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Measured ``(v, w)`` rows ``(k, 2)``."""
+        return self._sim.state.measured_velocity[self.ids]
+
+    @property
+    def max_speed(self) -> np.ndarray:
+        """Each robot's top speed ``(k,)`` (m/s, its type's ``kv``)."""
+        return self._sim.types.plant.kv[self.ids]
+
+    @property
+    def odometry(self) -> np.ndarray:
+        """Odometer estimates ``(k, 3)``."""
+        return self._sim.state.odometry[self.ids]
+
+    @property
+    def goal(self) -> np.ndarray:
+        """Goals ``(k, 2)``, NaN rows for robots without one."""
+        return self._sim.state.goal[self.ids]
+
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+        return self._sim.state.time
+
+    @property
+    def dt(self) -> float:
+        """The simulation step (s)."""
+        return self._sim.scenario.settings.dt
+
+    @property
+    def map(self) -> Map:
+        """The static map."""
+        return self._sim.scenario.map
+
+    @property
+    def memory(self) -> dict[str, Any]:
+        """A dict shared by the team, kept between steps."""
+        return self._sim.team_memory
+
+    @property
+    def rng(self) -> np.random.Generator:
+        """A generator seeded by the simulation's seed, for user code."""
+        return self._sim.user_rng
+
+    @property
+    def comms(self) -> np.ndarray:
+        """Rows ``[id, x, y, theta, v, w]`` of all active robots."""
+        return self._sim.comms_table()
+
+    def log(self, robot_id: int, message: str) -> None:
+        """Add a message to robot ``robot_id``'s ``user_msg`` column this step."""
+        Robot(self._sim, int(robot_id)).log(message)

@@ -1,0 +1,73 @@
+"""Noisy sensors other than the ranger: positioning, odometry and communication.
+
+Every draw comes from the world's own seeded generator, in a fixed order and
+for every robot, so the same seed gives the same noise whatever the algorithm.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mimics.engine.dynamics import advance_pose
+from mimics.engine.state import TypeArrays, WorldState
+
+COMMS_COLUMNS = ("id", "x", "y", "theta", "v", "w")
+
+
+def _noisy(rng: np.random.Generator, values: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+    """``values`` plus zero-mean Gaussian noise of per-robot ``sigma`` (rows)."""
+    if not np.any(sigma > 0):
+        return values.copy()
+    noise = rng.standard_normal(values.shape)
+    scale = sigma.reshape(-1, *([1] * (values.ndim - 1)))
+    return values + noise * scale
+
+
+def measure_positioning(state: WorldState, types: TypeArrays, rng: np.random.Generator) -> None:
+    """Fill the measured pose, velocity and acceleration from the ground truth."""
+    state.measured_pose[:, :2] = _noisy(rng, state.pose[:, :2], types.sigma_position)
+    state.measured_pose[:, 2] = state.pose[:, 2]
+    state.measured_velocity[:] = _noisy(rng, state.velocity, types.sigma_velocity)
+    state.measured_acceleration[:] = _noisy(rng, state.acceleration, types.sigma_acceleration)
+
+
+def add_ranger_noise(ranges: np.ndarray, max_range: np.ndarray, sigma: np.ndarray,
+                     rng: np.random.Generator) -> np.ndarray:
+    """Gaussian noise on each beam, clipped to ``[0, range]`` (NaN slots stay NaN)."""
+    if not np.any(sigma > 0):
+        return ranges
+    noisy = _noisy(rng, ranges, sigma)
+    return np.clip(noisy, 0.0, max_range[:, None])
+
+
+def update_odometry(state: WorldState, types: TypeArrays, distance: np.ndarray,
+                    turn: np.ndarray, moving: np.ndarray, rng: np.random.Generator) -> None:
+    """Integrate noisy increments into the odometer; noise only where there is motion."""
+    measured_distance = distance.copy()
+    measured_turn = turn.copy()
+    if np.any(types.sigma_translation > 0):
+        noise = rng.standard_normal(state.n)
+        measured_distance += noise * types.sigma_translation * np.abs(distance)
+    if np.any(types.sigma_rotation > 0):
+        noise = rng.standard_normal(state.n)
+        measured_turn += noise * types.sigma_rotation * np.abs(turn)
+    updated = advance_pose(state.odometry, measured_distance, measured_turn)
+    state.odometry[moving] = updated[moving]
+
+
+def comms_matrix(state: WorldState) -> np.ndarray:
+    """All active robots' measured ``[id, x, y, theta, v, w]`` rows (see ``COMMS_COLUMNS``)."""
+    active = np.flatnonzero(state.active)
+    table = np.empty((len(active), len(COMMS_COLUMNS)))
+    table[:, 0] = active
+    table[:, 1:4] = state.measured_pose[active]
+    table[:, 4:6] = state.measured_velocity[active]
+    return table
+
+
+def within_range(table: np.ndarray, x: float, y: float, comm_range: float) -> np.ndarray:
+    """Rows of a comms table within ``comm_range`` of ``(x, y)``."""
+    if not np.isfinite(comm_range):
+        return table
+    near = np.hypot(table[:, 1] - x, table[:, 2] - y) <= comm_range
+    return table[near]

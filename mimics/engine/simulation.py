@@ -1,0 +1,359 @@
+"""The simulation loop (paper section 3, SPEC section 5).
+
+Each step, for all active robots: sense (ranger, positioning, comms), run the
+user's code one robot after another, apply the PID loops and the dynamics,
+then check collisions, goals, escapes and stalls, and only then deactivate
+(structural changes at the end of the step). Observers (logs, views) are
+called after each step; the engine itself writes nothing and draws nothing.
+
+>>> from mimics.scenarios.line import scenario
+>>> from mimics.algorithms import go_to_goal
+>>> sim = Simulation(scenario(robots=2), go_to_goal, seed=1)
+>>> result = sim.run()
+>>> result.status, result.reached_goal
+('completed', 2)
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from typing import Any, Literal, Protocol
+
+import numpy as np
+
+from mimics.engine.collision import Bodies, find_collisions
+from mimics.engine.controllers import Controller, UserFailure, controller_from
+from mimics.engine.dynamics import advance_pose, integrate_velocities, pid_actuation, wrap_angle
+from mimics.engine.messages import MessageBus
+from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
+from mimics.engine.ranger import RangerQuery, cast_rays
+from mimics.engine.sensors import (
+    add_ranger_noise,
+    comms_matrix,
+    measure_positioning,
+    update_odometry,
+)
+from mimics.engine.spatial_index import SegmentGrid, build_robot_grid, build_segment_grid
+from mimics.engine.stall import StallDetector
+from mimics.engine.state import Status, TypeArrays, WorldState, steps_for
+from mimics.world.scenario import Scenario
+
+Policy = Literal["abort", "deactivate"]
+POLICIES = ("abort", "deactivate")
+
+
+class Observer(Protocol):
+    """Something that watches a run (a logger, a live view); all hooks optional."""
+
+    def on_start(self, sim: Simulation) -> None: ...
+    def on_step(self, sim: Simulation) -> None: ...
+    def on_end(self, sim: Simulation, result: RunResult) -> None: ...
+
+
+class Simulation:
+    """One run of one algorithm on one scenario with one seed.
+
+    Args:
+        scenario: the world and its robots.
+        algorithm: a module, function or class following the algorithm contract
+            (``mimics.engine.controllers``), or a ready ``Controller``.
+        seed: seeds every random draw of the run.
+        policy: on an exception in user code, ``"abort"`` ends the run with
+            status ``error``; ``"deactivate"`` deactivates only that robot.
+        time_limit: simulated seconds (default: the scenario's setting).
+        wall_limit: wall-clock seconds after which the run stops (``wall_limit``).
+        stop_when: a predicate on the simulation that ends the run when true.
+        observers: objects with optional ``on_start``, ``on_step``, ``on_end``.
+    """
+
+    def __init__(self, scenario: Scenario, algorithm: Any, seed: int = 0,
+                 policy: Policy = "abort", time_limit: float | None = None,
+                 wall_limit: float | None = None,
+                 stop_when: Callable[[Simulation], bool] | None = None,
+                 observers: Sequence[Any] = (), algorithm_name: str | None = None) -> None:
+        if policy not in POLICIES:
+            raise ValueError(f"policy must be one of {POLICIES}, got {policy!r}")
+        self.scenario = scenario
+        self.controller: Controller = controller_from(algorithm, algorithm_name)
+        self.seed = int(seed)
+        self.policy = policy
+        settings = scenario.settings
+        self.time_limit = settings.time_limit if time_limit is None else float(time_limit)
+        self.max_steps = steps_for(self.time_limit, settings.dt)
+        self.wall_limit = wall_limit
+        self.stop_when = stop_when
+        self.observers = list(observers)
+        world_seed, user_seed = np.random.SeedSequence(self.seed).spawn(2)
+        self.rng = np.random.default_rng(world_seed)
+        self.user_rng = np.random.default_rng(user_seed)
+        self.types = TypeArrays.from_scenario(scenario)
+        self.state = WorldState.from_scenario(scenario, self.types.beam_offsets.shape[1])
+        self.team_memory: dict[str, Any] = {}
+        self.messages = MessageBus(settings.comm_range)
+        self.events: list[Event] = []
+        self.timing = TimingStats()
+        self.walls: SegmentGrid = build_segment_grid(scenario.map.segments, scenario.map.bounds)
+        self.status = "running"
+        self.error = ""
+        self.wall_time = 0.0
+        self._comms: np.ndarray | None = None
+        self._ever_deadlocked = np.zeros(self.state.n, dtype=bool)
+        self._ever_livelocked = np.zeros(self.state.n, dtype=bool)
+        self._stalls = StallDetector(settings, self.state.n)
+        self._start_goal_distance = self.state.goal_distance()
+        self._pending: dict[int, Status] = {}  # deactivations applied at the end of the step
+        self._started = False
+        self._wall_start = 0.0
+
+    # -- public API ---------------------------------------------------------
+
+    def run(self) -> RunResult:
+        """Run until an end criterion holds; returns the outcome."""
+        self.start()
+        while self.step():
+            pass
+        return self.result()
+
+    def start(self) -> None:
+        """Check the initial state, call user reset hooks and observers' ``on_start``."""
+        if self._started:
+            return
+        self._started = True
+        self._wall_start = time.perf_counter()
+        self._check_bodies(np.flatnonzero(self.state.active))
+        self._finish_deactivations()
+        self._sense()
+        self._handle_failures(self.controller.reset(self))
+        for observer in self.observers:
+            if hasattr(observer, "on_start"):
+                observer.on_start(self)
+        if self.status == "running":
+            self._check_end()
+
+    def step(self) -> bool:
+        """Advance one step; returns False once the run has ended."""
+        if not self._started:
+            self.start()
+        if self.status != "running":
+            return False
+        state = self.state
+        ids = np.flatnonzero(state.active)
+        for i in ids.tolist():
+            state.user_message[i] = ""
+            state.system_message[i] = ""
+        failures = self.controller.compute(self, ids)
+        self.timing.add(state.user_time[ids])
+        failed = self._handle_failures(failures)
+        moving = ids[~np.isin(ids, failed)] if failed.size else ids
+        self._move(moving)
+        state.step += 1
+        state.time = state.step * self.scenario.settings.dt
+        self._check_bodies(moving)
+        self._check_goals_and_bounds(moving)
+        self._check_stalls()
+        self._finish_deactivations()
+        self._sense()
+        for observer in self.observers:
+            if hasattr(observer, "on_step"):
+                observer.on_step(self)
+        return self._check_end()
+
+    def result(self) -> RunResult:
+        """The outcome so far (final once the run has ended)."""
+        return result_from_state(
+            self.state, status=self.status, scenario=self.scenario.name,
+            algorithm=self.controller.name, seed=self.seed, robots=self.state.n,
+            sim_time=self.state.time, wall_time=self.wall_time, steps=self.state.step,
+            start_goal_distance=self._start_goal_distance,
+            ever_deadlocked=self._ever_deadlocked.copy(),
+            ever_livelocked=self._ever_livelocked.copy(), events=list(self.events),
+            user_timing=self.timing.summary(), parameters=dict(self.scenario.parameters),
+            error=self.error,
+        )
+
+    def comms_table(self) -> np.ndarray:
+        """The communication matrix of this step (built once, on first use)."""
+        if self._comms is None:
+            self._comms = comms_matrix(self.state)
+            self._comms.flags.writeable = False
+        return self._comms
+
+    # -- the phases of a step ----------------------------------------------
+
+    def _solid(self) -> np.ndarray:
+        """Robots that others can hit and see."""
+        state = self.state
+        if self.scenario.settings.inactive_as_obstacles:
+            return state.status != Status.ESCAPED
+        return state.active
+
+    def _robot_grid(self) -> SegmentGrid:
+        state = self.state
+        return build_robot_grid(state.pose[:, :2], state.pose[:, 2], self.types.half_length,
+                                self.types.half_width, self._solid(), self.scenario.map.bounds)
+
+    def _sense(self) -> None:
+        """Ranger, positioning, comms and messages for the robots about to act."""
+        state = self.state
+        self._comms = None
+        ids = np.flatnonzero(state.active & (self.types.beam_count > 0))
+        if ids.size:
+            query = RangerQuery(
+                origins=np.ascontiguousarray(state.pose[ids, :2]),
+                headings=np.ascontiguousarray(state.pose[ids, 2]),
+                offsets=self.types.beam_offsets[ids], max_range=self.types.max_range[ids],
+                robot=ids.astype(np.int64))
+            ranges, owner = cast_rays(query, self.walls, self._robot_grid())
+            ranges = add_ranger_noise(ranges, self.types.max_range[ids],
+                                      self.types.sigma_range[ids], self.rng)
+            state.scan[ids] = ranges
+            state.scan_hit[ids] = owner
+        measure_positioning(state, self.types, self.rng)
+        self.messages.deliver(state.pose[:, :2], state.active)
+
+    def _move(self, ids: np.ndarray) -> None:
+        """PID loops and exact integration of the dynamics for robots ``ids``."""
+        state, types, dt = self.state, self.types, self.scenario.settings.dt
+        v, w = state.velocity[ids, 0], state.velocity[ids, 1]
+        u_v, i_v = pid_actuation(state.reference[ids, 0] - v, state.acceleration[ids, 0],
+                                 state.pid_integral[ids, 0], types.pid.speed[ids], dt)
+        heading_error = wrap_angle(state.reference[ids, 1] - state.pose[ids, 2])
+        u_w, i_w = pid_actuation(heading_error, w, state.pid_integral[ids, 1],
+                                 types.pid.heading[ids], dt)
+        plant = type(types.plant)(*(p[ids] for p in types.plant))
+        motion = integrate_velocities(v, w, u_v, u_w, plant, dt)
+        state.actuation[ids, 0], state.actuation[ids, 1] = u_v, u_w
+        state.pid_integral[ids, 0], state.pid_integral[ids, 1] = i_v, i_w
+        state.acceleration[ids, 0] = (motion.v - v) / dt
+        state.acceleration[ids, 1] = (motion.w - w) / dt
+        state.velocity[ids, 0], state.velocity[ids, 1] = motion.v, motion.w
+        state.pose[ids] = advance_pose(state.pose[ids], motion.distance, motion.turn)
+        state.path_length[ids] += np.abs(motion.distance)
+        distance = np.zeros(state.n)
+        turn = np.zeros(state.n)
+        distance[ids], turn[ids] = motion.distance, motion.turn
+        moved = np.zeros(state.n, dtype=bool)
+        moved[ids] = True
+        update_odometry(state, types, distance, turn, moved, self.rng)
+
+    def _check_bodies(self, ids: np.ndarray) -> None:
+        """Exact collision check of robots ``ids`` against walls and solid robots."""
+        state = self.state
+        if ids.size == 0:
+            return
+        check = np.zeros(state.n, dtype=bool)
+        check[ids] = True
+        bodies = Bodies(np.ascontiguousarray(state.pose[:, :2]),
+                        np.ascontiguousarray(state.pose[:, 2]),
+                        self.types.half_length, self.types.half_width)
+        with_whom, _ = find_collisions(bodies, check, self._solid(), self.walls,
+                                       self._robot_grid())
+        for i in np.flatnonzero(with_whom != -2).tolist():
+            other = int(with_whom[i])
+            what = "wall" if other == -1 else f"robot {other}"
+            state.collided_with[i] = other
+            self._mark(i, Status.COLLIDED, f"Collision with {what}", "collision", other=other)
+
+    def _check_goals_and_bounds(self, ids: np.ndarray) -> None:
+        state = self.state
+        xmin, ymin, xmax, ymax = self.scenario.map.bounds
+        x, y = state.pose[ids, 0], state.pose[ids, 1]
+        outside = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
+        reached = state.goal_distance()[ids] <= self.scenario.settings.goal_tolerance
+        for i in ids[outside].tolist():
+            self._mark(i, Status.ESCAPED, "Escaped map", "escaped")
+        for i in ids[reached & ~outside].tolist():
+            state.goal_time[i] = state.time
+            self._mark(i, Status.REACHED_GOAL, "Reached goal", "reached_goal")
+
+    def _check_stalls(self) -> None:
+        state = self.state
+        flags = self._stalls.update(state)
+        now = state.time
+        for i in np.flatnonzero(flags.deadlock_started).tolist():
+            self._ever_deadlocked[i] = True
+            start = self._stalls.window_start("deadlock", now)
+            if self.scenario.settings.deactivate_on_deadlock:
+                self._mark(i, Status.DEADLOCK, "Deadlock", "deadlock", start=start)
+            else:
+                self._event(i, "deadlock", "Deadlock", start=start)
+        for i in np.flatnonzero(flags.deadlock_ended).tolist():
+            self._event(i, "deadlock_end", "Deadlock ended")
+        for i in np.flatnonzero(flags.livelock_started).tolist():
+            self._ever_livelocked[i] = True
+            self._event(i, "livelock", "Livelock", start=self._stalls.window_start("livelock",
+                                                                                    now))
+        for i in np.flatnonzero(flags.livelock_ended).tolist():
+            self._event(i, "livelock_end", "Livelock ended")
+
+    # -- deactivation and failures -----------------------------------------
+
+    def _event(self, robot: int, kind: str, detail: str, **extra: Any) -> None:
+        self.events.append(Event(self.state.time, robot, kind, detail, **extra))
+        current = self.state.system_message[robot]
+        self.state.system_message[robot] = f"{current} | {detail}" if current else detail
+
+    def _mark(self, robot: int, status: Status, detail: str, kind: str, **extra: Any) -> None:
+        """Record a deactivation now; it takes effect at the end of the step."""
+        if robot in self._pending:
+            return
+        self._pending[robot] = status
+        self._event(robot, kind, detail, **extra)
+
+    def _finish_deactivations(self) -> None:
+        state = self.state
+        for robot, status in self._pending.items():
+            state.status[robot] = status
+            state.deactivation_time[robot] = state.time
+            state.velocity[robot] = 0.0
+        self._pending.clear()
+
+    def _handle_failures(self, failures: list[UserFailure]) -> np.ndarray:
+        """Record user-code failures and apply the policy; returns the robots that failed."""
+        if not failures:
+            return np.zeros(0, dtype=np.int64)
+        state = self.state
+        failed: list[int] = []
+        for failure in failures:
+            robots = (np.flatnonzero(state.active).tolist() if failure.robot < 0
+                      else [failure.robot])
+            detail = f"Exception: {failure.kind}: {failure.message}"
+            for robot in robots:
+                self._mark(robot, Status.ERROR, detail, "exception", traceback=failure.traceback)
+                failed.append(robot)
+        if self.policy == "abort" and self.status == "running":
+            first = failures[0]
+            who = "the team algorithm" if first.robot < 0 else f"robot {first.robot}"
+            self.error = f"{first.kind} in {who} at t={first.time:g} s: {first.message}"
+            self.status = "error"
+        return np.array(failed, dtype=np.int64)
+
+    def _user_wants_stop(self) -> bool:
+        try:
+            return bool(self.stop_when(self))  # type: ignore[misc]
+        except Exception as exc:  # user code: contain everything it raises
+            self.status = "error"
+            self.error = f"stop_when raised {type(exc).__name__}: {exc}"
+            return False
+
+    def _check_end(self) -> bool:
+        """Apply the end criteria; returns True while the run goes on."""
+        state = self.state
+        self.wall_time = time.perf_counter() - self._wall_start
+        if self.status == "running":
+            if not state.active.any():
+                self.status = "completed"
+            elif state.step >= self.max_steps:
+                self.status = "time_limit"
+            elif self.wall_limit is not None and self.wall_time >= self.wall_limit:
+                self.status = "wall_limit"
+            elif self.stop_when is not None and self._user_wants_stop():
+                self.status = "stopped"
+        if self.status == "running":
+            return True
+        result = self.result()
+        for observer in self.observers:
+            if hasattr(observer, "on_end"):
+                observer.on_end(self, result)
+        return False

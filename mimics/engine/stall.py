@@ -1,0 +1,76 @@
+"""Deadlock and livelock detection over sliding windows of recent history.
+
+Deadlock: a robot with a goal, not at it, whose every position over the last
+``deadlock_window`` seconds lies within ``deadlock_distance`` of where it is
+now. Livelock: a robot with a goal that is not in deadlock but is no closer to
+its goal (by at least ``livelock_progress``) than ``livelock_window`` seconds
+ago: it keeps moving without making progress.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from mimics.engine.state import WorldState, steps_for
+from mimics.world.scenario import Settings
+
+
+class StallFlags(NamedTuple):
+    """Robots whose deadlock or livelock began (new) or ended this step."""
+
+    deadlock_started: np.ndarray
+    livelock_started: np.ndarray
+    livelock_ended: np.ndarray
+    deadlock_ended: np.ndarray
+
+
+class StallDetector:
+    """Keeps ring buffers of positions and goal distances, one row per step."""
+
+    def __init__(self, settings: Settings, n: int) -> None:
+        self.deadlock_steps = max(1, steps_for(settings.deadlock_window, settings.dt))
+        self.livelock_steps = max(1, steps_for(settings.livelock_window, settings.dt))
+        self.settings = settings
+        self._positions = np.zeros((self.deadlock_steps + 1, n, 2))
+        self._distances = np.zeros((self.livelock_steps + 1, n))
+        self._count = 0
+
+    def update(self, state: WorldState) -> StallFlags:
+        """Record the current positions and return the changes of stall state."""
+        slot_d = self._count % len(self._positions)
+        slot_l = self._count % len(self._distances)
+        self._positions[slot_d] = state.pose[:, :2]
+        distance = state.goal_distance()
+        self._distances[slot_l] = distance
+        self._count += 1
+        candidates = state.active & ~np.isnan(distance)
+        none = np.zeros(state.n, dtype=bool)
+
+        deadlocked = none.copy()
+        if self._count > self.deadlock_steps:
+            offsets = self._positions - state.pose[None, :, :2]
+            spread = np.max(np.hypot(offsets[..., 0], offsets[..., 1]), axis=0)
+            deadlocked = candidates & (spread <= self.settings.deadlock_distance)
+
+        livelocked = none.copy()
+        if self._count > self.livelock_steps:
+            oldest = self._distances[self._count % len(self._distances)]
+            no_progress = distance > oldest - self.settings.livelock_progress
+            livelocked = candidates & no_progress & ~deadlocked
+
+        flags = StallFlags(
+            deadlock_started=deadlocked & ~state.in_deadlock,
+            livelock_started=livelocked & ~state.in_livelock,
+            livelock_ended=state.in_livelock & ~livelocked & state.active,
+            deadlock_ended=state.in_deadlock & ~deadlocked & state.active,
+        )
+        state.in_deadlock[:] = deadlocked | (state.in_deadlock & ~state.active)
+        state.in_livelock[:] = livelocked | (state.in_livelock & ~state.active)
+        return flags
+
+    def window_start(self, kind: str, now: float) -> float:
+        """The time a stall found now began (the start of its window)."""
+        steps = self.deadlock_steps if kind == "deadlock" else self.livelock_steps
+        return max(0.0, now - steps * self.settings.dt)

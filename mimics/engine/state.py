@@ -1,0 +1,156 @@
+"""World state as structure-of-arrays over robots.
+
+Every per-robot quantity is one NumPy array indexed by robot; the ``Robot``
+objects user code sees are views into these rows (``robot_view.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from enum import IntEnum
+
+import numpy as np
+
+from mimics.engine.dynamics import PidArrays, Plant
+from mimics.world.scenario import Scenario
+
+
+class Status(IntEnum):
+    """A robot's state; every value but ACTIVE is a reason for deactivation."""
+
+    ACTIVE = 0
+    REACHED_GOAL = 1
+    COLLIDED = 2
+    ESCAPED = 3
+    DEADLOCK = 4
+    ERROR = 5
+
+    @property
+    def label(self) -> str:
+        """Lower-case name used in logs and tables."""
+        return self.name.lower()
+
+
+@dataclass
+class TypeArrays:
+    """Robot-type parameters broadcast to one row per robot."""
+
+    half_length: np.ndarray
+    half_width: np.ndarray
+    plant: Plant
+    pid: PidArrays
+    beam_offsets: np.ndarray  # (n, B), NaN where a robot's type has fewer beams
+    beam_count: np.ndarray  # (n,)
+    max_range: np.ndarray
+    sigma_range: np.ndarray
+    sigma_position: np.ndarray
+    sigma_velocity: np.ndarray
+    sigma_acceleration: np.ndarray
+    sigma_translation: np.ndarray
+    sigma_rotation: np.ndarray
+
+    @classmethod
+    def from_scenario(cls, scenario: Scenario) -> TypeArrays:
+        """Broadcast the scenario's types to per-robot rows."""
+        idx = scenario.type_index
+        types = scenario.types
+
+        def per_robot(get: object) -> np.ndarray:
+            values = np.array([get(t) for t in types], dtype=np.float64)  # type: ignore[operator]
+            return values[idx]
+
+        max_beams = max((t.ranger.beams for t in types), default=0)
+        offsets_by_type = np.full((len(types), max_beams), np.nan)
+        for k, t in enumerate(types):
+            offsets_by_type[k, : t.ranger.beams] = t.ranger.beam_offsets()
+        gains = lambda attr: np.array(  # noqa: E731
+            [[getattr(t, attr).kp, getattr(t, attr).ki, getattr(t, attr).kd] for t in types]
+        )[idx]
+        return cls(
+            half_length=per_robot(lambda t: t.length / 2),
+            half_width=per_robot(lambda t: t.width / 2),
+            plant=Plant(per_robot(lambda t: t.kv), per_robot(lambda t: t.kw),
+                        per_robot(lambda t: t.tau_v), per_robot(lambda t: t.tau_w)),
+            pid=PidArrays(np.ascontiguousarray(gains("speed_pid")),
+                          np.ascontiguousarray(gains("heading_pid"))),
+            beam_offsets=np.ascontiguousarray(offsets_by_type[idx]),
+            beam_count=np.array([t.ranger.beams for t in types], dtype=np.int64)[idx],
+            max_range=per_robot(lambda t: t.ranger.range),
+            sigma_range=per_robot(lambda t: t.ranger.sigma),
+            sigma_position=per_robot(lambda t: t.positioning.sigma_position),
+            sigma_velocity=per_robot(lambda t: t.positioning.sigma_velocity),
+            sigma_acceleration=per_robot(lambda t: t.positioning.sigma_acceleration),
+            sigma_translation=per_robot(lambda t: t.odometry.sigma_translation),
+            sigma_rotation=per_robot(lambda t: t.odometry.sigma_rotation),
+        )
+
+
+@dataclass
+class WorldState:
+    """All mutable per-robot state of one simulation."""
+
+    n: int
+    time: float
+    step: int
+    pose: np.ndarray  # (n, 3) ground truth x, y, theta
+    velocity: np.ndarray  # (n, 2) ground truth v, w
+    acceleration: np.ndarray  # (n, 2) dv/dt, dw/dt over the last step
+    goal: np.ndarray  # (n, 2), NaN when none
+    reference: np.ndarray  # (n, 2) speed and heading references last commanded
+    actuation: np.ndarray  # (n, 2) u_v, u_w
+    pid_integral: np.ndarray  # (n, 2)
+    measured_pose: np.ndarray
+    measured_velocity: np.ndarray
+    measured_acceleration: np.ndarray
+    odometry: np.ndarray  # (n, 3) odometer's integrated pose estimate
+    scan: np.ndarray  # (n, B) ranges
+    scan_hit: np.ndarray  # (n, B) owner of what each beam hit: -2 nothing, -1 wall, else robot
+    status: np.ndarray  # (n,) int8 Status
+    deactivation_time: np.ndarray  # (n,), NaN while active
+    collided_with: np.ndarray  # (n,) -2 none, -1 wall, else robot index
+    path_length: np.ndarray  # (n,) distance travelled
+    goal_time: np.ndarray  # (n,) time the goal was reached, NaN otherwise
+    user_time: np.ndarray  # (n,) seconds spent in user code at the last step
+    in_deadlock: np.ndarray  # (n,) bool
+    in_livelock: np.ndarray  # (n,) bool
+    user_message: list[str] = field(default_factory=list)
+    system_message: list[str] = field(default_factory=list)
+    memory: list[dict] = field(default_factory=list)
+
+    @classmethod
+    def from_scenario(cls, scenario: Scenario, beams: int) -> WorldState:
+        """The state at time zero."""
+        n = scenario.robot_count
+        stages = scenario.stages
+        pose = np.ascontiguousarray(stages[:, :3].copy())
+        velocity = np.zeros((n, 2))
+        velocity[:, 0] = stages[:, 3]
+        return cls(
+            n=n, time=0.0, step=0, pose=pose, velocity=velocity,
+            acceleration=np.zeros((n, 2)), goal=scenario.goals.copy(),
+            reference=np.zeros((n, 2)), actuation=np.zeros((n, 2)),
+            pid_integral=np.zeros((n, 2)), measured_pose=pose.copy(),
+            measured_velocity=velocity.copy(), measured_acceleration=np.zeros((n, 2)),
+            odometry=pose.copy(), scan=np.full((n, beams), np.nan),
+            scan_hit=np.full((n, beams), -2, dtype=np.int64),
+            status=np.zeros(n, dtype=np.int8), deactivation_time=np.full(n, np.nan),
+            collided_with=np.full(n, -2, dtype=np.int64), path_length=np.zeros(n),
+            goal_time=np.full(n, np.nan), user_time=np.zeros(n),
+            in_deadlock=np.zeros(n, dtype=bool), in_livelock=np.zeros(n, dtype=bool),
+            user_message=[""] * n, system_message=[""] * n, memory=[{} for _ in range(n)],
+        )
+
+    @property
+    def active(self) -> np.ndarray:
+        """Boolean mask of active robots."""
+        return self.status == Status.ACTIVE
+
+    def goal_distance(self) -> np.ndarray:
+        """Distance from each robot's true position to its goal (NaN without a goal)."""
+        return np.hypot(self.goal[:, 0] - self.pose[:, 0], self.goal[:, 1] - self.pose[:, 1])
+
+
+def steps_for(duration: float, dt: float) -> int:
+    """Whole number of steps covering ``duration``, robust to float error (21.8/0.1 -> 218)."""
+    return max(0, math.ceil(duration / dt - 1e-9))

@@ -1,0 +1,1 @@
+"""Built-in scenarios, one module each with ``scenario(**params) -> Scenario``."""
