@@ -1,0 +1,162 @@
+"""Finding algorithms and scenarios by name or by path.
+
+Built-in algorithms live in ``mimics/algorithms/`` and built-in scenarios in
+``mimics/scenarios/``, one module each, the module name being the name. A user
+passes a path instead: a ``.py`` file (an algorithm, or a scenario defining
+``scenario(**params)``) or a declarative ``.toml`` scenario.
+
+>>> sorted(name for name, _ in list_algorithms())[:2]
+['deployment', 'deployment_team']
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import importlib.util
+import inspect
+import pkgutil
+import sys
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import mimics.algorithms
+import mimics.scenarios
+from mimics.world.errors import AlgorithmError, MimicsError, ScenarioError
+from mimics.world.scenario import Scenario
+
+
+def _builtin_names(package: ModuleType) -> list[str]:
+    return sorted(m.name for m in pkgutil.iter_modules(package.__path__)
+                  if not m.name.startswith("_"))
+
+
+def _first_line(module: ModuleType) -> str:
+    return (module.__doc__ or "").strip().splitlines()[0] if module.__doc__ else ""
+
+
+def _load_file(path: Path, kind: str) -> ModuleType:
+    """Import a user's ``.py`` file under a unique module name."""
+    if not path.is_file():
+        raise MimicsError(f"{kind} file {path} does not exist")
+    digest = hashlib.sha1(str(path.resolve()).encode()).hexdigest()[:10]
+    name = f"mimics_user_{kind}_{path.stem}_{digest}"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise MimicsError(f"{path}: cannot be imported as Python")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except SyntaxError as exc:
+        del sys.modules[name]
+        raise MimicsError(f"{path}, line {exc.lineno}: syntax error: {exc.msg}") from exc
+    except Exception as exc:  # user code at import time: report it in one line
+        del sys.modules[name]
+        raise MimicsError(f"{path}: importing it raised {type(exc).__name__}: {exc}") from exc
+    return module
+
+
+def _looks_like_path(name: str) -> bool:
+    return name.endswith((".py", ".toml")) or "/" in name or "\\" in name
+
+
+# -- algorithms --------------------------------------------------------------
+
+def list_algorithms() -> list[tuple[str, str]]:
+    """Built-in algorithms as ``(name, one-line description)``."""
+    return [(name, _first_line(importlib.import_module(f"mimics.algorithms.{name}")))
+            for name in _builtin_names(mimics.algorithms)]
+
+
+def find_algorithm(name_or_path: str | Path) -> tuple[str, ModuleType]:
+    """The algorithm's display name and module, from a built-in name or a file path."""
+    text = str(name_or_path)
+    if _looks_like_path(text):
+        path = Path(text)
+        if path.suffix != ".py":
+            raise AlgorithmError(f"algorithm {text!r}: expected a .py file or a built-in name")
+        return path.stem, _load_file(path, "algorithm")
+    if text not in _builtin_names(mimics.algorithms):
+        known = ", ".join(_builtin_names(mimics.algorithms))
+        raise AlgorithmError(f"unknown algorithm {text!r} (expected a .py file or one of: "
+                             f"{known})")
+    return text, importlib.import_module(f"mimics.algorithms.{text}")
+
+
+# -- scenarios ---------------------------------------------------------------
+
+def list_scenarios() -> list[tuple[str, str]]:
+    """Built-in scenarios as ``(name, one-line description)``."""
+    return [(name, _first_line(importlib.import_module(f"mimics.scenarios.{name}")))
+            for name in _builtin_names(mimics.scenarios)]
+
+
+def scenario_parameters(name_or_path: str | Path) -> dict[str, Any]:
+    """The keyword parameters a scenario accepts, with their defaults."""
+    factory, _ = _scenario_factory(str(name_or_path))
+    if factory is None:
+        return {}
+    return {p.name: p.default for p in inspect.signature(factory).parameters.values()
+            if p.default is not inspect.Parameter.empty}
+
+
+def _scenario_factory(text: str) -> tuple[Any, str]:
+    if text.endswith(".toml"):
+        return None, Path(text).stem
+    if _looks_like_path(text):
+        module = _load_file(Path(text), "scenario")
+        label = Path(text).stem
+    elif text in _builtin_names(mimics.scenarios):
+        module = importlib.import_module(f"mimics.scenarios.{text}")
+        label = text
+    else:
+        known = ", ".join(_builtin_names(mimics.scenarios))
+        raise ScenarioError(f"unknown scenario {text!r} (expected a .py or .toml file or one "
+                            f"of: {known})")
+    factory = getattr(module, "scenario", None)
+    if not callable(factory):
+        raise ScenarioError(f"scenario {text!r}: define a function scenario(**params) that "
+                            "returns a Scenario")
+    return factory, label
+
+
+def load_scenario(name_or_path: str | Path, **params: Any) -> Scenario:
+    """Build a scenario from a built-in name, a ``.py`` file or a ``.toml`` file.
+
+    ``params`` are the scenario's keyword parameters (``robots=60``); unknown
+    ones are errors naming the parameter and the ones that exist.
+    """
+    text = str(name_or_path)
+    if text.endswith(".toml"):
+        from mimics.world.scenario_files import load_scenario_toml
+
+        return load_scenario_toml(text, **params)
+    factory, label = _scenario_factory(text)
+    accepted = inspect.signature(factory).parameters
+    takes_any = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in accepted.values())
+    for key in params:
+        if key not in accepted and not takes_any:
+            raise ScenarioError(f"scenario {label!r} has no parameter {key!r} (expected one of: "
+                                f"{', '.join(accepted) or 'none'})")
+    try:
+        built = factory(**params)
+    except MimicsError:
+        raise
+    except (TypeError, ValueError) as exc:
+        raise ScenarioError(f"scenario {label!r}: {exc}") from exc
+    if not isinstance(built, Scenario):
+        raise ScenarioError(f"scenario {label!r}: scenario() returned {type(built).__name__}, "
+                            "expected a Scenario")
+    defaults = {k: p.default for k, p in accepted.items()
+                if p.default is not inspect.Parameter.empty}
+    return _named(built, label, {**defaults, **params})
+
+
+def _named(scenario: Scenario, label: str, params: dict[str, Any]) -> Scenario:
+    from dataclasses import replace
+
+    return replace(scenario, name=label, parameters=params)

@@ -1,0 +1,166 @@
+"""The ``mimics`` command line.
+
+Every error a user can cause (an unknown name, a bad number, a malformed file)
+is printed as one line on stderr and exits with status 2.
+"""
+
+from __future__ import annotations
+
+import sys
+import tomllib
+from pathlib import Path
+from typing import Annotated, Any
+
+import click
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from mimics.world.errors import MimicsError
+
+app = typer.Typer(
+    name="mimics",
+    help="mimics: a fast multi-robot simulator for teaching, prototyping and batteries.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+)
+list_app = typer.Typer(help="List built-in algorithms or scenarios.", no_args_is_help=True)
+app.add_typer(list_app, name="list")
+
+console = Console()
+
+
+def fail(message: str) -> typer.Exit:
+    """Print a one-line error on stderr; returns the exit to raise (status 2)."""
+    Console(stderr=True, highlight=False, soft_wrap=True).print(f"mimics: error: {message}",
+                                                                markup=False)
+    return typer.Exit(2)
+
+
+def parse_params(items: list[str]) -> dict[str, Any]:
+    """``["robots=200", "x_offset=0.5"]`` to a dict, values read as TOML literals."""
+    params: dict[str, Any] = {}
+    for item in items:
+        key, sep, text = item.partition("=")
+        if not sep or not key.strip():
+            raise MimicsError(f"--param {item!r}: expected NAME=VALUE")
+        try:
+            value = tomllib.loads(f"v = {text}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = text
+        params[key.strip()] = value
+    return params
+
+
+def print_summary(summary: dict[str, Any], out: Path | None) -> None:
+    """A short table of a run's outcome."""
+    table = Table(title=f"{summary['scenario']} / {summary['algorithm']} / seed "
+                        f"{summary['seed']}: {summary['status']}", show_header=False)
+    table.add_column(style="bold")
+    table.add_column(justify="right")
+    rows = [("robots", summary["robots"]), ("reached goal", summary["reached_goal"]),
+            ("collisions", summary["collisions"]), ("escaped", summary["escaped"]),
+            ("deadlocks", summary["deadlocks"]), ("livelocks", summary["livelocks"]),
+            ("exceptions", summary["exceptions"]),
+            ("simulated time", f"{summary['sim_time']:.2f} s"),
+            ("wall time", f"{summary['wall_time']:.2f} s"),
+            ("speed", f"{summary['sim_speed']:.2f} s_sim/s" if summary["sim_speed"] else "-")]
+    for name, value in rows:
+        table.add_row(name, str(value))
+    console.print(table)
+    if summary.get("error"):
+        console.print(f"error: {summary['error']}", markup=False)
+    if out is not None:
+        console.print(f"records in {out}", markup=False)
+
+
+@app.command()
+def run(
+    scenario: Annotated[str, typer.Argument(help="Built-in scenario name or a .py/.toml file.")],
+    algorithm: Annotated[str, typer.Argument(help="Built-in algorithm name or a .py file.")],
+    robots: Annotated[int | None, typer.Option(help="Number of robots (scenario parameter).")]
+    = None,
+    time: Annotated[float | None, typer.Option(help="Simulated seconds to run.")] = None,
+    seed: Annotated[int, typer.Option(help="Seed of every random draw.")] = 0,
+    out: Annotated[Path | None, typer.Option(help="Run folder [default: runs/SCENARIO-ALGO-sSEED]"
+                                             )] = None,
+    policy: Annotated[str, typer.Option(help="On user exceptions: abort or deactivate.")]
+    = "abort",
+    param: Annotated[list[str] | None, typer.Option(help="Scenario parameter NAME=VALUE "
+                                                         "(repeatable).")] = None,
+    wall_limit: Annotated[float | None, typer.Option(help="Stop after this many wall seconds."
+                                                     )] = None,
+) -> None:
+    """Run one simulation, print its summary and write its run folder."""
+    from mimics.interfaces.api import prepare
+    from mimics.records.summary import write_summary
+
+    if policy not in ("abort", "deactivate"):
+        raise fail(f"--policy: expected abort or deactivate, got {policy!r}")
+    if robots is not None and robots < 1:
+        raise fail(f"--robots: expected a whole number >= 1, got {robots}")
+    if time is not None and not time > 0:
+        raise fail(f"--time: expected a positive number of simulated seconds, got {time}")
+    try:
+        params = parse_params(param or [])
+        sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed,
+                      policy=policy,  # type: ignore[arg-type]
+                      wall_limit=wall_limit, params=params)
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
+    result = sim.run()
+    write_summary(result, folder)
+    print_summary(result.summary(), folder)
+
+
+@list_app.command("algorithms")
+def list_algorithms_command() -> None:
+    """Built-in algorithms, with a one-line description each."""
+    from mimics.catalog import list_algorithms
+
+    _print_catalog("algorithm", list_algorithms())
+
+
+@list_app.command("scenarios")
+def list_scenarios_command() -> None:
+    """Built-in scenarios, with a one-line description each."""
+    from mimics.catalog import list_scenarios
+
+    _print_catalog("scenario", list_scenarios())
+
+
+def _print_catalog(kind: str, entries: list[tuple[str, str]]) -> None:
+    table = Table(show_header=True)
+    table.add_column(kind)
+    table.add_column("description")
+    for name, description in entries:
+        table.add_row(name, description)
+    console.print(table)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point: runs the app and turns usage errors into one line and status 2."""
+    command = typer.main.get_command(app)
+    try:
+        command.main(args=argv, prog_name="mimics", standalone_mode=False)
+    except click.exceptions.NoArgsIsHelp:
+        return 0
+    except click.UsageError as exc:
+        fail(exc.format_message())
+        return 2
+    except click.exceptions.Abort:
+        fail("interrupted")
+        return 130
+    except click.exceptions.Exit as exc:
+        return exc.exit_code
+    except MimicsError as exc:
+        fail(str(exc))
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,61 @@
+"""Deadlock and livelock detection on situations built on purpose."""
+
+import math
+
+import numpy as np
+
+from mimics.engine.simulation import Simulation
+from mimics.engine.state import Status
+from mimics.world.maps import Map
+from mimics.world.robot_types import RobotType
+from mimics.world.scenario import Scenario, Settings
+
+BLIND = RobotType("blind", width=0.5, length=0.7, kv=1.0, kw=1.0, tau_v=0.5, tau_w=0.2)
+
+
+def scen(stage, goal, walls=(), **settings) -> Scenario:
+    m = Map(np.array(walls, dtype=float).reshape(-1, 4), (-20, -20, 20, 20))
+    base = {"time_limit": 60.0, "deadlock_window": 5.0, "livelock_window": 15.0}
+    return Scenario.from_matrix([[*stage, *goal]], m, BLIND,
+                                settings=Settings(**{**base, **settings}))
+
+
+def test_robot_told_to_stay_still_far_from_its_goal_is_deadlocked() -> None:
+    result = Simulation(scen((0, 0, 0, 0), (10, 0)), lambda r: (0.0, 0.0)).run()
+    assert result.final_status[0] == Status.DEADLOCK
+    event = next(e for e in result.events if e.kind == "deadlock")
+    assert event.time == 5.0 and event.start == 0.0
+    assert result.summary()["deadlocks"] == 1
+
+
+def test_deadlock_is_only_flagged_when_deactivation_is_off() -> None:
+    result = Simulation(scen((0, 0, 0, 0), (10, 0), deactivate_on_deadlock=False),
+                        lambda r: (0.0, 0.0), time_limit=8).run()
+    assert result.final_status[0] == Status.ACTIVE
+    assert result.summary()["deadlocks"] == 1
+
+
+def test_circling_robot_is_in_livelock_not_deadlock() -> None:
+    def circle(robot):
+        return 0.5, robot.heading + 0.6
+
+    result = Simulation(scen((0, 0, 0, 0), (15, 0)), circle, time_limit=40).run()
+    summary = result.summary()
+    assert summary["livelocks"] == 1
+    assert summary["deadlocks"] == 0
+    event = next(e for e in result.events if e.kind == "livelock")
+    assert event.start == event.time - 15.0
+
+
+def test_robot_that_waits_then_goes_is_not_flagged() -> None:
+    def wait_then_go(robot):
+        if robot.time < 4.0:
+            return 0.0, 0.0
+        gx, gy = robot.goal
+        x, y, _ = robot.pose
+        return 1.0, math.atan2(gy - y, gx - x)
+
+    result = Simulation(scen((0, 0, 0, 0), (10, 0)), wait_then_go).run()
+    summary = result.summary()
+    assert result.final_status[0] == Status.REACHED_GOAL
+    assert summary["deadlocks"] == 0 and summary["livelocks"] == 0
