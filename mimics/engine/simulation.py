@@ -122,6 +122,7 @@ class Simulation:
         self._started = True
         self._wall_start = time.perf_counter()
         self._check_bodies(np.flatnonzero(self.state.active))
+        self._stalls.update(self.state)  # the windows start at time zero
         self._finish_deactivations()
         self._sense()
         self._handle_failures(self.controller.reset(self))

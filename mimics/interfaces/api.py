@@ -11,40 +11,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.outcome import RunResult
-from mimics.engine.simulation import Policy, Simulation
-from mimics.records.summary import write_summary
-from mimics.world.errors import MimicsError
+from mimics.engine.simulation import Policy
+from mimics.records.runner import prepare, run_to_folder
 from mimics.world.scenario import Scenario
-
-
-def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | None = None,
-            time: float | None = None, seed: int = 0, policy: Policy = "abort",
-            wall_limit: float | None = None, params: dict[str, Any] | None = None,
-            observers: tuple[Any, ...] = ()) -> Simulation:
-    """Build a :class:`Simulation` from names or objects, checking every argument."""
-    if robots is not None and (not isinstance(robots, int) or robots < 1):
-        raise MimicsError(f"robots: expected a whole number >= 1, got {robots!r}")
-    if time is not None and not (isinstance(time, int | float) and time > 0):
-        raise MimicsError(f"time: expected a positive number of simulated seconds, got {time!r}")
-    if wall_limit is not None and not wall_limit > 0:
-        raise MimicsError(f"wall limit: expected a positive number of seconds, got {wall_limit!r}")
-    params = dict(params or {})
-    if robots is not None:
-        params["robots"] = robots
-    if isinstance(scenario, Scenario):
-        if params:
-            raise MimicsError("robots/params apply to a scenario name or file, not a Scenario")
-        built = scenario
-    else:
-        built = load_scenario(scenario, **params)
-    if isinstance(algorithm, str | Path):
-        name, module = find_algorithm(algorithm)
-    else:
-        name, module = getattr(algorithm, "__name__", "algorithm"), algorithm
-    return Simulation(built, module, seed=seed, policy=policy, time_limit=time,
-                      wall_limit=wall_limit, observers=observers, algorithm_name=name)
 
 
 def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | None = None,
@@ -68,7 +38,4 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
     """
     sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed, policy=policy,
                   wall_limit=wall_limit, params=params, observers=observers)
-    result = sim.run()
-    if out is not None:
-        write_summary(result, Path(out))
-    return result
+    return sim.run() if out is None else run_to_folder(sim, out)

@@ -94,8 +94,7 @@ def run(
                                                      )] = None,
 ) -> None:
     """Run one simulation, print its summary and write its run folder."""
-    from mimics.interfaces.api import prepare
-    from mimics.records.summary import write_summary
+    from mimics.records.runner import prepare, run_to_folder
 
     if policy not in ("abort", "deactivate"):
         raise fail(f"--policy: expected abort or deactivate, got {policy!r}")
@@ -111,8 +110,7 @@ def run(
     except MimicsError as exc:
         raise fail(str(exc)) from None
     folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
-    result = sim.run()
-    write_summary(result, folder)
+    result = run_to_folder(sim, folder)
     print_summary(result.summary(), folder)
 
 
