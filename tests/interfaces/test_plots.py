@@ -1,0 +1,91 @@
+"""Run and battery plots: files of the expected size, and one-line errors on bad input."""
+
+import json
+from pathlib import Path
+
+import imageio.v3 as iio
+import pytest
+import typer
+from test_replay import synthetic_run
+from typer.testing import CliRunner
+
+from mimics.interfaces.cli_view import battery_plot_command, plot_command
+from mimics.interfaces.plots import battery_plots, battery_table, plot_run
+from mimics.world.errors import MimicsError
+
+
+def cli() -> typer.Typer:
+    app = typer.Typer()
+    app.command("plot")(plot_command)
+    app.command("battery-plot")(battery_plot_command)
+    return app
+
+
+def write_battery(root: Path, with_line: bool = True) -> Path:
+    """A battery folder of run summaries only (as a finished battery leaves them)."""
+    k = 0
+    combos = [("cave", "deployment"), ("cave", "wall_aware")]
+    if with_line:
+        combos += [("line", "go_to_goal"), ("line", "go_to_goal_team")]
+    for scenario, algorithm in combos:
+        for robots in (1, 10, 30) if scenario == "line" else (100,):
+            for seed in range(3):
+                reached = robots - (seed % 2)
+                summary = {
+                    "status": "error" if (algorithm, seed) == ("wall_aware", 2) else "completed",
+                    "scenario": scenario, "algorithm": algorithm, "seed": seed,
+                    "parameters": {"robots": robots}, "robots": robots,
+                    "sim_time": 21.8, "wall_time": 0.01 * robots + 0.001 * seed,
+                    "reached_goal": reached, "collisions": robots - reached, "escaped": 0,
+                    "deadlocks": 0, "livelocks": 0, "exceptions": 0, "active_at_end": 0,
+                    "time_to_goal": {"mean": 20.0 + seed, "min": 19.0, "max": 22.0}}
+                folder = root / f"run-{k:04d}"
+                folder.mkdir(parents=True)
+                (folder / "summary.json").write_text(json.dumps(summary))
+                k += 1
+    return root
+
+
+def test_run_plot_has_the_requested_size(tmp_path: Path) -> None:
+    out = plot_run(synthetic_run(), tmp_path / "run.png", width_px=900, height_px=700)
+    assert iio.imread(out).shape[:2] == (700, 900)
+
+
+def test_battery_plots_include_the_papers_figure_2(tmp_path: Path) -> None:
+    root = write_battery(tmp_path / "battery")
+    table = battery_table(root)
+    assert len(table) == 2 * 3 + 2 * 9
+    written, skipped = battery_plots(root)
+    assert [p.name for p in written] == ["outcomes.png", "time_to_goal.png",
+                                         "wall_time_vs_robots.png"]
+    assert skipped == []
+    assert all(p.parent == root / "plots" for p in written)
+    assert iio.imread(written[0]).shape[:2] == (600, 1200)
+    assert iio.imread(written[2]).shape[:2] == (600, 900)
+
+
+def test_battery_without_line_runs_skips_figure_2(tmp_path: Path) -> None:
+    root = write_battery(tmp_path / "battery", with_line=False)
+    written, skipped = battery_plots(root, tmp_path / "figs")
+    assert len(written) == 2 and len(skipped) == 1 and "line" in skipped[0]
+
+
+def test_bad_folders_are_one_line_errors(tmp_path: Path) -> None:
+    with pytest.raises(MimicsError, match="no run summaries"):
+        battery_table(tmp_path)
+    result = CliRunner().invoke(cli(), ["battery-plot", str(tmp_path / "missing")])
+    assert result.exit_code == 2
+    assert result.stderr.strip().startswith("mimics: error: ")
+    assert len(result.stderr.strip().splitlines()) == 1
+    result = CliRunner().invoke(cli(), ["plot", str(tmp_path / "missing")])
+    assert result.exit_code == 2
+    assert "not a run folder" in result.stderr
+
+
+def test_battery_plot_command_names_what_it_wrote(tmp_path: Path) -> None:
+    root = write_battery(tmp_path / "battery")
+    result = CliRunner().invoke(cli(), ["battery-plot", str(root), "--out",
+                                        str(tmp_path / "out")])
+    assert result.exit_code == 0, result.output
+    assert result.stdout.count("wrote ") == 3
+    assert (tmp_path / "out" / "wall_time_vs_robots.png").is_file()
