@@ -128,7 +128,9 @@ class WorldRenderer:
         limits: axes limits; default the bounds.
         colors: overrides of :data:`STATUS_COLORS`.
         legend: draw a legend of the robot states under the map.
-        title: text before the time, e.g. the scenario and algorithm.
+        title: text above the time, e.g. the scenario and algorithm.
+        strip_bottom_px: height of the figure's strip for the time and legend above
+            its bottom edge (room for widgets under it).
     """
 
     def __init__(self, ax: Axes, segments: np.ndarray, bounds: Bounds,
@@ -136,7 +138,7 @@ class WorldRenderer:
                  goals: np.ndarray | None = None, *,
                  limits: tuple[float, float, float, float] | None = None,
                  colors: dict[str, str] | None = None, legend: bool = True,
-                 title: str = "") -> None:
+                 title: str = "", strip_bottom_px: float = 0.0) -> None:
         self.ax = ax
         self.figure: Figure = ax.figure  # type: ignore[assignment]
         self.half_length = np.asarray(half_length, dtype=np.float64)
@@ -175,7 +177,8 @@ class WorldRenderer:
                                         linewidths=0.8, zorder=7)
         for artist in (self._trails, self._beams, self._bodies, self._headings):
             ax.add_collection(artist, autolim=False)
-        self._text = self.figure.text(0.01, 6 / self.figure.bbox.height, "", fontsize=9,
+        height = self.figure.bbox.height
+        self._text = self.figure.text(0.01, (strip_bottom_px + 6) / height, "", fontsize=9,
                                       va="bottom", ha="left")
         self._legend = None
         if legend:
@@ -183,7 +186,8 @@ class WorldRenderer:
                        for name, c in zip(STATE_NAMES, self._table, strict=True)]
             self._legend = self.figure.legend(
                 handles=handles, loc="lower right", ncol=4, fontsize=7, frameon=False,
-                handlelength=1.0, columnspacing=0.8, bbox_to_anchor=(1.0, 0.0))
+                handlelength=1.0, columnspacing=0.8,
+                bbox_to_anchor=(1.0, strip_bottom_px / height))
         self.dynamic: list[Artist] = [self._trails, self._beams, self._bodies, self._headings,
                                       self._text]
         if self._legend is not None:
@@ -219,7 +223,7 @@ class WorldRenderer:
         bottom = (_STRIP_PX + extra_bottom_px) / height
         ax = figure.add_axes((0.0, bottom, 1.0, 1.0 - bottom))
         return cls(ax, segments, bounds, half_length, half_width, goals, limits=limits,
-                   **options)
+                   strip_bottom_px=extra_bottom_px, **options)
 
     def set_goals(self, goals: np.ndarray | None) -> None:
         """Show these goals (``(n, 2)``, NaN rows hidden); they belong to the static layer."""
