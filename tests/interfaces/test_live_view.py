@@ -122,3 +122,15 @@ def test_trail_buffer_keeps_the_last_positions_oldest_first() -> None:
     segments = trail.segments(np.array([[9.0, 0.0]]))
     assert segments.shape == (1, 4, 2)
     assert segments[0, :, 0].tolist() == [2.0, 4.0, 6.0, 9.0]
+
+
+def test_the_engine_calls_the_view_at_each_simulated_second() -> None:
+    from mimics.algorithms import go_to_goal
+    from mimics.engine.simulation import Simulation
+    from mimics.scenarios.line import scenario
+
+    view = LiveView("1s", offscreen=True, beams_of=1)
+    sim = Simulation(scenario(robots=3), go_to_goal, seed=1, time_limit=2.5, observers=[view])
+    sim.run()
+    np.testing.assert_allclose(view.drawn_times, [0.0, 1.0, 2.0, 2.5], atol=1e-9)
+    assert view.frame().shape[2] == 3

@@ -173,3 +173,23 @@ def test_the_window_plays_seeks_and_pauses_at_the_end() -> None:
     assert window.time == pytest.approx(5.0) and not window.playing
     window.seek(-3)
     assert window.time == 0.0
+
+
+def test_beams_are_recomputed_against_walls_and_other_robots() -> None:
+    from mimics.interfaces.replay import BeamCaster
+    from mimics.world.robot_types import RangerSpec
+
+    seeing = RobotType("seeing", width=1.0, length=1.6, kv=1.0, kw=1.0, tau_v=0.5, tau_w=0.2,
+                       ranger=RangerSpec("test", fov=np.pi, beams=3, range=20.0))
+    scenario = Scenario.from_matrix([[2.0, 3.0, 0.0, 0.0], [6.0, 3.0, 0.0, 0.0]],
+                                    Map.box(10.0, 6.0), seeing)
+    caster = BeamCaster(scenario)
+    pose = np.array([[2.0, 3.0, 0.0], [6.0, 3.0, 0.0]])
+    active = np.zeros(2, dtype=np.int8)
+    beams = caster.beams(0, pose, active)
+    lengths = np.hypot(*(beams[:, 1] - beams[:, 0]).T)
+    # Right beam to the bottom wall, forward beam to robot 1's rear edge, left to the top wall.
+    np.testing.assert_allclose(lengths, [3.0, 6.0 - 0.8 - 2.0, 3.0], atol=1e-9)
+    escaped = np.array([Status.ACTIVE, Status.ESCAPED], dtype=np.int8)
+    assert np.hypot(*(caster.beams(0, pose, escaped)[1, 1] - pose[0, :2])) == pytest.approx(8.0)
+    assert caster.beams(1, pose, escaped) is None
