@@ -178,8 +178,11 @@ class WorldRenderer:
         for artist in (self._trails, self._beams, self._bodies, self._headings):
             ax.add_collection(artist, autolim=False)
         height = self.figure.bbox.height
-        self._text = self.figure.text(0.01, (strip_bottom_px + 6) / height, "", fontsize=9,
-                                      va="bottom", ha="left")
+        self._text = self.figure.text(0.01, (strip_bottom_px + 6) / height, "t = 0.00 s",
+                                      fontsize=9, va="bottom", ha="left")
+        self.figure.text(0.01, (strip_bottom_px + 22) / height, title, fontsize=9,
+                         va="bottom", ha="left")
+        self._counts: tuple[int, ...] = ()
         self._legend = None
         if legend:
             handles = [Patch(facecolor=c, edgecolor=c, label=name.replace("_", " "))
@@ -188,10 +191,10 @@ class WorldRenderer:
                 handles=handles, loc="lower right", ncol=4, fontsize=7, frameon=False,
                 handlelength=1.0, columnspacing=0.8,
                 bbox_to_anchor=(1.0, strip_bottom_px / height))
+        # Redrawn every frame; the rest (walls, goals, title, legend) is the cached static
+        # layer, redrawn only when the goals or the counts in the legend change.
         self.dynamic: list[Artist] = [self._trails, self._beams, self._bodies, self._headings,
                                       self._text]
-        if self._legend is not None:
-            self.dynamic.append(self._legend)
 
     @classmethod
     def create(cls, segments: np.ndarray, bounds: Bounds, half_length: np.ndarray,
@@ -274,13 +277,15 @@ class WorldRenderer:
         else:
             self._trails.set_segments(np.zeros((0, 2, 2)))
         self._beams.set_segments(np.zeros((0, 2, 2)) if beams is None else beams)
-        self._text.set_text(f"{self.title}\nt = {time:.2f} s" if self.title
-                            else f"t = {time:.2f} s")
+        self._text.set_text(f"t = {time:.2f} s")
         if self._legend is not None:
-            counts = np.bincount(colour_index, minlength=len(self._table))
-            for text, name, count in zip(self._legend.get_texts(), STATE_NAMES, counts,
-                                         strict=True):
-                text.set_text(f"{name.replace('_', ' ')} {count}")
+            counts = tuple(np.bincount(colour_index, minlength=len(self._table)).tolist())
+            if counts != self._counts:
+                self._counts = counts
+                for text, name, count in zip(self._legend.get_texts(), STATE_NAMES, counts,
+                                             strict=True):
+                    text.set_text(f"{name.replace('_', ' ')} {count}")
+                self._background = None
 
     def _pixels_per_metre(self) -> float:
         x0, x1 = self.ax.get_xlim()
@@ -289,8 +294,9 @@ class WorldRenderer:
     def to_rgb(self) -> np.ndarray:
         """The current frame as an ``(height, width, 3)`` uint8 array (Agg canvases).
 
-        The static layer is drawn once and cached; later frames only restore it
-        and draw the moving artists over it.
+        The static layer is drawn once and cached (again when the goals or the
+        counts of robots per state change); other frames only restore it and
+        draw the moving artists over it.
         """
         canvas = self.figure.canvas
         size = canvas.get_width_height()
