@@ -1,0 +1,266 @@
+"""Ray casting: hand-computed hits, the naive reference, shapely, thread counts."""
+
+import math
+
+import numba
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from mimics.engine.ranger import RangerQuery, cast_rays
+from mimics.engine.spatial_index import build_robot_grid, build_segment_grid
+from tests import naive
+
+BOUNDS = (-10.0, -10.0, 10.0, 10.0)
+
+
+def one_beam(walls, origin=(0.0, 0.0), angle=0.0, max_range=8.0, robots=None, robot=-1,
+             cell=None):
+    """Range and owner of a single beam."""
+    grid = build_segment_grid(np.array(walls, dtype=float).reshape(-1, 4), BOUNDS, cell=cell)
+    query = RangerQuery(np.array([origin], dtype=float), np.array([angle]),
+                        np.zeros((1, 1)), np.array([max_range]), np.array([robot]))
+    ranges, owner = cast_rays(query, grid, robots)
+    return float(ranges[0, 0]), int(owner[0, 0])
+
+
+def robots_grid(centers, headings, hl, hw, solid=None, cell=None):
+    n = len(centers)
+    solid = np.ones(n, bool) if solid is None else np.asarray(solid)
+    return build_robot_grid(np.array(centers, float), np.array(headings, float),
+                            np.array(hl, float), np.array(hw, float), solid, BOUNDS, cell=cell)
+
+
+# -- hand-computed hits -------------------------------------------------------------
+
+
+def test_perpendicular_wall_at_three_metres():
+    assert one_beam([[3, -1, 3, 1]]) == (3.0, -1)
+    assert one_beam([[-1, 3, 1, 3]], angle=math.pi / 2) == pytest.approx((3.0, -1))
+    assert one_beam([[3, -1, 3, 1]], angle=math.pi) == (8.0, -2)  # behind the beam
+
+
+def test_grazing_a_segment_end_exactly():
+    assert one_beam([[2, 0, 2, 5]]) == (2.0, -1)  # the beam passes through the end
+    assert one_beam([[2, 5, 2, 0]]) == (2.0, -1)
+    assert one_beam([[2, 1e-9, 2, 5]]) == (8.0, -2)  # a nanometre off: missed
+    assert one_beam([[1, 1, 3, -1]], cell=1.0) == (2.0, -1)  # through a cell corner
+
+
+def test_collinear_wall_is_hit_at_its_nearer_end():
+    assert one_beam([[5, 0, 2, 0]]) == (2.0, -1)
+    assert one_beam([[-5, 0, -2, 0]]) == (8.0, -2)  # collinear but behind
+    assert one_beam([[-1, 0, 1, 0]]) == (0.0, -1)  # the origin lies on it
+    assert one_beam([[0, 0, 0, 0]]) == (0.0, -1)  # a point wall at the origin
+    # straight up: cos(pi/2) is 6e-17, not 0, and the wall still counts as collinear
+    t, who = one_beam([[0, 6, 0, 2]], angle=math.pi / 2)
+    assert who == -1 and t == pytest.approx(2.0, abs=1e-12)
+
+
+def test_range_limit():
+    assert one_beam([[8 + 1e-9, -1, 8 + 1e-9, 1]]) == (8.0, -2)  # just beyond
+    assert one_beam([[8, -1, 8, 1]]) == (8.0, -1)  # exactly at range: a hit
+    assert one_beam([[0, -1, 0, 1]], max_range=0.0) == (0.0, -1)
+    assert one_beam([[1, -1, 1, 1]], max_range=0.0) == (0.0, -2)
+
+
+def test_nearest_of_several_walls():
+    walls = [[6, -1, 6, 1], [4, -1, 4, 1], [5, -1, 5, 1]]
+    assert one_beam(walls) == (4.0, -1)
+    assert one_beam(walls, cell=0.3) == (4.0, -1)
+
+
+def test_far_crossing_listed_in_an_early_cell_does_not_end_the_walk():
+    # the slanted wall crosses the first cell but meets the beam at x = 1.05;
+    # the short one stands in the second cell, at x = 0.6
+    walls = [[0.05, 0.2, 2.05, -0.2], [0.6, -0.05, 0.6, 0.05]]
+    t, who = one_beam(walls, origin=(0.01, 0.0), cell=0.5)
+    assert who == -1 and t == pytest.approx(0.59, abs=1e-12)
+
+
+def grid_lines(cell=1.0):
+    """x and y of the walls grid's own cell boundaries (for BOUNDS and ``cell``)."""
+    frame = build_segment_grid(np.zeros((0, 4)), BOUNDS, cell=cell)
+    k = np.arange(int(frame.shape[0]) + 1)
+    return frame.origin[0] + k * frame.cell, frame.origin[1] + k * frame.cell
+
+
+@pytest.mark.parametrize("cell", [1.0, 0.25])
+def test_beams_along_grid_lines_and_through_grid_corners(cell):
+    x, y = grid_lines(cell)
+    o = (x[10] + 0.2 * cell, y[10])  # on a row boundary, beam along it
+    below = [x[14] + 0.3 * cell, y[10], x[14] + 0.3 * cell, y[10] - 0.5 * cell]
+    above = [x[15] + 0.3 * cell, y[10], x[15] + 0.3 * cell, y[10] + 0.5 * cell]
+    corner = [x[12], y[10], x[12] - 0.3 * cell, y[10] + 0.4 * cell]  # touches a corner only
+    for wall in (below, above, corner):
+        t, who = one_beam([wall], origin=o, cell=cell)
+        assert who == -1 and t == pytest.approx(wall[0] - o[0], abs=1e-12)
+    # along a column boundary, straight down (cos(-pi/2) is not exactly 0)
+    down = [x[10], y[6] + 0.1 * cell, x[10] + 0.5 * cell, y[6] + 0.1 * cell]
+    t, who = one_beam([down], origin=(x[10], y[10]), angle=-math.pi / 2, cell=cell)
+    assert who == -1 and t == pytest.approx(y[10] - down[1], abs=1e-12)
+
+
+def test_ray_starting_outside_the_grid_finds_walls_inside():
+    assert one_beam([[0, -1, 0, 1]], origin=(-50.0, 0.0), max_range=100.0) == (50.0, -1)
+    assert one_beam([[0, -1, 0, 1]], origin=(-50.0, 0.0), max_range=40.0) == (40.0, -2)
+    assert one_beam([[0, -1, 0, 1]], origin=(-50.0, 5.0), max_range=100.0) == (100.0, -2)
+
+
+def test_robot_in_front_is_seen_at_its_near_face():
+    robots = robots_grid([[0, 0], [5, 0]], [0, 0], [0.35, 0.5], [0.25, 0.3])
+    assert one_beam([], robots=robots, robot=0) == (4.5, 1)
+    rotated = robots_grid([[0, 0], [5, 0]], [0, math.pi / 2], [0.35, 0.5], [0.25, 0.3])
+    t, who = one_beam([], robots=rotated, robot=0)
+    assert who == 1 and t == pytest.approx(4.7, abs=1e-12)
+    # a wall nearer than the robot hides it; at the very same distance the wall wins
+    assert one_beam([[3, -1, 3, 1]], robots=robots, robot=0) == (3.0, -1)
+    assert one_beam([[4.5, -1, 4.5, 1]], robots=robots, robot=0) == (4.5, -1)
+
+
+def test_equally_near_robots_report_the_lower_index():
+    robots = robots_grid([[0, 0], [5, 0.5], [5, -0.5]], [0, 0, 0], [0.3, 0.5, 0.5],
+                         [0.3, 0.5, 0.5])
+    assert one_beam([], robots=robots, robot=0) == (4.5, 1)  # the shared corner
+    robots = robots_grid([[0, 0], [5, -0.5], [5, 0.5]], [0, 0, 0], [0.3, 0.5, 0.5],
+                         [0.3, 0.5, 0.5])
+    assert one_beam([], robots=robots, robot=0) == (4.5, 1)
+
+
+def test_own_edges_are_ignored():
+    robots = robots_grid([[0, 0], [5, 0]], [0, 0], [0.35, 0.5], [0.25, 0.3])
+    assert one_beam([], robots=robots, robot=0, angle=math.pi) == (8.0, -2)
+    # a sensor that is no robot sees robot 0's rear face from inside it
+    assert one_beam([], robots=robots, robot=-1, angle=math.pi) == (0.35, 0)
+    # robot 1 scanning backwards sees robot 0's front face
+    t, who = one_beam([], origin=(5.0, 0.0), angle=math.pi, robots=robots, robot=1)
+    assert who == 0 and t == pytest.approx(4.65, abs=1e-12)
+
+
+def test_non_solid_robots_are_invisible():
+    robots = robots_grid([[0, 0], [5, 0]], [0, 0], [0.35, 0.5], [0.25, 0.3],
+                         solid=[True, False])
+    assert one_beam([], robots=robots, robot=0) == (8.0, -2)
+
+
+def test_mixed_beam_counts_with_nan_slots():
+    walls = build_segment_grid(np.array([[3.0, -5, 3, 5], [-5, 2, 5, 2]]), BOUNDS)
+    query = RangerQuery(np.zeros((2, 2)), np.array([0.0, math.pi / 2]),
+                        np.array([[0.0, math.pi / 2, np.nan], [0.0, np.nan, np.nan]]),
+                        np.array([8.0, 1.5]), np.array([0, 1]))
+    ranges, owner = cast_rays(query, walls)
+    assert ranges[0, :2].tolist() == [3.0, 2.0] and math.isnan(ranges[0, 2])
+    assert ranges[1, 0] == 1.5 and np.isnan(ranges[1, 1:]).all()
+    assert owner.tolist() == [[-1, -1, -2], [-2, -2, -2]]
+
+
+def test_no_beams_and_no_robots():
+    walls = build_segment_grid(np.zeros((0, 4)), BOUNDS)
+    query = RangerQuery(np.zeros((0, 2)), np.zeros(0), np.zeros((0, 5)), np.zeros(0),
+                        np.zeros(0, dtype=np.int64))
+    ranges, owner = cast_rays(query, walls)
+    assert ranges.shape == owner.shape == (0, 5)
+
+
+def test_bad_queries_raise():
+    walls = build_segment_grid(np.zeros((0, 4)), BOUNDS)
+    with pytest.raises(ValueError, match="disagree"):
+        cast_rays(RangerQuery(np.zeros((2, 2)), np.zeros(1), np.zeros((2, 3)), np.ones(2),
+                              np.zeros(2, dtype=int)), walls)
+    with pytest.raises(ValueError, match="finite"):
+        cast_rays(RangerQuery(np.full((1, 2), np.nan), np.zeros(1), np.zeros((1, 3)),
+                              np.ones(1), np.zeros(1, dtype=int)), walls)
+
+
+# -- against the naive reference --------------------------------------------------------
+
+coord = st.floats(-8.0, 8.0, allow_nan=False, allow_infinity=False)
+offset = st.one_of(st.floats(-math.pi, math.pi), st.just(math.nan),
+                   st.sampled_from([0.0, math.pi / 2, -math.pi / 2, math.pi]))
+
+
+@st.composite
+def scenes(draw):
+    m = draw(st.integers(0, 30))
+    starts = draw(arrays(np.float64, (m, 2), elements=coord))
+    # mostly short segments, so that beams walk several cells before a hit
+    spans = draw(arrays(np.float64, (m, 2), elements=st.floats(-1.5, 1.5)))
+    walls = np.hstack([starts, starts + spans])
+    n = draw(st.integers(0, 5))
+    centers = draw(arrays(np.float64, (n, 2), elements=coord))
+    headings = draw(arrays(np.float64, n, elements=st.floats(-4, 4)))
+    hl = draw(arrays(np.float64, n, elements=st.floats(0.05, 1.0)))
+    hw = draw(arrays(np.float64, n, elements=st.floats(0.05, 1.0)))
+    solid = draw(arrays(np.bool_, n))
+    k = draw(st.integers(1, 4))
+    beams = draw(st.integers(1, 16))
+    origins = draw(arrays(np.float64, (k, 2), elements=st.floats(-20, 20)))  # some outside
+    scanning = draw(arrays(np.int64, k, elements=st.integers(-1, max(n - 1, -1))))
+    query = RangerQuery(origins, draw(arrays(np.float64, k, elements=st.floats(-4, 4))),
+                        draw(arrays(np.float64, (k, beams), elements=offset)),
+                        draw(arrays(np.float64, k, elements=st.floats(0.0, 30.0))), scanning)
+    return walls, (centers, headings, hl, hw, solid), query
+
+
+@settings(max_examples=200, deadline=None)
+@given(scene=scenes(), wall_cell=st.sampled_from([0.1, 0.7, 3.0, None]),
+       robot_cell=st.sampled_from([0.1, 0.9, None]))
+def test_matches_the_naive_reference(scene, wall_cell, robot_cell):
+    walls, (centers, headings, hl, hw, solid), q = scene
+    wall_grid = build_segment_grid(walls, (-5, -5, 5, 5), cell=wall_cell)
+    robot_grid = build_robot_grid(centers, headings, hl, hw, solid, (-5, -5, 5, 5),
+                                  cell=robot_cell)
+    ranges, owner = cast_rays(q, wall_grid, robot_grid)
+    want_ranges, want_owner = naive.cast_rays(q.origins, q.headings, q.offsets, q.max_range,
+                                              q.robot, walls, centers, headings, hl, hw, solid)
+    np.testing.assert_allclose(ranges, want_ranges, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(owner, want_owner)
+
+
+@settings(max_examples=100, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_naive_reference_agrees_with_shapely(seed):
+    """The reference itself, on generic inputs, against shapely's intersections."""
+    rng = np.random.default_rng(seed)
+    walls = rng.uniform(-8, 8, (10, 4))
+    origin = rng.uniform(-12, 12, 2)
+    for angle in rng.uniform(-math.pi, math.pi, 12):
+        d = (math.cos(angle), math.sin(angle))
+        beam = shapely.LineString([origin, origin + 10.0 * np.array(d)])
+        lines = [shapely.LineString(w.reshape(2, 2)) for w in walls]
+        hits = [shapely.Point(origin).distance(beam.intersection(line))
+                for line in lines if beam.intersects(line)]
+        want = min(hits, default=10.0)
+        ranges, _ = naive.cast_rays(origin[None], np.array([angle]), np.zeros((1, 1)),
+                                    np.array([10.0]), np.array([-1]), walls, np.zeros((0, 2)),
+                                    np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0, bool))
+        assert ranges[0, 0] == pytest.approx(want, abs=1e-9)
+
+
+# -- determinism ----------------------------------------------------------------------
+
+
+def test_same_bits_whatever_the_number_of_threads():
+    rng = np.random.default_rng(7)
+    starts = rng.uniform(0, 16, (300, 2))
+    walls = build_segment_grid(np.hstack([starts, starts + rng.uniform(-1, 1, (300, 2))]),
+                               (0, 0, 16, 16))
+    n = 60
+    centers = rng.uniform(0, 16, (n, 2))
+    headings = rng.uniform(-math.pi, math.pi, n)
+    robots = build_robot_grid(centers, headings, 0.16, 0.13, np.ones(n, bool), (0, 0, 16, 16))
+    query = RangerQuery(centers, headings, np.tile(np.linspace(-1.5, 1.5, 90), (n, 1)),
+                        np.full(n, 8.0), np.arange(n))
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = cast_rays(query, walls, robots)
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+        many = cast_rays(query, walls, robots)
+    finally:
+        numba.set_num_threads(before)
+    assert one[0].tobytes() == many[0].tobytes()
+    assert one[1].tobytes() == many[1].tobytes()
