@@ -111,13 +111,14 @@ def plot_run(run: str | Path | Any, out: str | Path, *, width_px: int = 1000,
     start = scenario.stages
     ax.plot(start[:, 0], start[:, 1], ls="none", marker="o", ms=3, mfc="none", mec="#555555",
             mew=0.6, zorder=4)
+    handles: list[Any] = [
+        Line2D([], [], ls="none", marker="o", ms=5, mfc="none", mec="#555555", label="start")]
     goals = scenario.goals
     if np.isfinite(goals).any():
         ax.plot(goals[:, 0], goals[:, 1], ls="none", marker="x", ms=4, color=GOAL_COLOR,
                 zorder=4)
-    handles: list[Any] = [
-        Line2D([], [], ls="none", marker="o", ms=5, mfc="none", mec="#555555", label="start"),
-        Line2D([], [], ls="none", marker="x", ms=5, color=GOAL_COLOR, label="goal")]
+        handles.append(Line2D([], [], ls="none", marker="x", ms=5, color=GOAL_COLOR,
+                              label="goal"))
     end = data.pose[-1]
     for code, (marker, label) in FINAL_MARKS.items():
         chosen = final == code

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numba
 import numpy as np
 
 from mimics.engine.state import Status
@@ -139,8 +140,10 @@ def replay_data(run: Any) -> ReplayData:
     """
     scenario: Scenario = run.scenario
     n = scenario.robot_count
+    reader = getattr(run, "read_trajectory", None)  # a Run reads only the columns needed
     try:
-        traj = run.trajectory
+        traj = (reader(columns=list(_TRAJECTORY_COLUMNS)) if callable(reader)
+                else run.trajectory)
     except MimicsError:
         raise
     except Exception as exc:  # a truncated or corrupt file, whatever the reader raised
@@ -271,7 +274,12 @@ class BeamCaster:
                             headings=np.ascontiguousarray(pose[ids, 2]),
                             offsets=np.ascontiguousarray(types.beam_offsets[ids]),
                             max_range=types.max_range[ids], robot=ids)
-        ranges, _ = self._cast(query, self.walls, grid)
+        threads = numba.get_num_threads()
+        numba.set_num_threads(1)  # one scan: a thread pool only adds launch latency
+        try:
+            ranges, _ = self._cast(query, self.walls, grid)
+        finally:
+            numba.set_num_threads(threads)
         return beam_segments(pose[robot, :2], pose[robot, 2], types.beam_offsets[robot],
                              np.asarray(ranges)[0])
 

@@ -6,11 +6,11 @@ from pathlib import Path
 import imageio.v3 as iio
 import pytest
 import typer
-from test_replay import synthetic_run
 from typer.testing import CliRunner
 
 from mimics.interfaces.cli_view import battery_plot_command, plot_command
 from mimics.interfaces.plots import battery_plots, battery_table, plot_run
+from mimics.records.runner import prepare, run_to_folder
 from mimics.world.errors import MimicsError
 
 
@@ -46,9 +46,27 @@ def write_battery(root: Path, with_line: bool = True) -> Path:
     return root
 
 
-def test_run_plot_has_the_requested_size(tmp_path: Path) -> None:
-    out = plot_run(synthetic_run(), tmp_path / "run.png", width_px=900, height_px=700)
+@pytest.fixture(scope="module")
+def recorded_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A short Cave deployment run when the Stage data is here, else the line scenario."""
+    folder = tmp_path_factory.mktemp("plots") / "run"
+    try:
+        sim = prepare("cave", "deployment", time=2.0, seed=1)
+    except MimicsError:  # no Stage data on this machine
+        sim = prepare("line", "go_to_goal", robots=5, time=21.8, seed=1)
+    run_to_folder(sim, folder, robot_logs="off")
+    return folder
+
+
+def test_plot_command_writes_a_png_of_the_requested_size(recorded_run: Path,
+                                                         tmp_path: Path) -> None:
+    out = tmp_path / "run.png"
+    result = CliRunner().invoke(cli(), ["plot", str(recorded_run), "--out", str(out),
+                                        "--width", "900", "--height", "700"])
+    assert result.exit_code == 0, result.output
     assert iio.imread(out).shape[:2] == (700, 900)
+    plot_run(recorded_run, tmp_path / "default.png")
+    assert iio.imread(tmp_path / "default.png").shape[:2] == (800, 1000)
 
 
 def test_battery_plots_include_the_papers_figure_2(tmp_path: Path) -> None:

@@ -1,5 +1,6 @@
 """Replays: dense arrays from a run's trajectory, video/GIF export, the window, bad input."""
 
+import shutil
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -7,8 +8,12 @@ import imageio.v2 as imageio
 import numpy as np
 import pandas as pd
 import pytest
+import typer
+from typer.testing import CliRunner
 
 from mimics.engine.state import Status
+from mimics.interfaces.cli_view import replay_command
+from mimics.interfaces.render import figure_size
 from mimics.interfaces.replay import (
     Replayer,
     ReplayWindow,
@@ -16,6 +21,7 @@ from mimics.interfaces.replay import (
     frame_times,
     replay_data,
 )
+from mimics.records.run_folder import load_run
 from mimics.world.errors import MimicsError
 from mimics.world.maps import Map
 from mimics.world.robot_types import RobotType
@@ -63,6 +69,45 @@ def synthetic_run(drop_after_stop: bool = False) -> SimpleNamespace:
                            trajectory=pd.DataFrame(rows), events=events, scenario=scenario)
 
 
+def write_run_folder(folder: Path, run: SimpleNamespace) -> Path:
+    """Write a synthetic run as a run folder that ``mimics.load_run`` reads."""
+    import json
+
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from mimics.records.events import EVENTS_SCHEMA
+    from mimics.records.scenario_record import write_scenario_record
+    from mimics.records.trajectory import TRAJECTORY_SCHEMA
+
+    folder.mkdir(parents=True)
+    write_scenario_record(folder / "scenario.toml", run.scenario,
+                          {"seed": 7, "algorithm": "scripted"})
+    traj = run.trajectory
+    columns = {name: traj[name] if name in traj else np.zeros(len(traj))
+               for name in TRAJECTORY_SCHEMA.names}
+    pq.write_table(pa.Table.from_pydict(columns, schema=TRAJECTORY_SCHEMA),
+                   folder / "trajectory.parquet")
+    events = run.events.assign(step=(run.events["time"] / DT).round().astype(int),
+                               start=np.nan, traceback="")
+    pq.write_table(pa.Table.from_pandas(events[EVENTS_SCHEMA.names], schema=EVENTS_SCHEMA,
+                                        preserve_index=False), folder / "events.parquet")
+    (folder / "summary.json").write_text(json.dumps({**run.summary, "robots": 3}))
+    return folder
+
+
+@pytest.fixture(scope="module")
+def run_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_run_folder(tmp_path_factory.mktemp("replay") / "run", synthetic_run())
+
+
+def cli() -> typer.Typer:
+    app = typer.Typer()
+    app.command("replay")(replay_command)
+    app.command("other")(lambda: None)  # two commands: "replay" stays a subcommand
+    return app
+
+
 def close(actual: np.ndarray, expected: tuple[int, int, int], tol: int = 24) -> bool:
     return bool(np.all(np.abs(actual.astype(int) - np.array(expected)) <= tol))
 
@@ -96,10 +141,11 @@ def test_a_robot_no_longer_logged_keeps_its_last_pose_and_its_final_state() -> N
     assert data.status[k, 1] == Status.COLLIDED  # from the collision event at 4 s
 
 
-def test_video_has_the_expected_frames_size_and_pixels(tmp_path: Path) -> None:
-    run = synthetic_run()
+def test_video_has_the_expected_frames_size_and_pixels(run_folder: Path,
+                                                      tmp_path: Path) -> None:
+    run = load_run(run_folder)
     out = tmp_path / "run.mp4"
-    result = export_replay(run, video=out, fps=10, speed=1, progress=False)
+    result = export_replay(run_folder, video=out, fps=10, speed=1, progress=False)
     assert result.frames == 51
     reader = imageio.get_reader(out, format="FFMPEG")
     frames = [frame for frame in reader]
@@ -122,12 +168,34 @@ def test_video_has_the_expected_frames_size_and_pixels(tmp_path: Path) -> None:
         assert close(last[int(row), int(col)], renderer.color_of(name)), (robot, name)
 
 
-def test_gif_export_at_a_higher_speed(tmp_path: Path) -> None:
+def test_the_cli_exports_a_gif_at_a_higher_speed(run_folder: Path, tmp_path: Path) -> None:
     out = tmp_path / "run.gif"
-    result = export_replay(synthetic_run(), gif=out, fps=10, speed=4, progress=False)
+    result = CliRunner().invoke(cli(), ["replay", str(run_folder), "--gif", str(out),
+                                        "--speed", "4", "--no-progress"])
+    assert result.exit_code == 0, result.output
+    assert "14 frames" in result.stdout
     frames = imageio.mimread(out)
-    assert len(frames) == result.frames == 14
-    assert frames[0].shape[:2] == (result.height, result.width)
+    assert len(frames) == 14
+    assert frames[0].shape[:2] == figure_size((0.0, 0.0, 10.0, 6.0))[1::-1]
+
+
+def test_bad_run_folders_are_one_line_errors(run_folder: Path, tmp_path: Path) -> None:
+    broken = tmp_path / "broken"
+    shutil.copytree(run_folder, broken)
+    data = (broken / "trajectory.parquet").read_bytes()
+    (broken / "trajectory.parquet").write_bytes(data[: len(data) // 2])
+    with pytest.raises(MimicsError, match=r"trajectory\.parquet"):
+        export_replay(broken, video=tmp_path / "a.mp4", progress=False)
+    assert not (tmp_path / "a.mp4").exists()  # nothing half-written is left
+    for folder, words in ((broken, "trajectory.parquet"), (tmp_path, "not a run folder"),
+                          (tmp_path / "missing", "not a run folder")):
+        result = CliRunner().invoke(cli(), ["replay", str(folder), "--video",
+                                            str(tmp_path / "b.mp4"), "--no-progress"])
+        assert result.exit_code == 2
+        lines = result.stderr.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("mimics: error: ") and words in lines[0]
+    result = CliRunner().invoke(cli(), ["replay", str(run_folder)])  # a window: no display
+    assert result.exit_code == 2 and "--video" in result.stderr
 
 
 def test_unwritable_outputs_and_bad_arguments_are_one_line_errors(tmp_path: Path) -> None:
