@@ -3,13 +3,14 @@ API and batteries."""
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 from typing import Any
 
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.outcome import RunResult
 from mimics.engine.simulation import Policy, Simulation
-from mimics.records.summary import write_summary
+from mimics.records.recorder import RobotLogs, RunRecorder
 from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
 
@@ -45,8 +46,46 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
                       wall_limit=wall_limit, observers=observers, algorithm_name=name)
 
 
-def run_to_folder(sim: Simulation, folder: str | Path, **record_options: Any) -> RunResult:
-    """Run ``sim`` to the end and write its records into ``folder``."""
-    result = sim.run()
-    write_summary(result, Path(folder))
+def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs = "auto",
+                  every: int = 1, flush_rows: int = 131_072, flush_seconds: float = 10.0,
+                  extra: dict[str, Any] | None = None) -> RunResult:
+    """Run ``sim`` to the end, recording it into ``folder``; returns its outcome.
+
+    The folder gets scenario.toml, trajectory.parquet, events.parquet, the
+    per-robot logs (``robot_logs``: ``"auto"`` up to 200 robots, ``"on"``,
+    ``"off"``), summary.txt, and summary.json last (see
+    :mod:`mimics.records.run_folder`). If the run raises (an interrupt, a bug),
+    what was recorded is kept, without summary.json, and the exception goes on.
+
+    >>> import tempfile
+    >>> sim = prepare("line", "go_to_goal", robots=2, seed=1)
+    >>> run_to_folder(sim, tempfile.mkdtemp(), robot_logs="off").reached_goal
+    2
+
+    Args:
+        sim: a simulation that has not started.
+        folder: the run folder (created; an earlier run's files in it are replaced).
+        robot_logs: per-robot text logs: ``"auto"``, ``"on"`` or ``"off"``.
+        every: record every ``every``-th step in full (deactivations and the
+            last step always).
+        flush_rows: trajectory rows buffered before a part file is written.
+        flush_seconds: wall-clock seconds between part files at most.
+        extra: keys added to summary.json.
+
+    Raises:
+        MimicsError: on a bad option, or when ``sim`` has already started.
+    """
+    if sim.state.step != 0 or sim.status != "running":
+        raise MimicsError("run_to_folder: the simulation has already run; give it a new one")
+    recorder = RunRecorder(folder, robot_logs=robot_logs, every=every, flush_rows=flush_rows,
+                           flush_seconds=flush_seconds, extra=extra)
+    sim.observers.append(recorder)
+    try:
+        result = sim.run()
+    except BaseException:
+        with contextlib.suppress(Exception):  # keep what was recorded; the first error wins
+            recorder.close()
+        raise
+    finally:
+        sim.observers.remove(recorder)
     return result

@@ -1,4 +1,20 @@
-"""summary.json: the machine-readable outcome of one run."""
+"""summary.json and summary.txt: the outcome of one run, for a program and for a person.
+
+summary.json holds every key of :meth:`mimics.engine.outcome.RunResult.summary`
+(status, times, counts with robot-robot and robot-wall collisions apart,
+deadlocks and livelocks as robots ever in one, user-code timing, time to goal,
+path length and efficiency) plus what the recorder adds: the run's uuid and
+creation time, mimics version, policy and limits, stall episodes, message
+counts and a ``records`` table: rows and steps written, ``every``, whether
+robot logs were written, and the wall time spent recording, in the step loop
+(``step_time``) and at the end (``write_time``: merging, logs, summaries).
+It is written last, so its presence means the run finished and was recorded.
+
+>>> rows = summary_rows({"scenario": "line", "algorithm": "go_to_goal", "seed": 1,
+...                      "status": "completed", "robots": 2, "reached_goal": 2})
+>>> rows[0], rows[1]
+(('status', 'completed'), ('robots', '2'))
+"""
 
 from __future__ import annotations
 
@@ -8,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from mimics.engine.outcome import RunResult
+from mimics.records.layout import SUMMARY_JSON, SUMMARY_TXT
 
 
 def write_json_atomic(path: Path, data: Any) -> None:
@@ -26,8 +43,105 @@ def _jsonable(value: Any) -> Any:
 
 
 def write_summary(result: RunResult, folder: Path, extra: dict[str, Any] | None = None) -> Path:
-    """Write ``summary.json`` for ``result`` into ``folder``; returns its path."""
+    """Write summary.txt, then summary.json (last), for ``result`` into ``folder``.
+
+    Args:
+        result: the run's outcome.
+        folder: the run folder (created if needed).
+        extra: keys added to (or replacing) those of ``result.summary()``.
+
+    Returns:
+        The path of summary.json.
+    """
+    folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    path = folder / "summary.json"
-    write_json_atomic(path, {**result.summary(), **(extra or {})})
+    summary = {**result.summary(), **(extra or {})}
+    (folder / SUMMARY_TXT).write_text(summary_text(summary))
+    path = folder / SUMMARY_JSON
+    write_json_atomic(path, summary)
     return path
+
+
+def _seconds(value: float | None) -> str:
+    """A duration with a unit that suits it."""
+    if value is None:
+        return "-"
+    if value < 1e-3:
+        return f"{value * 1e6:.3g} us"
+    if value < 1:
+        return f"{value * 1e3:.3g} ms"
+    return f"{value:.4g} s"
+
+
+def _stats(stats: dict[str, Any] | None, unit: str, digits: int = 4) -> str:
+    if not stats or stats.get("mean") is None:
+        return "-"
+    unit = f" {unit}" if unit else ""
+    return (f"mean {stats['mean']:.{digits}g}{unit}, min {stats['min']:.{digits}g}, "
+            f"max {stats['max']:.{digits}g}")
+
+
+def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str]]:
+    """``(label, value)`` rows of a summary, the same for summary.txt and ``mimics report``.
+
+    Keys missing from ``summary`` (an older or partial summary) are left out.
+    """
+    s = summary
+    rows: list[tuple[str, str]] = []
+
+    def add(label: str, *keys: str, text: str | None = None) -> None:
+        if all(k in s for k in keys):
+            rows.append((label, text if text is not None else str(s[keys[0]])))
+
+    add("status", "status")
+    add("robots", "robots")
+    add("reached goal", "reached_goal")
+    add("collisions", "collisions", "robot_collisions", "wall_collisions",
+        text=f"{s.get('collisions')} (robot-robot {s.get('robot_collisions')}, "
+             f"robot-wall {s.get('wall_collisions')})")
+    add("escaped", "escaped")
+    add("deadlocks", "deadlocks", text=f"{s.get('deadlocks')} robots"
+        + (f", {s['deadlock_episodes']} episodes" if "deadlock_episodes" in s else ""))
+    add("livelocks", "livelocks", text=f"{s.get('livelocks')} robots"
+        + (f", {s['livelock_episodes']} episodes" if "livelock_episodes" in s else ""))
+    add("exceptions", "exceptions")
+    add("active at end", "active_at_end")
+    if "sim_time" in s:
+        steps = f" ({s['steps']} steps)" if "steps" in s else ""
+        rows.append(("simulated time", f"{s['sim_time']:.6g} s{steps}"))
+    if "wall_time" in s:
+        speed = s.get("sim_speed")
+        rows.append(("wall time", f"{s['wall_time']:.3f} s"
+                     + (f" ({speed:.3g} s_sim/s)" if speed else "")))
+    timing = s.get("user_code_time")
+    if timing and timing.get("calls"):
+        rows.append(("user code per call", f"mean {_seconds(timing['mean'])}, p95 "
+                     f"{_seconds(timing['p95'])}, max {_seconds(timing['max'])} "
+                     f"({timing['calls']} calls)"))
+    add("time to goal", "time_to_goal", text=_stats(s.get("time_to_goal"), "s"))
+    add("path length", "path_length", text=_stats(s.get("path_length"), "m"))
+    add("path efficiency", "path_efficiency", text=_stats(s.get("path_efficiency"), ""))
+    add("user messages", "user_messages")
+    records = s.get("records")
+    if isinstance(records, dict) and "trajectory_rows" in records:
+        rows.append(("recording", f"{records['trajectory_rows']} trajectory rows, "
+                     f"{records.get('step_time', 0.0):.3g} s during the run + "
+                     f"{records.get('write_time', 0.0):.3g} s at its end"))
+    add("error", "error")
+    if rows and rows[-1] == ("error", ""):
+        rows.pop()
+    add("policy", "policy")
+    add("created", "created")
+    add("run uuid", "run_uuid")
+    add("mimics version", "mimics_version")
+    return rows
+
+
+def summary_text(summary: dict[str, Any]) -> str:
+    """summary.txt: a title line and one aligned ``label  value`` line per row."""
+    title = (f"{summary.get('scenario', '?')} / {summary.get('algorithm', '?')} / seed "
+             f"{summary.get('seed', '?')}")
+    rows = summary_rows(summary)
+    width = max((len(label) for label, _ in rows), default=0)
+    lines = [title, "=" * len(title), *(f"{label:<{width}}  {value}" for label, value in rows)]
+    return "\n".join(lines) + "\n"

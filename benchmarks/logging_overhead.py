@@ -1,0 +1,108 @@
+"""What recording a run costs: the line scenario with and without its run folder.
+
+    python benchmarks/logging_overhead.py [--robots 60] [--repeats 5] [--warmup 1]
+
+Times whole runs (start to the last file written) of the paper's line
+scenario with ``go_to_goal``: plain ``Simulation.run()``, and ``run_to_folder``
+with the per-robot logs (60 robots: "auto" writes them) and without them.
+Runs alternate between the ways so that drift hits all alike; the figures are
+medians of ``--repeats`` runs after ``--warmup`` runs. Prints s_sim/s and
+robot-steps/s and writes benchmarks/results/logging_overhead.json.
+
+Two figures of the cost: ``overhead``, the median wall time against the
+unrecorded runs (end to end, but blurred by whatever else the machine does),
+and ``recorder``, the time the recorder spent by its own clock (in the step
+loop and at the end) over the rest of the run's time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import statistics
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+from mimics.algorithms import go_to_goal
+from mimics.engine.simulation import Simulation
+from mimics.records.runner import run_to_folder
+from mimics.scenarios.line import scenario
+
+RESULTS = Path(__file__).parent / "results" / "logging_overhead.json"
+
+
+def timed_run(robots: int, way: str, folder: Path) -> tuple[float, float, Simulation]:
+    """One run of the line scenario recorded ``way`` ("none", "logs" or "no_logs").
+
+    Returns the wall time of the whole run, the part of it the recorder spent
+    (by its own clock, from summary.json) and the simulation.
+    """
+    sim = Simulation(scenario(robots=robots), go_to_goal, seed=1)
+    start = time.perf_counter()
+    recorder = 0.0
+    if way == "none":
+        sim.run()
+    else:
+        run_to_folder(sim, folder, robot_logs="on" if way == "logs" else "off")
+        records = json.loads((folder / "summary.json").read_text())["records"]
+        recorder = records["step_time"] + records["write_time"]
+    return time.perf_counter() - start, recorder, sim
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--robots", type=int, default=60)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--warmup", type=int, default=1)
+    args = parser.parse_args()
+    ways = ("none", "logs", "no_logs")
+    walls: dict[str, list[float]] = {w: [] for w in ways}
+    spent: dict[str, list[float]] = {w: [] for w in ways}
+    sample: dict[str, Simulation] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for attempt in range(args.warmup + args.repeats):
+            for way in ways:
+                wall, recorder, sim = timed_run(args.robots, way, Path(tmp) / way)
+                if attempt >= args.warmup:
+                    walls[way].append(wall)
+                    spent[way].append(recorder / (wall - recorder))
+                    sample[way] = sim
+        sizes = {w: sum(f.stat().st_size for f in (Path(tmp) / w).rglob("*") if f.is_file())
+                 for w in ways if w != "none"}
+    rows: dict[str, Any] = {}
+    base = statistics.median(walls["none"])
+    for way in ways:
+        sim = sample[way]
+        wall = statistics.median(walls[way])
+        rows[way] = {"wall_time": wall, "wall_times": walls[way],
+                     "sim_speed": sim.state.time / wall,
+                     "robot_steps_per_s": sim.timing.count / wall,
+                     "overhead": wall / base - 1.0,
+                     "recorder_share": statistics.median(spent[way]),
+                     "folder_bytes": sizes.get(way, 0)}
+    print(f"line, {args.robots} robots, {sample['none'].state.step} steps, median of "
+          f"{args.repeats} runs after {args.warmup} warm-up")
+    print(f"{'recording':>24} {'wall s':>8} {'s_sim/s':>9} {'robot-steps/s':>14} "
+          f"{'overhead':>9} {'recorder':>9} {'folder':>9}")
+    labels = {"none": "none (Simulation.run)", "logs": "run folder + robot logs",
+              "no_logs": "run folder, no logs"}
+    for way in ways:
+        r = rows[way]
+        print(f"{labels[way]:>24} {r['wall_time']:8.3f} {r['sim_speed']:9.2f} "
+              f"{r['robot_steps_per_s']:14.0f} {100 * r['overhead']:8.1f}% "
+              f"{100 * r['recorder_share']:8.1f}% "
+              f"{r['folder_bytes'] / 1e3:7.0f} kB")
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    RESULTS.write_text(json.dumps({
+        "benchmark": "logging_overhead", "scenario": "line", "algorithm": "go_to_goal",
+        "robots": args.robots, "steps": sample["none"].state.step, "repeats": args.repeats,
+        "warmup": args.warmup, "machine": platform.platform(), "python": platform.python_version(),
+        "ways": rows}, indent=2) + "\n")
+    print(f"wrote {RESULTS}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,47 @@
+"""The names of the files in a run folder, in one place.
+
+A run folder holds (see ``docs`` of :mod:`mimics.records.run_folder`)::
+
+    scenario.toml        what was run: scenario, types, map, settings, [run] table
+    trajectory.parquet   one row per robot per recorded step (the source of truth)
+    events.parquet       deactivations, collisions, stalls, exceptions, messages
+    robots/robot_0000.log  one text log per robot (0-based robot index), optional
+    summary.txt          the outcome for a person
+    summary.json         the outcome for a program; written last: it marks a finished run
+
+While a run goes on, trajectory and events are written as numbered part files
+(``trajectory.parts/part-000000.parquet``...), each complete with its footer,
+and merged into the single files when the run ends. A run killed midway keeps
+its part files, which :func:`mimics.load_run` reads as one table.
+
+>>> robot_log_name(7, robots=10)
+'robot_0007.log'
+>>> robot_log_name(12345, robots=20000)
+'robot_12345.log'
+"""
+
+from __future__ import annotations
+
+SUMMARY_JSON = "summary.json"
+SUMMARY_TXT = "summary.txt"
+SCENARIO_TOML = "scenario.toml"
+TRAJECTORY = "trajectory.parquet"
+TRAJECTORY_PARTS = "trajectory.parts"
+EVENTS = "events.parquet"
+EVENTS_PARTS = "events.parts"
+ROBOTS_DIR = "robots"
+
+#: Every name a recorder writes; a new run in an old folder removes these first.
+RECORD_NAMES = (SUMMARY_JSON, SUMMARY_TXT, SCENARIO_TOML, TRAJECTORY, TRAJECTORY_PARTS, EVENTS,
+                EVENTS_PARTS, ROBOTS_DIR)
+
+
+def robot_log_name(robot: int, robots: int) -> str:
+    """File name of robot ``robot``'s text log (0-based index, at least 4 digits).
+
+    Args:
+        robot: the engine's robot index, from 0.
+        robots: number of robots in the run (more than 10000 widens the number).
+    """
+    digits = max(4, len(str(max(robots - 1, 0))))
+    return f"robot_{robot:0{digits}d}.log"

@@ -1,0 +1,145 @@
+"""Parquet tables written in complete parts while a run goes on, merged at its end.
+
+A Parquet file is only readable once its footer is written, so a writer killed
+midway leaves nothing usable. Instead, each flush of a recorder's buffer
+becomes its own small file ``part-000000.parquet`` in a parts folder, written
+under a ``.tmp`` name and renamed once complete: whatever happens to the
+process, every ``part-*.parquet`` present is whole. When the run ends the parts
+are merged, one row group each, into the single final file (a lone part is
+just renamed) and the parts folder is removed. Readers prefer the final file
+and fall back on the parts (a killed run).
+
+>>> import tempfile, pyarrow as pa
+>>> from pathlib import Path
+>>> folder = Path(tempfile.mkdtemp())
+>>> schema = pa.schema([("a", pa.int32())])
+>>> writer = PartWriter(folder / "t.parts", schema)
+>>> writer.write(pa.table({"a": pa.array([1, 2], pa.int32())}))
+>>> writer.write(pa.table({"a": pa.array([3], pa.int32())}))
+>>> writer.merge(folder / "t.parquet")
+3
+>>> read_table(folder / "t.parquet", folder / "t.parts", schema)["a"].to_pylist()
+[1, 2, 3]
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from mimics.world.errors import MimicsError
+
+COMPRESSION = "zstd"
+_PART_GLOB = "part-*.parquet"
+
+
+class PartWriter:
+    """Writes tables of one schema as complete part files, then merges them.
+
+    Args:
+        folder: the parts folder (created on the first write).
+        schema: every table written must have exactly this schema.
+        compression: Parquet codec of the parts and of the merged file.
+    """
+
+    def __init__(self, folder: Path, schema: pa.Schema, compression: str = COMPRESSION) -> None:
+        self.folder = Path(folder)
+        self.schema = schema
+        self.compression = compression
+        self.parts = 0
+        self.rows = 0
+
+    def write(self, table: pa.Table) -> None:
+        """Write ``table`` as the next part (nothing for an empty table)."""
+        if table.num_rows == 0:
+            return
+        self.folder.mkdir(parents=True, exist_ok=True)
+        path = self.folder / f"part-{self.parts:06d}.parquet"
+        tmp = path.with_name(path.name + ".tmp")
+        pq.write_table(table, tmp, row_group_size=table.num_rows, **self._options())
+        os.replace(tmp, path)
+        self.parts += 1
+        self.rows += table.num_rows
+
+    def merge(self, target: Path) -> int:
+        """Merge every part into ``target`` (an empty table when none); returns its rows."""
+        parts = part_files(self.folder)
+        if len(parts) == 1:
+            os.replace(parts[0], target)
+            rows = pq.read_metadata(target).num_rows
+        else:
+            tmp = target.with_name(target.name + ".tmp")
+            rows = 0
+            with pq.ParquetWriter(tmp, self.schema, **self._options()) as writer:
+                for part in parts:
+                    table = pq.read_table(part)
+                    writer.write_table(table, row_group_size=max(table.num_rows, 1))
+                    rows += table.num_rows
+            os.replace(tmp, target)
+        shutil.rmtree(self.folder, ignore_errors=True)
+        return rows
+
+    def _options(self) -> dict[str, Any]:
+        return {"compression": self.compression, "use_dictionary": _dictionary_columns(self.schema)}
+
+
+def _dictionary_columns(schema: pa.Schema) -> list[str]:
+    """Dictionary-encode integers and strings (few distinct values), never floats."""
+    return [f.name for f in schema if not pa.types.is_floating(f.type)]
+
+
+def part_files(folder: Path) -> list[Path]:
+    """The complete part files of ``folder``, in order (none if it does not exist)."""
+    return sorted(Path(folder).glob(_PART_GLOB)) if Path(folder).is_dir() else []
+
+
+def one_line(exc: BaseException) -> str:
+    """An exception's message on one line."""
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def check_readable(path: Path) -> None:
+    """Read the footer of a Parquet file, raising a one-line error naming it.
+
+    Raises:
+        MimicsError: when the file is truncated or not Parquet.
+    """
+    try:
+        pq.read_metadata(path)
+    except (pa.ArrowException, OSError) as exc:
+        raise MimicsError(f"{path}: not a readable Parquet file, truncated or corrupt "
+                          f"({one_line(exc)})") from None
+
+
+def read_table(final: Path, parts: Path, schema: pa.Schema, columns: Sequence[str] | None = None,
+               filters: Any = None) -> pa.Table:
+    """The table in ``final``, else the concatenation of the complete parts in ``parts``.
+
+    Args:
+        final: the merged file of a finished run.
+        parts: the parts folder a killed run leaves.
+        schema: the table's schema (for an empty result).
+        columns: columns to read (all by default).
+        filters: a pyarrow filter expression or DNF list, applied while reading.
+
+    Raises:
+        MimicsError: naming the file, when one is truncated or not Parquet.
+    """
+    files = [final] if final.exists() else part_files(parts)
+    names = list(columns) if columns is not None else schema.names
+    tables = []
+    for path in files:
+        try:
+            tables.append(pq.read_table(path, columns=names, filters=filters, schema=schema))
+        except (pa.ArrowException, OSError) as exc:
+            raise MimicsError(f"{path}: not a readable Parquet file, truncated or corrupt "
+                              f"({one_line(exc)})") from None
+    if not tables:
+        return pa.schema([schema.field(n) for n in names]).empty_table()
+    return pa.concat_tables(tables) if len(tables) > 1 else tables[0]

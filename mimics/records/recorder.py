@@ -1,0 +1,241 @@
+"""RunRecorder: the observer that writes a run folder while the simulation runs.
+
+On start it writes scenario.toml (what is run, with the ``[run]`` table) and
+the initial rows; after each step it buffers the rows of the robots active at
+the start of the step (:mod:`mimics.records.trajectory`) and the new events and
+messages (:mod:`mimics.records.events`), writing a part file every
+``flush_rows`` rows or ``flush_seconds`` of wall time. At the end it merges
+the parts into trajectory.parquet and events.parquet, writes the per-robot
+logs from them (``robot_logs``: ``"auto"`` up to :data:`AUTO_ROBOT_LOGS`
+robots, ``"on"``, ``"off"``), summary.txt, and summary.json last.
+
+>>> import tempfile
+>>> from mimics.engine.simulation import Simulation
+>>> from mimics.scenarios.line import scenario
+>>> from mimics.algorithms import go_to_goal
+>>> folder = tempfile.mkdtemp()
+>>> recorder = RunRecorder(folder)
+>>> result = Simulation(scenario(robots=2), go_to_goal, seed=1, observers=[recorder]).run()
+>>> sorted(p.name for p in recorder.folder.iterdir())  # doctest: +NORMALIZE_WHITESPACE
+['events.parquet', 'robots', 'scenario.toml', 'summary.json', 'summary.txt',
+ 'trajectory.parquet']
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import shutil
+import time
+import uuid
+from datetime import datetime
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+
+import mimics
+from mimics.engine.outcome import RunResult
+from mimics.records.events import EVENTS_SCHEMA, EventBuffer
+from mimics.records.layout import (
+    EVENTS,
+    EVENTS_PARTS,
+    RECORD_NAMES,
+    SCENARIO_TOML,
+    SUMMARY_JSON,
+    TRAJECTORY,
+    TRAJECTORY_PARTS,
+)
+from mimics.records.parts import COMPRESSION, PartWriter
+from mimics.records.robot_logs import write_robot_logs
+from mimics.records.scenario_record import write_scenario_record
+from mimics.records.summary import write_summary
+from mimics.records.trajectory import TRAJECTORY_SCHEMA, TrajectoryBuffer
+from mimics.world.errors import MimicsError
+
+if TYPE_CHECKING:
+    from mimics.engine.simulation import Simulation
+
+RobotLogs = Literal["auto", "on", "off"]
+ROBOT_LOG_CHOICES = ("auto", "on", "off")
+AUTO_ROBOT_LOGS = 200  # "auto" writes per-robot logs up to this many robots
+
+
+def mimics_version() -> str:
+    """The running mimics version (from the package, else from its installed metadata)."""
+    version = getattr(mimics, "__version__", None)
+    if version is None:
+        try:
+            version = importlib.metadata.version("mimics")
+        except importlib.metadata.PackageNotFoundError:
+            version = "unknown"
+    return str(version)
+
+
+class RunRecorder:
+    """Records one simulation into ``folder`` (an observer: pass it in ``observers``).
+
+    Args:
+        folder: the run folder; created if needed. Files of an earlier run in
+            it (the names in :data:`mimics.records.layout.RECORD_NAMES`) are
+            removed when the run starts, summary.json first.
+        robot_logs: ``"auto"`` (up to 200 robots), ``"on"`` or ``"off"``.
+        every: record every ``every``-th step in full (1: all steps); steps
+            where robots are deactivated and the last step are always recorded
+            for those robots.
+        flush_rows: write a part once this many trajectory rows are buffered.
+        flush_seconds: write a part at least this often (wall-clock seconds),
+            so that a killed run loses little.
+        compression: Parquet codec (``"zstd"``, ``"snappy"``, ``"none"``...).
+        extra: keys added to summary.json.
+
+    Raises:
+        MimicsError: on a bad option.
+    """
+
+    def __init__(self, folder: str | Path, *, robot_logs: RobotLogs = "auto", every: int = 1,
+                 flush_rows: int = 131_072, flush_seconds: float = 10.0,
+                 compression: str = COMPRESSION, extra: dict[str, Any] | None = None) -> None:
+        if robot_logs not in ROBOT_LOG_CHOICES:
+            raise MimicsError(f"robot_logs: expected auto, on or off, got {robot_logs!r}")
+        if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+            raise MimicsError(f"every: expected a whole number >= 1, got {every!r}")
+        if isinstance(flush_rows, bool) or not isinstance(flush_rows, int) or flush_rows < 1:
+            raise MimicsError(f"flush_rows: expected a whole number >= 1, got {flush_rows!r}")
+        if not flush_seconds > 0:
+            raise MimicsError(f"flush_seconds: expected a positive number, got {flush_seconds!r}")
+        self.folder = Path(folder)
+        self.robot_logs = robot_logs
+        self.every = every
+        self.flush_rows = flush_rows
+        self.flush_seconds = float(flush_seconds)
+        self.extra = dict(extra or {})
+        self.run_info: dict[str, Any] = {}
+        self.summary_path: Path | None = None
+        self._trajectory = TrajectoryBuffer(
+            PartWriter(self.folder / TRAJECTORY_PARTS, TRAJECTORY_SCHEMA, compression))
+        self._events = EventBuffer(PartWriter(self.folder / EVENTS_PARTS, EVENTS_SCHEMA,
+                                              compression))
+        self._was_active = np.zeros(0, dtype=bool)
+        self._full_step = -1  # last step recorded for every robot active at its start
+        self._last_flush = 0.0
+        self._trajectory_rows = 0
+        self._event_rows = 0
+        self._step_time = 0.0  # wall seconds spent in on_start and on_step
+        self._started = False
+        self._closed = False
+
+    # -- observer hooks ------------------------------------------------------
+
+    def on_start(self, sim: Simulation) -> None:
+        """Clear old records, write scenario.toml and the initial rows."""
+        if self._started:
+            raise MimicsError(f"{self.folder}: a RunRecorder records one run only")
+        began = time.perf_counter()
+        self._started = True
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            for name in RECORD_NAMES:  # summary.json first: an old one must not mark this run
+                path = self.folder / name
+                if path.is_dir():
+                    shutil.rmtree(path)
+                elif path.exists():
+                    path.unlink()
+        except OSError as exc:
+            raise MimicsError(f"{self.folder}: cannot write the run folder here "
+                              f"({exc.strerror or exc})") from None
+        self.run_info = {
+            "seed": sim.seed, "algorithm": sim.controller.name, "policy": sim.policy,
+            "time_limit": sim.time_limit, "wall_limit": sim.wall_limit,
+            "mimics_version": mimics_version(),
+            "created": datetime.now().astimezone().isoformat(timespec="seconds"),
+            "uuid": str(uuid.uuid4()),
+        }
+        write_scenario_record(self.folder / SCENARIO_TOML, sim.scenario, self.run_info)
+        everyone = np.arange(sim.state.n)
+        self._trajectory.add(sim.state, everyone)
+        self._events.collect(sim.events, sim.state, everyone)
+        self._full_step = sim.state.step
+        self._was_active = sim.state.active
+        self._last_flush = time.perf_counter()
+        self._step_time += self._last_flush - began
+
+    def on_step(self, sim: Simulation) -> None:
+        """Buffer this step's rows and events; write a part when the buffer is full."""
+        if not self._started:
+            raise MimicsError("RunRecorder: attached after the simulation had started")
+        began = time.perf_counter()
+        state = sim.state
+        active = state.active
+        started = np.flatnonzero(self._was_active)
+        if state.step % self.every == 0:
+            self._trajectory.add(state, started)
+            self._full_step = state.step
+        else:
+            self._trajectory.add(state, np.flatnonzero(self._was_active & ~active))
+        self._events.collect(sim.events, state, started)
+        self._was_active = active
+        now = time.perf_counter()
+        if self._trajectory.rows >= self.flush_rows or now - self._last_flush >= self.flush_seconds:
+            self.flush()
+            now = time.perf_counter()
+        self._step_time += now - began
+
+    def on_end(self, sim: Simulation, result: RunResult) -> None:
+        """Merge the parts, write the robot logs, summary.txt and summary.json (last)."""
+        if self._closed:
+            return
+        began = time.perf_counter()
+        if self._full_step != sim.state.step:  # the last step, when ``every`` skipped it
+            self._trajectory.add(sim.state, np.flatnonzero(sim.state.active))
+        self.close()
+        logs = self.robot_logs == "on" or (self.robot_logs == "auto"
+                                           and sim.state.n <= AUTO_ROBOT_LOGS)
+        if logs:
+            write_robot_logs(self.folder, sim.scenario, self.run_info)
+        counts = self._events.counts
+        extra = {
+            "run_uuid": self.run_info["uuid"], "created": self.run_info["created"],
+            "mimics_version": self.run_info["mimics_version"], "policy": sim.policy,
+            "time_limit": sim.time_limit, "wall_limit": sim.wall_limit,
+            "deadlock_episodes": counts.get("deadlock", 0),
+            "livelock_episodes": counts.get("livelock", 0),
+            "user_messages": counts.get("user_message", 0),
+            "records": {"trajectory_rows": self._trajectory_rows,
+                        "recorded_steps": self._trajectory.steps, "every": self.every,
+                        "events": self._event_rows, "robot_logs": logs,
+                        "step_time": self._step_time,
+                        "write_time": time.perf_counter() - began},
+            **self.extra,
+        }
+        self.summary_path = write_summary(result, self.folder, extra)
+
+    # -- writing -------------------------------------------------------------
+
+    def flush(self) -> None:
+        """Write the buffered rows and events as complete part files now."""
+        self._trajectory.flush()
+        self._events.flush()
+        self._last_flush = time.perf_counter()
+
+    def close(self) -> None:
+        """Flush and merge the parts into trajectory.parquet and events.parquet.
+
+        Called by ``on_end``; call it yourself when a run stops on an exception, to
+        keep what was recorded (no summary.json is written then).
+        """
+        if self._closed or not self._started:
+            return
+        self._closed = True
+        self.flush()
+        self._trajectory_rows = self._trajectory.writer.merge(self.folder / TRAJECTORY)
+        self._event_rows = self._events.writer.merge(self.folder / EVENTS)
+
+    @property
+    def buffered_rows(self) -> int:
+        """Trajectory rows held in memory, not yet written."""
+        return self._trajectory.rows
+
+    @property
+    def finished(self) -> bool:
+        """True once summary.json is written."""
+        return self.summary_path is not None and (self.folder / SUMMARY_JSON).exists()

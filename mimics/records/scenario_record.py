@@ -1,0 +1,167 @@
+"""scenario.toml: exactly what was run, enough to rebuild the scenario and draw its map.
+
+The file follows the layout of declarative scenario files
+(:mod:`mimics.world.scenario_files`): ``name``, ``robots`` as an explicit list
+of one-line tables (``type``, ``x``, ``y``, ``yaw``, ``v``, ``goal`` when the
+robot has one), ``[settings]`` with every field, ``[types.NAME]`` with every
+field of every type used (built-in ones too, so the record does not depend on
+the library of a later version), and ``[map]`` with its name, bounds and every
+wall segment inline (the map is recoverable from the run folder alone). On
+top, a ``[run]`` table holds what is not the scenario: seed, algorithm, policy,
+time and wall limits, mimics version, creation time and uuid of the run, the
+map's source and the scenario's parameters (``[run.parameters]``). Floats are
+written in their shortest exact form, so reading gives back the very same
+numbers; :func:`read_scenario_record` reads the file without re-checking the
+start state (a run may start with robots touching, deactivated at time 0).
+
+>>> import tempfile
+>>> from pathlib import Path
+>>> from mimics.scenarios.line import scenario
+>>> path = Path(tempfile.mkdtemp()) / "scenario.toml"
+>>> write_scenario_record(path, scenario(robots=3), {"seed": 1, "algorithm": "go_to_goal"})
+>>> back, run = read_scenario_record(path)
+>>> back.robot_count, run["seed"], back.goals[2].tolist()
+(3, 1, [20.0, 3.0])
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tomllib
+from collections.abc import Iterable
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import tomli_w
+
+from mimics.world.errors import MimicsError
+from mimics.world.maps import Map
+from mimics.world.robot_types import robot_type_from_dict
+from mimics.world.scenario import Scenario, Settings
+
+
+def write_scenario_record(path: Path, scenario: Scenario, run: dict[str, Any]) -> None:
+    """Write ``scenario`` and the ``[run]`` table to ``path`` (through a temporary file).
+
+    Args:
+        path: the file to write (``scenario.toml`` in a run folder).
+        scenario: the scenario that was run.
+        run: seed, algorithm and the other facts of the run; None values are left out.
+    """
+    names = type_names(scenario)
+    run_table = {**_toml_ready(run), "map_source": str(scenario.map.source),
+                 "parameters": _toml_ready(scenario.parameters)}
+    lines = [f"name = {_string(scenario.name)}", "",
+             "# one per robot, in the engine's order (robot 0 first); yaw in rad, v in m/s",
+             "robots = ["]
+    for i in range(scenario.robot_count):
+        x, y, yaw, v = scenario.stages[i].tolist()
+        fields = [f"type = {_string(names[int(scenario.type_index[i])])}", f"x = {_number(x)}",
+                  f"y = {_number(y)}", f"yaw = {_number(yaw)}", f"v = {_number(v)}"]
+        if scenario.has_goal[i]:
+            fields.append(f"goal = {_numbers(scenario.goals[i])}")
+        lines.append("  { " + ", ".join(fields) + " },")
+    lines += ["]", ""]
+    tables = {"run": run_table, "settings": asdict(scenario.settings),
+              "types": {name: {k: v for k, v in t.to_dict().items() if k != "name"}
+                        for name, t in zip(names, scenario.types, strict=True)}}
+    lines.append(tomli_w.dumps(tables))
+    world = scenario.map
+    lines += ["[map]", f"name = {_string(world.name)}", f"bounds = {_numbers(world.bounds)}",
+              "# wall segments [x1, y1, x2, y2] (m)", "segments = ["]
+    lines += [f"  {_numbers(s)}," for s in world.segments.tolist()]
+    lines.append("]")
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text("\n".join(lines) + "\n")
+    os.replace(tmp, path)
+
+
+def type_names(scenario: Scenario) -> list[str]:
+    """The names the record gives the scenario's types: their own, made unique if needed
+    (a second type named ``X`` becomes ``X#2``)."""
+    names: list[str] = []
+    for t in scenario.types:
+        name, k = t.name, 1
+        while name in names:
+            k += 1
+            name = f"{t.name}#{k}"
+        names.append(name)
+    return names
+
+
+def read_scenario_record(path: Path) -> tuple[Scenario, dict[str, Any]]:
+    """The scenario and the ``[run]`` table stored in ``path``.
+
+    Raises:
+        MimicsError: naming the file, when it is missing, not TOML or not a run's record.
+    """
+    try:
+        data = tomllib.loads(Path(path).read_text())
+    except OSError as exc:
+        raise MimicsError(f"{path}: cannot read ({exc.strerror})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise MimicsError(f"{path}: not valid TOML ({exc})") from None
+    if not isinstance(data.get("run"), dict):
+        raise MimicsError(f"{path}: not a run's scenario record (no [run] table)")
+    try:
+        return _scenario_from(data), dict(data["run"])
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        raise MimicsError(f"{path}: malformed scenario record ({type(exc).__name__}: "
+                          f"{exc})") from None
+
+
+def _scenario_from(data: dict[str, Any]) -> Scenario:
+    run = data["run"]
+    map_data = data["map"]
+    world = Map(np.array(map_data["segments"], dtype=np.float64).reshape(-1, 4),
+                tuple(map_data["bounds"]), map_data.get("name", "map"),
+                run.get("map_source", ""))
+    names = list(data["types"])
+    types = tuple(robot_type_from_dict({"name": name, **table}, f"types.{name}")
+                  for name, table in data["types"].items())
+    robots = data["robots"]
+    stages = np.array([[r["x"], r["y"], r.get("yaw", 0.0), r.get("v", 0.0)] for r in robots],
+                      dtype=np.float64).reshape(-1, 4)
+    goals = np.array([r.get("goal", [math.nan, math.nan]) for r in robots], dtype=np.float64)
+    type_index = np.array([names.index(r["type"]) for r in robots], dtype=np.int64)
+    return Scenario(map=world, types=types, type_index=type_index, stages=stages,
+                    goals=goals.reshape(-1, 2), settings=Settings.from_dict(data["settings"]),
+                    name=data["name"], parameters=dict(run.get("parameters", {})))
+
+
+def _toml_ready(values: dict[str, Any]) -> dict[str, Any]:
+    """Values TOML can hold: None left out, NumPy scalars unwrapped, others as text."""
+    ready: dict[str, Any] = {}
+    for key, value in values.items():
+        if value is None:
+            continue
+        if hasattr(value, "item") and np.ndim(value) == 0:
+            value = value.item()
+        if isinstance(value, dict):
+            value = _toml_ready(value)
+        elif isinstance(value, list | tuple):
+            items = [v.item() if hasattr(v, "item") else v for v in value]
+            value = items if all(isinstance(v, bool | int | float | str) for v in items) \
+                else str(value)
+        elif not isinstance(value, bool | int | float | str):
+            value = str(value)
+        ready[str(key)] = value
+    return ready
+
+
+def _string(text: str) -> str:
+    """A TOML basic string (JSON's escapes are valid TOML)."""
+    return json.dumps(text)
+
+
+def _number(value: float) -> str:
+    """A float in TOML, exactly (``repr`` is the shortest exact form; TOML reads it back)."""
+    return repr(float(value))
+
+
+def _numbers(values: Iterable[float]) -> str:
+    return "[" + ", ".join(_number(v) for v in values) + "]"
