@@ -1,0 +1,41 @@
+"""A 12 x 10 m room with obstacles and robots without goals, to explore or deploy in.
+
+A teaching scenario for exploration and coverage: boxes, a pillar and a
+partition wall, and robots placed at random (seeded) in the free space.
+"""
+
+import numpy as np
+
+from mimics.world.errors import ScenarioError
+from mimics.world.maps import Map
+from mimics.world.robot_types import PIONEER_2DX
+from mimics.world.scenario import Scenario, Settings
+from mimics.world.scenario_files import random_placement
+
+WIDTH, HEIGHT = 12.0, 10.0
+# obstacles as (x, y, width, height) boxes
+BOXES = ((2.0, 2.0, 1.5, 1.0), (7.5, 1.5, 1.0, 2.0), (5.5, 5.0, 1.0, 1.0),
+         (2.5, 7.0, 2.0, 0.8), (9.0, 6.5, 1.2, 1.5))
+PARTITION = ((4.0, 10.0, 4.0, 8.5), (8.0, 0.0, 8.0, 0.8))  # walls from the sides
+
+
+def _room() -> Map:
+    walls = list(Map.box(WIDTH, HEIGHT).segments.tolist())
+    for x, y, w, h in BOXES:
+        walls += [(x, y, x + w, y), (x + w, y, x + w, y + h), (x + w, y + h, x, y + h),
+                  (x, y + h, x, y)]
+    walls += list(PARTITION)
+    return Map(np.array(walls), (0.0, 0.0, WIDTH, HEIGHT), name="obstacle room")
+
+
+def scenario(robots: int = 6, seed: int = 1, time_limit: float = 120.0) -> Scenario:
+    """``robots`` Pioneer2DX at random free poses (seeded by ``seed``), no goals."""
+    if isinstance(robots, bool) or not isinstance(robots, int) or not 1 <= robots <= 60:
+        raise ScenarioError(f"obstacle_room: robots must be a whole number from 1 to 60, "
+                            f"got {robots!r}")
+    room = _room()
+    poses = random_placement(robots, PIONEER_2DX, room, np.random.default_rng(seed),
+                             min_spacing=1.0, clearance=0.3)
+    rows = np.column_stack([poses, np.zeros(robots)])
+    return Scenario.from_matrix(rows, room, PIONEER_2DX, settings=Settings(time_limit=time_limit),
+                                name="obstacle_room")
