@@ -59,8 +59,13 @@ each other, goals inside the bounds) on any scenario, also one built in Python.
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "s.toml"
 >>> _ = path.write_text('''
 ... map = { segments = [[0.0, 0.0, 10.0, 0.0]], bounds = [-1.0, -1.0, 11.0, 5.0] }
-... robots = [{ generator = "line", type = "Pioneer2DX", count = 3, start = [1.0, 1.0],
-...             step = [0.0, 1.0], goal_offset = [8.0, 0.0] }]
+... [[robots]]
+... generator = "line"
+... type = "Pioneer2DX"
+... count = 3
+... start = [1.0, 1.0]
+... step = [0.0, 1.0]
+... goal_offset = [8.0, 0.0]
 ... ''')
 >>> s = load_scenario_toml(path)
 >>> s.robot_count, s.goals[2].tolist()
