@@ -107,3 +107,23 @@ def test_battery_plot_command_names_what_it_wrote(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     assert result.stdout.count("wrote ") == 3
     assert (tmp_path / "out" / "wall_time_vs_robots.png").is_file()
+
+
+def test_runs_without_a_summary_come_from_the_battery_database(tmp_path: Path,
+                                                               monkeypatch) -> None:
+    import pandas as pd
+
+    from mimics.batteries import report
+
+    root = write_battery(tmp_path / "battery", with_line=False)
+    (root / "battery.db").write_bytes(b"")  # the report below stands in for the database
+    done = sorted(p.parent for p in root.rglob("summary.json"))
+    rows = [{"folder": str(f), "state": "done", "algorithm": "deployment", "scenario": "cave",
+             "seed": k, "params": "{}"} for k, f in enumerate(done[:3])]
+    rows.append({"folder": str(root / "runs" / "never-written"), "state": "crashed",
+                 "algorithm": "deployment", "scenario": "cave", "seed": 9, "params": "{}"})
+    monkeypatch.setattr(report, "runs_table", lambda folder: pd.DataFrame(rows))
+    table = battery_table(root)
+    assert table["status"].tolist() == ["completed"] * 3 + ["crashed"]
+    written, _ = battery_plots(root)
+    assert len(written) == 2
