@@ -266,9 +266,13 @@ def plot_outcomes(table: pd.DataFrame, out: str | Path, *, width_px: int = 1200,
         left.bar(x, frac, bottom=bottom, color=colour, label=label, width=0.7)
         bottom += frac
     runs = groups.size()
+    without = groups["robots"].apply(lambda r: int(r.isna().sum()))
     for xi, combo in zip(x, combos, strict=True):
-        left.annotate(f"{int(runs.get(combo, 0))} runs", (xi, 1.0), ha="center", va="bottom",
-                      fontsize=7, xytext=(0, 2), textcoords="offset points")
+        text = f"{int(runs.get(combo, 0))} runs"
+        if without.get(combo, 0):
+            text += f", {int(without[combo])} without outcome"
+        left.annotate(text, (xi, 1.0), ha="center", va="bottom", fontsize=7, xytext=(0, 2),
+                      textcoords="offset points")
     left.set_xticks(x, labels, fontsize=8)
     left.set_ylim(0, 1.1)
     left.set_ylabel("fraction of robots")
@@ -337,7 +341,8 @@ def plot_wall_time_vs_robots(table: pd.DataFrame, out: str | Path, *, scenario: 
                              width_px: int = 900, height_px: int = 600) -> Path:
     """The paper's Figure 2: mean wall time of a run against its number of robots.
 
-    One line per algorithm and setting (the run parameters other than ``robots``),
+    One line per algorithm and setting (the run parameters other than ``robots``
+    that differ between runs),
     with the standard deviation over seeds as error bars and the slope of a
     linear fit (milliseconds per robot) in the legend.
 
@@ -346,10 +351,13 @@ def plot_wall_time_vs_robots(table: pd.DataFrame, out: str | Path, *, scenario: 
     """
     runs = table[(table["scenario"] == scenario) & np.isfinite(table["wall_time"])]
     if runs.empty:
-        raise MimicsError(f"no run of the {scenario!r} scenario: no wall time figure")
+        raise MimicsError(f"no finished run of the {scenario!r} scenario: no wall time figure")
     fig = _new_figure(width_px, height_px)
     ax = fig.add_subplot()
-    runs = runs.assign(setting=[_setting(p) for p in runs["parameters"]])
+    params = [json.loads(p) if p else {} for p in runs["parameters"]]
+    keys = {k for p in params for k in p} - {"robots", "seed"}
+    varying = sorted(k for k in keys if len({json.dumps(p.get(k)) for p in params}) > 1)
+    runs = runs.assign(setting=[", ".join(f"{k}={p.get(k)}" for k in varying) for p in params])
     for (algorithm, setting), group in runs.groupby(["algorithm", "setting"]):
         stats = group.groupby("robots")["wall_time"].agg(["mean", "std", "count"]).sort_index()
         robots = stats.index.to_numpy(np.float64)
@@ -372,11 +380,6 @@ def plot_wall_time_vs_robots(table: pd.DataFrame, out: str | Path, *, scenario: 
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     return _save(fig, Path(out))
-
-
-def _setting(parameters_json: str) -> str:
-    params = json.loads(parameters_json) if parameters_json else {}
-    return ", ".join(f"{k}={v}" for k, v in sorted(params.items()) if k not in ("robots", "seed"))
 
 
 def battery_plots(directory: str | Path, out: str | Path | None = None
