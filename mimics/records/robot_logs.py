@@ -116,7 +116,7 @@ def header_lines(scenario: Scenario, run: dict[str, Any], robot: int) -> list[st
 
 def write_robot_logs(folder: Path, scenario: Scenario, run: dict[str, Any],
                      robots: Iterable[int] | None = None, out: Path | None = None,
-                     batch_rows: int = 2_000_000) -> list[Path]:
+                     batch_rows: int = 500_000) -> list[Path]:
     """Write the per-robot logs of the run in ``folder`` from its Parquet files.
 
     Robots are done in batches of about ``batch_rows`` trajectory rows, so memory
