@@ -1,0 +1,376 @@
+"""Battery files: reading, strict validation and expansion into runs.
+
+A battery file (TOML) names algorithms, scenarios, seeds and settings; every
+combination is one run::
+
+    [battery]
+    algorithms = ["go_to_goal", "my_algos/avoid.py"]   # names or paths (relative to the file)
+    seeds = 30            # a count (seeds 1..30) or a list [1, 5, 9]
+    time = 60.0           # simulated seconds per run (default: the scenario's)
+    timeout = 300         # wall-clock seconds per run
+    policy = "abort"      # or "deactivate"
+    robot_logs = "off"    # per-robot text logs in run folders: "off", "auto" or "on"
+    record_every = 1      # record every n-th step of the trajectory
+
+    [[scenarios]]
+    name = "line"         # a built-in name or a path
+    robots = [1, 10, 60]  # any scenario parameter; a list sweeps it
+
+    [[scenarios]]
+    name = "cave"
+
+A list sweeps a parameter; to pass one list as a value, wrap it: ``goal =
+[[1.0, 2.0]]``. Unknown keys, wrong types, unknown algorithms, scenarios or
+scenario parameters are :class:`~mimics.world.errors.MimicsError` lines naming
+the file and the key. Runs are listed algorithm by algorithm, then scenario,
+parameter point and seed.
+
+>>> spec = spec_from_dict({"battery": {"algorithms": ["go_to_goal"], "seeds": 2},
+...                        "scenarios": [{"name": "line", "robots": [1, 3]}]})
+>>> [(r.scenario, r.label, r.seed) for r in spec.runs()]
+[('line', 'robots=1', 1), ('line', 'robots=1', 2), ('line', 'robots=3', 1), ('line', 'robots=3', 2)]
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import re
+import tomllib
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+from mimics.world.errors import MimicsError
+
+BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
+                "record_every")
+TOP_KEYS = ("battery", "scenarios")
+POLICIES = ("abort", "deactivate")
+ROBOT_LOGS = ("off", "auto", "on")
+DEFAULT_TIMEOUT = 300.0
+_SAFE = re.compile(r"[^A-Za-z0-9._=+-]+")
+
+
+@dataclass(frozen=True)
+class ScenarioEntry:
+    """One ``[[scenarios]]`` table: a scenario and its parameters (lists sweep).
+
+    Attributes:
+        ref: the built-in name, or the absolute path of a ``.py``/``.toml`` file.
+        name: the display name (the built-in name or the file's stem).
+        params: parameter values as written; a list is a sweep.
+    """
+
+    ref: str
+    name: str
+    params: dict[str, Any] = field(default_factory=dict)
+
+    def points(self) -> list[dict[str, Any]]:
+        """Every parameter point of the sweep, in file order."""
+        keys = list(self.params)
+        values = [v if isinstance(v, list) else [v] for v in self.params.values()]
+        return [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*values)]
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of a battery: an algorithm on a scenario at a parameter point with a seed."""
+
+    algorithm_ref: str
+    algorithm: str
+    scenario_ref: str
+    scenario: str
+    params: dict[str, Any]
+    seed: int
+
+    @property
+    def label(self) -> str:
+        """The parameter point as ``"robots=10, spacing=2.0"`` (empty without parameters)."""
+        return ", ".join(f"{k}={_text(v)}" for k, v in self.params.items())
+
+    def folder_name(self, run_id: int) -> str:
+        """The run's folder name inside ``runs/``: id, names, parameters and seed."""
+        params = "-".join(f"{k}={_text(v)}" for k, v in self.params.items())
+        parts = [f"{run_id:05d}", self.algorithm, self.scenario, params, f"s{self.seed}"]
+        name = _SAFE.sub("_", "-".join(p for p in parts if p))
+        return name if len(name) <= 120 else f"{name[:110]}-s{self.seed}"
+
+
+@dataclass(frozen=True)
+class BatterySpec:
+    """A validated battery: what to run and how.
+
+    Attributes:
+        algorithms: built-in names or absolute ``.py`` paths.
+        scenarios: the ``[[scenarios]]`` tables.
+        seeds: the seeds of every combination.
+        time: simulated seconds per run (None: each scenario's own limit).
+        timeout: wall-clock seconds per run; past it the run is stopped (and
+            its worker killed if it does not stop by itself) and recorded ``timeout``.
+        policy: ``"abort"`` or ``"deactivate"`` on exceptions in user code.
+        robot_logs: per-robot text logs in run folders (``"off"``, ``"auto"``, ``"on"``).
+        record_every: record every n-th step of the trajectory.
+        name: a label for the battery.
+        source: the file it was read from ("" when built in memory).
+    """
+
+    algorithms: tuple[str, ...]
+    scenarios: tuple[ScenarioEntry, ...]
+    seeds: tuple[int, ...] = (1,)
+    time: float | None = None
+    timeout: float = DEFAULT_TIMEOUT
+    policy: str = "abort"
+    robot_logs: str = "off"
+    record_every: int = 1
+    name: str = ""
+    source: str = ""
+
+    def runs(self) -> list[RunSpec]:
+        """Every run, in order: algorithm, scenario, parameter point, seed."""
+        runs = []
+        for algorithm in self.algorithms:
+            label = Path(algorithm).stem if _is_path(algorithm) else algorithm
+            for entry in self.scenarios:
+                for point in entry.points():
+                    runs.extend(RunSpec(algorithm, label, entry.ref, entry.name, point, seed)
+                                for seed in self.seeds)
+        return runs
+
+    def to_json(self) -> str:
+        """The spec as JSON (stored in the battery's database)."""
+        return json.dumps(asdict(self), sort_keys=True)
+
+    @classmethod
+    def from_json(cls, text: str) -> BatterySpec:
+        """The spec stored by :meth:`to_json`."""
+        data = json.loads(text)
+        scenarios = tuple(ScenarioEntry(**s) for s in data.pop("scenarios"))
+        return cls(algorithms=tuple(data.pop("algorithms")), scenarios=scenarios,
+                   seeds=tuple(data.pop("seeds")), **data)
+
+
+def _text(value: Any) -> str:
+    return json.dumps(value) if isinstance(value, list | dict) else str(value)
+
+
+def _is_path(name: str) -> bool:
+    return name.endswith((".py", ".toml")) or "/" in name or "\\" in name
+
+
+# -- reading and checking ------------------------------------------------------
+
+def load_battery(path: str | Path) -> BatterySpec:
+    """Read and validate a battery file.
+
+    Relative algorithm and scenario paths are taken relative to the file.
+
+    Raises:
+        MimicsError: one line naming the file, the key and what was expected.
+    """
+    source = Path(path)
+    try:
+        text = source.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise MimicsError(f"{source}: no such battery file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MimicsError(f"{source}: cannot be read: {exc}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise MimicsError(f"{source}: not valid TOML: {exc}") from None
+    return spec_from_dict(data, base=source.parent, source=str(source))
+
+
+def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "") -> BatterySpec:
+    """Validate a parsed battery file (``{"battery": {...}, "scenarios": [...]}``).
+
+    Args:
+        data: the parsed TOML.
+        base: the folder relative paths are relative to.
+        source: the file name used in error messages.
+
+    Raises:
+        MimicsError: one line naming the file, the key and what was expected.
+    """
+    where = f"{source}: " if source else ""
+    base = Path(base)
+
+    def fail(message: str) -> MimicsError:
+        return MimicsError(f"{where}{message}")
+
+    _no_unknown(data, TOP_KEYS, "the top level", fail)
+    table = data.get("battery")
+    if not isinstance(table, dict):
+        raise fail("missing [battery] table (with at least `algorithms`)")
+    _no_unknown(table, BATTERY_KEYS, "[battery]", fail)
+    algorithms = _algorithms(table.get("algorithms"), base, fail)
+    seeds = _seeds(table.get("seeds", 1), fail)
+    time = table.get("time")
+    if time is not None and not (_is_number(time) and time > 0 and math.isfinite(time)):
+        raise fail(f"[battery] time: expected a positive number of simulated seconds, got "
+                   f"{time!r}")
+    timeout = table.get("timeout", DEFAULT_TIMEOUT)
+    if not (_is_number(timeout) and timeout > 0 and math.isfinite(timeout)):
+        raise fail(f"[battery] timeout: expected a positive number of wall-clock seconds, got "
+                   f"{timeout!r}")
+    policy = table.get("policy", "abort")
+    if policy not in POLICIES:
+        raise fail(f"[battery] policy: expected \"abort\" or \"deactivate\", got {policy!r}")
+    robot_logs = table.get("robot_logs", "off")
+    if robot_logs not in ROBOT_LOGS:
+        raise fail(f"[battery] robot_logs: expected one of {', '.join(ROBOT_LOGS)}, got "
+                   f"{robot_logs!r}")
+    every = table.get("record_every", 1)
+    if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+        raise fail(f"[battery] record_every: expected a whole number >= 1, got {every!r}")
+    name = table.get("name", "")
+    if not isinstance(name, str):
+        raise fail(f"[battery] name: expected a string, got {name!r}")
+    scenarios = _scenarios(data.get("scenarios"), base, fail)
+    return BatterySpec(algorithms=algorithms, scenarios=scenarios, seeds=seeds,
+                       time=None if time is None else float(time), timeout=float(timeout),
+                       policy=policy, robot_logs=robot_logs, record_every=every, name=name,
+                       source=str(Path(source).resolve()) if source else "")
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def _no_unknown(table: dict[str, Any], known: tuple[str, ...], where: str, fail: Any) -> None:
+    for key in table:
+        if key not in known:
+            raise fail(f"{where}: unknown key {key!r} (expected one of: {', '.join(known)})")
+
+
+def _resolve(name: str, base: Path) -> str:
+    """A built-in name as is; a path made absolute relative to ``base``."""
+    if not _is_path(name):
+        return name
+    path = Path(name).expanduser()
+    return str((path if path.is_absolute() else base / path).resolve())
+
+
+def _algorithms(value: Any, base: Path, fail: Any) -> tuple[str, ...]:
+    from mimics.catalog import find_algorithm
+    from mimics.engine.controllers import controller_from
+
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        raise fail(f"[battery] algorithms: expected a non-empty list of names or .py paths, got "
+                   f"{value!r}")
+    refs: list[str] = []
+    for name in value:
+        ref = _resolve(name, base)
+        if ref in refs:
+            raise fail(f"[battery] algorithms: {name!r} is listed twice")
+        try:
+            label, module = find_algorithm(ref)
+            controller_from(module, label)
+        except MimicsError as exc:
+            raise fail(f"[battery] algorithms: {exc}") from None
+        refs.append(ref)
+    return tuple(refs)
+
+
+def _seeds(value: Any, fail: Any) -> tuple[int, ...]:
+    if isinstance(value, int) and not isinstance(value, bool):
+        if value < 1:
+            raise fail(f"[battery] seeds: expected a count >= 1 or a list of seeds, got {value}")
+        return tuple(range(1, value + 1))
+    if (isinstance(value, list) and value
+            and all(isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in value)):
+        if len(set(value)) != len(value):
+            raise fail(f"[battery] seeds: a seed is listed twice in {value}")
+        return tuple(value)
+    raise fail(f"[battery] seeds: expected a count >= 1 or a non-empty list of whole numbers "
+               f">= 0, got {value!r}")
+
+
+def _scenarios(value: Any, base: Path, fail: Any) -> tuple[ScenarioEntry, ...]:
+    if not isinstance(value, list) or not value or not all(isinstance(s, dict) for s in value):
+        raise fail("missing [[scenarios]] tables (each with at least `name`)")
+    entries: list[ScenarioEntry] = []
+    for k, table in enumerate(value, start=1):
+        where = f"[[scenarios]] #{k}"
+        name = table.get("name")
+        if not isinstance(name, str) or not name:
+            raise fail(f"{where}: missing `name` (a built-in scenario or a .py/.toml path)")
+        ref = _resolve(name, base)
+        params = {key: v for key, v in table.items() if key != "name"}
+        for key, v in params.items():
+            if isinstance(v, list) and not v:
+                raise fail(f"{where} ({name}): {key}: an empty list sweeps nothing")
+        entry = ScenarioEntry(ref, Path(ref).stem if _is_path(ref) else ref, params)
+        _check_scenario(entry, f"{where} ({name})", fail)
+        if entry in entries:
+            raise fail(f"{where}: the same scenario and parameters are listed twice")
+        entries.append(entry)
+    return tuple(entries)
+
+
+def _check_scenario(entry: ScenarioEntry, where: str, fail: Any) -> None:
+    """The scenario exists and takes these parameters (with values of the right kind)."""
+    from mimics.catalog import load_scenario, scenario_parameters
+
+    try:
+        if entry.ref.endswith(".toml"):  # declarative: cheap to build, so build every point
+            for point in entry.points():
+                load_scenario(entry.ref, **point)
+            return
+        defaults = scenario_parameters(entry.ref)
+    except MimicsError as exc:
+        raise fail(f"{where}: {exc}") from None
+    for key, value in entry.params.items():
+        if key not in defaults:
+            known = ", ".join(defaults) or "none"
+            raise fail(f"{where}: scenario {entry.name!r} has no parameter {key!r} (expected "
+                       f"one of: {known})")
+        default = defaults[key]
+        for v in value if isinstance(value, list) else [value]:
+            if not _same_kind(v, default):
+                raise fail(f"{where}: {key}: expected a value like the default {default!r}, got "
+                           f"{v!r}")
+
+
+def _same_kind(value: Any, default: Any) -> bool:
+    if default is None:
+        return True
+    if isinstance(default, bool):
+        return isinstance(value, bool)
+    if isinstance(default, int):
+        return isinstance(value, int) and not isinstance(value, bool)
+    if isinstance(default, float):
+        return _is_number(value)
+    if isinstance(default, str):
+        return isinstance(value, str)
+    return True
+
+
+# -- writing (``mimics battery new``) ------------------------------------------
+
+def battery_toml(algorithms: list[str], scenarios: list[dict[str, Any]], *,
+                 seeds: int | list[int] = 1, time: float | None = None,
+                 timeout: float = DEFAULT_TIMEOUT, policy: str = "abort",
+                 robot_logs: str = "off") -> str:
+    """The text of a battery file (the form ``mimics battery new`` saves).
+
+    Args:
+        algorithms: names or paths, as they should appear in the file.
+        scenarios: ``{"name": ..., param: value or [values]}`` tables.
+        seeds: a count or a list of seeds.
+        time: simulated seconds per run (None: the scenario's).
+        timeout: wall-clock seconds per run.
+        policy: ``"abort"`` or ``"deactivate"``.
+        robot_logs: ``"off"``, ``"auto"`` or ``"on"``.
+    """
+    import tomli_w
+
+    battery: dict[str, Any] = {"algorithms": list(algorithms), "seeds": seeds}
+    if time is not None:
+        battery["time"] = float(time)
+    battery.update(timeout=timeout, policy=policy, robot_logs=robot_logs)
+    return tomli_w.dumps({"battery": battery, "scenarios": scenarios})

@@ -1,0 +1,156 @@
+"""One run of a battery as a task for a worker, and what comes back.
+
+A :class:`Task` is everything a worker process needs (names, parameters,
+seed, limits, the folder to write); :func:`execute` runs it inside the worker
+and returns an :class:`Outcome`. Whatever the user's code does short of
+killing the process (raising, returning NaN, calling ``sys.exit``) ends here
+as an outcome; a hang or a dead process is turned into one by the parent
+(:mod:`mimics.batteries.workers`).
+
+Run states: ``done`` (the run ended normally, possibly with robots deactivated
+for exceptions under the ``deactivate`` policy), ``error`` (status ``error``:
+an exception under ``abort``, or the run could not start), ``timeout`` (past
+the wall-clock limit) and ``crashed`` (the worker process died).
+"""
+
+from __future__ import annotations
+
+import json
+import random
+import sys
+import time
+import traceback
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+STATES = ("pending", "running", "done", "error", "timeout", "crashed")
+FAILED_STATES = ("error", "timeout", "crashed")
+#: Engine status at the end of a run -> battery state.
+STATE_OF_STATUS = {"completed": "done", "time_limit": "done", "stopped": "done",
+                   "error": "error", "wall_limit": "timeout"}
+#: Outcome counts copied from a run's summary.
+COUNTS = ("robots", "reached_goal", "collisions", "escaped", "deadlocks", "livelocks",
+          "exceptions")
+#: The outcome file written into each run folder (what the database records for the run).
+OUTCOME_FILE = "battery.json"
+
+
+@dataclass(frozen=True)
+class Task:
+    """One attempt at one run, as sent to a worker."""
+
+    run_id: int
+    attempt: int
+    algorithm: str
+    scenario: str
+    params: dict[str, Any]
+    seed: int
+    time: float | None
+    timeout: float
+    policy: str
+    robot_logs: str
+    record_every: int
+    folder: str  # where the worker writes (a temporary name; the parent renames it)
+    log_dir: str = ""  # where workers keep their stdout/stderr logs
+
+
+@dataclass
+class Outcome:
+    """What became of one attempt at one run."""
+
+    run_id: int
+    attempt: int
+    state: str
+    status: str = ""
+    error: str = ""
+    traceback: str = ""
+    worker: str = ""
+    started: float = 0.0
+    ended: float = 0.0
+    wall_time: float | None = None
+    sim_time: float | None = None
+    counts: dict[str, int] = field(default_factory=dict)
+
+    def to_json(self) -> str:
+        """The outcome as JSON (the run folder's ``battery.json``)."""
+        return json.dumps(asdict(self), indent=1)
+
+    @classmethod
+    def from_json(cls, text: str) -> Outcome:
+        """An outcome written by :meth:`to_json`."""
+        return cls(**json.loads(text))
+
+
+def hard_timeout(timeout: float) -> float:
+    """Seconds after dispatch at which a run's worker is killed.
+
+    The engine stops a run by itself at ``timeout`` (its wall-clock limit) and
+    writes its records; a run whose user code hangs never gets there, so its
+    worker is killed a grace period later.
+    """
+    return timeout + min(30.0, max(2.0, 0.1 * timeout))
+
+
+def execute(task: Task, worker: str) -> Outcome:
+    """Run one task inside a worker process; never raises.
+
+    User modules loaded from files are imported afresh for every run, and the
+    global ``random`` and ``numpy.random`` generators are seeded with the run's
+    seed, so a run's result does not depend on what the worker ran before.
+    """
+    import numpy as np
+
+    from mimics.records.runner import prepare, run_to_folder
+    from mimics.world.errors import MimicsError
+
+    started = time.time()
+    outcome = Outcome(task.run_id, task.attempt, "error", worker=worker, started=started)
+    for name in [n for n in sys.modules if n.startswith("mimics_user_")]:
+        del sys.modules[name]  # user files (catalog._load_file): fresh module state per run
+    random.seed(task.seed)
+    np.random.seed(task.seed % 2**32)
+    try:
+        sim = prepare(task.scenario, task.algorithm, time=task.time, seed=task.seed,
+                      policy=task.policy,  # type: ignore[arg-type]
+                      wall_limit=task.timeout, params=task.params)
+    except MimicsError as exc:
+        outcome.error = f"the run could not start: {exc}"
+        return _ended(outcome)
+    except BaseException as exc:  # user code at import/build time
+        outcome.error = f"the run could not start: {type(exc).__name__}: {exc}"
+        outcome.traceback = traceback.format_exc()
+        return _ended(outcome)
+    Path(task.folder).parent.mkdir(parents=True, exist_ok=True)
+    try:
+        result = run_to_folder(sim, task.folder, robot_logs=task.robot_logs,  # type: ignore[arg-type]
+                               every=task.record_every,
+                               extra={"battery_run": task.run_id,
+                                      "battery_attempt": task.attempt})
+    except BaseException as exc:  # e.g. sys.exit() in user code
+        outcome.error = f"the run raised {type(exc).__name__}: {exc}"
+        outcome.traceback = traceback.format_exc()
+        return _ended(outcome)
+    summary = result.summary()
+    outcome.status = str(summary["status"])
+    outcome.state = STATE_OF_STATUS.get(outcome.status, "error")
+    outcome.wall_time = float(summary["wall_time"])
+    outcome.sim_time = float(summary["sim_time"])
+    outcome.counts = {key: int(summary[key]) for key in COUNTS}
+    if outcome.state == "timeout":
+        outcome.error = (f"wall-clock timeout: stopped after {task.timeout:g} s at simulated "
+                         f"t={outcome.sim_time:g} s")
+    else:
+        outcome.error = str(summary.get("error") or "")
+    if outcome.state == "error":
+        first = next((e for e in result.events if e.kind == "exception"), None)
+        outcome.traceback = first.traceback if first is not None else ""
+    return _ended(outcome)
+
+
+def _ended(outcome: Outcome) -> Outcome:
+    outcome.ended = time.time()
+    if outcome.wall_time is None:
+        outcome.wall_time = outcome.ended - outcome.started
+    return outcome
+

@@ -1,0 +1,46 @@
+"""The Dask path against a real LocalCluster on loopback: same database, same results."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from mimics.batteries import run_battery, runs_table
+from mimics.records.runner import prepare
+from mimics.world.errors import MimicsError
+from tests.batteries.helpers import fault, write_battery
+
+distributed = pytest.importorskip("distributed")
+
+
+def test_battery_on_a_local_dask_cluster(tmp_path: Path) -> None:
+    path = write_battery(tmp_path / "b.toml", ["go_to_goal", fault("exit_3")], seeds=[1, 2],
+                         time=2.0, scenarios=[{"name": "line", "robots": 2}])
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=True,
+                                  host="127.0.0.1", dashboard_address=None) as cluster:
+        result = run_battery(path, tmp_path / "b", dask=cluster.scheduler_address,
+                             progress=False)
+    assert result.counts == {"done": 2, "crashed": 2}
+    table = runs_table(tmp_path / "b")
+    done = table[table["state"] == "done"]
+    for row in done.itertuples():
+        expected = prepare("line", "go_to_goal", robots=2, time=2.0, seed=row.seed).run()
+        summary = expected.summary()
+        assert (row.reached_goal, row.collisions, row.sim_time) == (
+            summary["reached_goal"], summary["collisions"], summary["sim_time"])
+        assert row.worker.startswith("tcp://127.0.0.1:")
+        assert Path(row.folder, "summary.json").exists()
+    crashed = table[table["state"] == "crashed"]
+    assert set(crashed["error"]) == {"the worker process died during the run (exit code 3)"}
+
+
+def test_an_unreachable_scheduler_is_one_line_and_nothing_is_written(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from mimics.batteries import dask_backend
+
+    monkeypatch.setattr(dask_backend, "CONNECT_TIMEOUT", 1.0)
+    path = write_battery(tmp_path / "b.toml", ["go_to_goal"])
+    with pytest.raises(MimicsError, match="cannot reach the scheduler"):
+        run_battery(path, tmp_path / "b", dask="tcp://127.0.0.1:9", progress=False)
+    assert not (tmp_path / "b").exists()

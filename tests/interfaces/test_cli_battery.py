@@ -1,0 +1,127 @@
+"""`mimics battery ...` through Typer's test runner: help, errors, the whole cycle."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from mimics.interfaces import cli_battery
+from mimics.interfaces.cli_battery import app
+
+GOOD = '''
+[battery]
+algorithms = ["go_to_goal"]
+seeds = 2
+time = 1.0
+timeout = 20
+[[scenarios]]
+name = "line"
+robots = 2
+'''
+
+
+@pytest.fixture(autouse=True)
+def config_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A private MIMICS_CONFIG_DIR for each test."""
+    folder = tmp_path / "config"
+    monkeypatch.setenv("MIMICS_CONFIG_DIR", str(folder))
+    return folder
+
+
+def invoke(*args: str, input: str | None = None) -> object:
+    return CliRunner().invoke(app, [str(a) for a in args], input=input)
+
+
+def test_help_lists_the_commands() -> None:
+    result = invoke("--help")
+    assert result.exit_code == 0
+    for command in ("new", "run", "status", "resume", "rerun-failed", "report"):
+        assert command in result.output
+    assert "--last" in invoke("run", "--help").output
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    ("[battery]\nalgorithms = [", "not valid TOML"),
+    (GOOD.replace('"go_to_goal"', '"teleport"'), "unknown algorithm 'teleport'"),
+    (GOOD.replace("robots = 2", "wheels = 4"), "scenario 'line' has no parameter 'wheels'"),
+    (GOOD.replace("seeds = 2", "seeds = 2\nretries = 3"), "[battery]: unknown key 'retries'"),
+])
+def test_bad_battery_files_stop_before_anything_starts(tmp_path: Path, text: str,
+                                                       expected: str) -> None:
+    path = tmp_path / "battery.toml"
+    path.write_text(text)
+    result = invoke("run", path, "--out", tmp_path / "out")
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mimics: error: ")
+    assert expected in lines[0] and str(path) in lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_usage_errors_are_one_line(tmp_path: Path) -> None:
+    for args, expected in ((("run",), "give a battery file"),
+                           (("run", "--last"), "no battery saved yet"),
+                           (("status", tmp_path), "not a battery folder"),
+                           (("resume", tmp_path), "not a battery folder"),
+                           (("report", tmp_path), "not a battery folder"),
+                           (("new", "--no-input"), "no algorithm"),
+                           (("new", "--no-input", "-a", "go_to_goal", "-s", "line", "-p",
+                             "wheels=4"), "no chosen scenario has a parameter 'wheels'")):
+        result = invoke(*args)
+        assert result.exit_code == 2, args
+        assert result.stderr.startswith("mimics: error: ") and expected in result.stderr, args
+
+
+def test_new_run_last_status_report_resume(tmp_path: Path) -> None:
+    saved = tmp_path / "sets" / "night.toml"
+    result = invoke("new", "--no-input", "-o", saved, "-a", "go_to_goal", "-s", "line",
+                    "-p", "robots=1,2", "--seeds", "2", "--time", "1", "--timeout", "20")
+    assert result.exit_code == 0, result.output
+    assert "4 runs" in result.output
+    data = tomllib.loads(saved.read_text())
+    assert data["scenarios"] == [{"name": "line", "robots": [1, 2]}]
+    assert data["battery"]["seeds"] == 2
+    assert invoke("new", "--no-input", "-o", saved, "-a", "go_to_goal", "-s",
+                  "line").exit_code == 2  # exists: --force needed
+
+    out = tmp_path / "night1"
+    result = invoke("run", "--last", "--out", out, "--workers", "1", "--no-progress")
+    assert result.exit_code == 0, result.output + result.stderr
+    assert "4 runs: 4 done" in result.output
+    assert (out / "battery.toml").read_text() == saved.read_text()
+
+    status = invoke("status", out)
+    assert status.exit_code == 0
+    assert "done" in status.output and "no" in status.output
+
+    csv, parquet = tmp_path / "t.csv", tmp_path / "t.parquet"
+    report = invoke("report", out, "--csv", csv, "--parquet", parquet)
+    assert report.exit_code == 0, report.output
+    assert "go_to_goal" in report.output and "robots=2" in report.output
+    table = pd.read_csv(csv)
+    assert len(table) == 4 and set(table["state"]) == {"done"}
+    assert list(table["param_robots"]) == [1, 1, 2, 2]
+    assert pd.read_parquet(parquet)["seed"].tolist() == [1, 2, 1, 2]
+
+    assert invoke("resume", out, "--no-progress").exit_code == 0
+    assert invoke("rerun-failed", out, "--no-progress").exit_code == 0
+    assert invoke("run", saved, "--out", out).exit_code == 2  # already a battery
+
+
+def test_new_asks_for_what_the_options_do_not_give(tmp_path: Path,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(cli_battery, "stdin_is_terminal", lambda: True)
+    algorithms = [name for name, _ in __import__("mimics.catalog").catalog.list_algorithms()]
+    number = algorithms.index("go_to_goal") + 1
+    answers = "\n".join([f"{number}", "line", "robots=1,3", "5", "2.5", "60", "deactivate"])
+    path = tmp_path / "b.toml"
+    result = invoke("new", "-o", path, input=answers + "\n")
+    assert result.exit_code == 0, result.output
+    data = tomllib.loads(path.read_text())
+    assert data["battery"] == {"algorithms": ["go_to_goal"], "seeds": 5, "time": 2.5,
+                               "timeout": 60.0, "policy": "deactivate", "robot_logs": "off"}
+    assert data["scenarios"] == [{"name": "line", "robots": [1, 3]}]
