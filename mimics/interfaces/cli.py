@@ -11,7 +11,6 @@ import tomllib
 from pathlib import Path
 from typing import Annotated, Any
 
-import click
 import typer
 from rich.console import Console
 from rich.table import Table
@@ -92,6 +91,10 @@ def run(
                                                          "(repeatable).")] = None,
     wall_limit: Annotated[float | None, typer.Option(help="Stop after this many wall seconds."
                                                      )] = None,
+    robot_logs: Annotated[str, typer.Option(help="Per-robot text logs: auto, on or off.")]
+    = "auto",
+    view: Annotated[str, typer.Option(help="Live view: step, 1s, 10s or off.")] = "off",
+    video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
 ) -> None:
     """Run one simulation, print its summary and write its run folder."""
     from mimics.records.runner import prepare, run_to_folder
@@ -102,16 +105,31 @@ def run(
         raise fail(f"--robots: expected a whole number >= 1, got {robots}")
     if time is not None and not time > 0:
         raise fail(f"--time: expected a positive number of simulated seconds, got {time}")
+    if robot_logs not in ("auto", "on", "off"):
+        raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
+    from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
+
+    if view not in VIEW_CHOICES:
+        raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
+    live = make_live_view(view)
     try:
         params = parse_params(param or [])
         sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed,
                       policy=policy,  # type: ignore[arg-type]
-                      wall_limit=wall_limit, params=params)
+                      wall_limit=wall_limit, params=params,
+                      observers=(live,) if live is not None else ())
     except MimicsError as exc:
         raise fail(str(exc)) from None
     folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
-    result = run_to_folder(sim, folder)
+    result = run_to_folder(sim, folder, robot_logs=robot_logs)
     print_summary(result.summary(), folder)
+    if video is not None:
+        from mimics.interfaces.replay import export_replay
+
+        try:
+            export_replay(folder, video=video)
+        except MimicsError as exc:
+            raise fail(str(exc)) from None
 
 
 @list_app.command("algorithms")
@@ -139,25 +157,49 @@ def _print_catalog(kind: str, entries: list[tuple[str, str]]) -> None:
     console.print(table)
 
 
+def _mount_subcommands() -> None:
+    from mimics.interfaces.cli_battery import app as battery_app
+    from mimics.interfaces.cli_maps import app as map_app
+    from mimics.interfaces.cli_maps import data_app
+    from mimics.interfaces.cli_records import logs_app, report_command
+    from mimics.interfaces.cli_view import battery_plot_command, plot_command, replay_command
+
+    battery_app.command("plot")(battery_plot_command)
+    app.add_typer(battery_app, name="battery")
+    app.add_typer(map_app, name="map")
+    app.add_typer(data_app, name="data")
+    app.add_typer(logs_app, name="logs")
+    app.command("report")(report_command)
+    app.command("replay")(replay_command)
+    app.command("plot")(plot_command)
+
+
+_mount_subcommands()
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point: runs the app and turns usage errors into one line and status 2."""
     command = typer.main.get_command(app)
     try:
-        command.main(args=argv, prog_name="mimics", standalone_mode=False)
-    except click.exceptions.NoArgsIsHelp:
-        return 0
-    except click.UsageError as exc:
-        fail(exc.format_message())
-        return 2
-    except click.exceptions.Abort:
-        fail("interrupted")
-        return 130
-    except click.exceptions.Exit as exc:
-        return exc.exit_code
+        code = command.main(args=argv, prog_name="mimics", standalone_mode=False)
     except MimicsError as exc:
         fail(str(exc))
         return 2
-    return 0
+    except Exception as exc:
+        # Typer vendors its own click: recognise its exceptions by their shape.
+        name = type(exc).__name__
+        if hasattr(exc, "exit_code") and name == "Exit":
+            return int(exc.exit_code)  # type: ignore[attr-defined]
+        if name.startswith("NoArgsIsHelp"):
+            return 0
+        if name == "Abort":
+            fail("interrupted")
+            return 130
+        if hasattr(exc, "format_message"):
+            fail(exc.format_message())  # type: ignore[attr-defined]
+            return 2
+        raise
+    return code if isinstance(code, int) else 0
 
 
 if __name__ == "__main__":

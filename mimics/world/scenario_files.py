@@ -92,7 +92,7 @@ from mimics.world.robot_types import BUILTIN_ROBOT_TYPES, RobotType, robot_type_
 from mimics.world.scenario import Scenario, Settings
 
 TOUCH_EPS = 1e-9  # m; contact this close counts as touching, as in the engine's collision check
-TOP_KEYS = ("name", "description", "map", "types", "robots", "settings")
+TOP_KEYS = ("name", "description", "map", "types", "robots", "settings", "run")  # "run": the record of a run, ignored on load
 MAP_SOURCES = ("file", "builtin", "segments")
 MAP_OPTIONS = ("scale", "resolution", "origin", "tolerance", "threshold", "negate", "size",
                "center", "boundary")
