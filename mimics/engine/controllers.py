@@ -17,10 +17,10 @@ per-robot call is timed on its own, one robot after another.
 from __future__ import annotations
 
 import inspect
-from abc import ABC, abstractmethod
 import math
 import time
 import traceback
+from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any

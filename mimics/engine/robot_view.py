@@ -180,7 +180,8 @@ class Robot:
     def log(self, message: str) -> None:
         """Add a message to this step's ``user_msg`` column of the log."""
         current = self._sim.state.user_message[self.id]
-        self._sim.state.user_message[self.id] = f"{current} | {message}" if current else str(message)
+        text = f"{current} | {message}" if current else str(message)
+        self._sim.state.user_message[self.id] = text
 
     def __repr__(self) -> str:
         x, y, theta = self._sim.state.pose[self.id]

@@ -92,7 +92,8 @@ from mimics.world.robot_types import BUILTIN_ROBOT_TYPES, RobotType, robot_type_
 from mimics.world.scenario import Scenario, Settings
 
 TOUCH_EPS = 1e-9  # m; contact this close counts as touching, as in the engine's collision check
-TOP_KEYS = ("name", "description", "map", "types", "robots", "settings", "run")  # "run": the record of a run, ignored on load
+# "run" is the [run] table of a recorded scenario.toml; it is ignored on load.
+TOP_KEYS = ("name", "description", "map", "types", "robots", "settings", "run")
 MAP_SOURCES = ("file", "builtin", "segments")
 MAP_OPTIONS = ("scale", "resolution", "origin", "tolerance", "threshold", "negate", "size",
                "center", "boundary")

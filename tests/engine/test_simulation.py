@@ -45,7 +45,7 @@ def test_closed_loop_speed_and_heading_track_references() -> None:
 
     sim = Simulation(one_robot((0, 0, 0, 0), bounds=(-50, -50, 50, 50)), step, time_limit=15)
     sim.run()
-    v, w = sim.state.velocity[0]
+    v, _ = sim.state.velocity[0]
     assert v == pytest.approx(0.5, abs=1e-3)
     assert sim.state.pose[0, 2] == pytest.approx(math.pi / 2, abs=1e-3)
 
