@@ -102,6 +102,8 @@ class Simulation:
         self._ever_livelocked = np.zeros(self.state.n, dtype=bool)
         self._stalls = StallDetector(settings, self.state.n)
         self._start_goal_distance = self.state.goal_distance()
+        self._grid: SegmentGrid | None = None
+        self._grid_key: tuple[int, bytes] | None = None
         self._pending: dict[int, Status] = {}  # deactivations applied at the end of the step
         self._started = False
         self._wall_start = 0.0
@@ -190,9 +192,16 @@ class Simulation:
         return state.active
 
     def _robot_grid(self) -> SegmentGrid:
+        """Index of solid robots' edges; rebuilt only when poses or the solid set changed."""
         state = self.state
-        return build_robot_grid(state.pose[:, :2], state.pose[:, 2], self.types.half_length,
-                                self.types.half_width, self._solid(), self.scenario.map.bounds)
+        solid = self._solid()
+        key = (state.step, solid.tobytes())
+        if self._grid_key != key:
+            self._grid = build_robot_grid(state.pose[:, :2], state.pose[:, 2],
+                                          self.types.half_length, self.types.half_width, solid,
+                                          self.scenario.map.bounds)
+            self._grid_key = key
+        return self._grid
 
     def _sense(self) -> None:
         """Ranger, positioning, comms and messages for the robots about to act."""

@@ -15,6 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from mimics.interfaces.cli_output import fail
 from mimics.world.errors import MimicsError
 
 app = typer.Typer(
@@ -29,13 +30,6 @@ list_app = typer.Typer(help="List built-in algorithms or scenarios.", no_args_is
 app.add_typer(list_app, name="list")
 
 console = Console()
-
-
-def fail(message: str) -> typer.Exit:
-    """Print a one-line error on stderr; returns the exit to raise (status 2)."""
-    Console(stderr=True, highlight=False, soft_wrap=True).print(f"mimics: error: {message}",
-                                                                markup=False)
-    return typer.Exit(2)
 
 
 def parse_params(items: list[str]) -> dict[str, Any]:

@@ -28,6 +28,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from mimics.interfaces.cli_output import fail as _fail
 from mimics.world.errors import MimicsError
 
 app = typer.Typer(help="Batteries: algorithms x scenarios x seeds, unattended and resumable.",
@@ -42,11 +43,6 @@ ShowProgress = Annotated[bool | None, typer.Option(
 Folder = Annotated[Path, typer.Argument(help="A battery folder (the --out of `battery run`).")]
 
 
-def _fail(message: str) -> typer.Exit:
-    """Print a one-line error on stderr; returns the exit to raise (status 2)."""
-    Console(stderr=True, highlight=False, soft_wrap=True).print(f"mimics: error: {message}",
-                                                                markup=False)
-    return typer.Exit(2)
 
 
 def _out() -> Console:

@@ -15,8 +15,9 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
-from rich.console import Console
 
+from mimics.interfaces.cli_output import fail as _fail
+from mimics.interfaces.cli_output import say as _say
 from mimics.world.errors import MimicsError
 
 app = typer.Typer(help="Import maps from drawings and images, and draw them.",
@@ -32,15 +33,8 @@ def data_callback() -> None:
     """Get map data that mimics does not ship (the Stage benchmark maps)."""
 
 
-def _fail(message: str) -> typer.Exit:
-    """Print a one-line error on stderr; returns the exit to raise (status 2)."""
-    Console(stderr=True, highlight=False, soft_wrap=True).print(f"mimics: error: {message}",
-                                                                markup=False)
-    return typer.Exit(2)
 
 
-def _say(message: str) -> None:
-    Console(highlight=False, soft_wrap=True).print(message, markup=False)
 
 
 @app.command("import")

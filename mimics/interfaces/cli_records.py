@@ -19,17 +19,13 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from mimics.interfaces.cli_output import fail as _fail
 from mimics.world.errors import MimicsError
 
 logs_app = typer.Typer(help="Per-robot text logs of a run (the paper's form).",
                        no_args_is_help=True, rich_markup_mode=None)
 
 
-def _fail(message: str) -> typer.Exit:
-    """Print a one-line error on stderr; returns the exit to raise (status 2)."""
-    Console(stderr=True, highlight=False, soft_wrap=True).print(f"mimics: error: {message}",
-                                                                markup=False)
-    return typer.Exit(2)
 
 
 def report_command(

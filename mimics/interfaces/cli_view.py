@@ -17,20 +17,10 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.console import Console
 
+from mimics.interfaces.cli_output import fail as _fail
+from mimics.interfaces.cli_output import say as _say
 from mimics.world.errors import MimicsError
-
-
-def _fail(message: str) -> typer.Exit:
-    """Print a one-line error on stderr; returns the exit to raise (status 2)."""
-    Console(stderr=True, highlight=False, soft_wrap=True).print(f"mimics: error: {message}",
-                                                                markup=False)
-    return typer.Exit(2)
-
-
-def _say(message: str) -> None:
-    Console(highlight=False, soft_wrap=True).print(message, markup=False)
 
 
 def replay_command(

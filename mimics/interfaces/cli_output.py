@@ -1,0 +1,18 @@
+"""One-line messages shared by every CLI module (errors exit with status 2)."""
+
+from __future__ import annotations
+
+import typer
+from rich.console import Console
+
+
+def fail(message: str) -> typer.Exit:
+    """Print a one-line error on stderr; returns the exit to raise (status 2)."""
+    Console(stderr=True, highlight=False, soft_wrap=True).print(f"mimics: error: {message}",
+                                                                markup=False)
+    return typer.Exit(2)
+
+
+def say(message: str) -> None:
+    """Print a plain line on stdout, without Rich markup."""
+    Console(highlight=False, soft_wrap=True).print(message, markup=False)
