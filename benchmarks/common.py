@@ -1,23 +1,57 @@
-"""Shared helpers for the benchmark scripts: timing medians, RSS, the results file.
+"""Shared helpers for the benchmark scripts: timing medians, RSS, logging, subprocess rows.
 
 Benchmarks are run by hand (never by the test suite); each prints a table and
 merges its figures into ``benchmarks/results.json``.
+
+Two ways to time runs:
+
+* :func:`time_runs` times fresh simulations in this process (``logging=True``
+  attaches the recorder the CLI uses, :class:`mimics.records.recorder.RunRecorder`,
+  writing trajectory/events parquet parts into a fresh temporary folder per run);
+* :func:`run_child` runs one benchmark row in a fresh Python process (the
+  script itself, called with ``--child SPEC``), so that each row's peak RSS is
+  its own and ``NUMBA_NUM_THREADS`` can be set per row. The child side is
+  :func:`child_main`, which builds the simulation from the JSON spec with
+  :func:`measure_spec`.
+
+Only public entry points of mimics are used (``Simulation``, ``load_scenario``,
+``find_algorithm``, ``RunRecorder``), never kernel internals.
 """
 
 from __future__ import annotations
 
+import argparse
+import hashlib
 import json
+import os
+import platform
 import resource
+import shutil
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from mimics.engine.simulation import Simulation
 
 RESULTS = Path(__file__).with_name("results.json")
+
+#: The columns every benchmark row carries (see :func:`row_from`).
+ROW_COLUMNS = ["benchmark", "form", "robots", "beams_per_robot", "sim_time", "sim_speed",
+               "robot_steps_per_s", "rays_per_s", "peak_rss_mb", "threads", "logging"]
+
+#: Short headers for :data:`ROW_COLUMNS` in printed tables.
+HEADERS = {"beams_per_robot": "beams", "sim_speed": "s_sim/s",
+           "robot_steps_per_s": "robot-steps/s", "rays_per_s": "rays/s",
+           "peak_rss_mb": "peak RSS MB", "us_per_robot_step": "us/robot-step"}
+
+Build = Callable[[dict[str, Any]], Any]
 
 
 def peak_rss_mb() -> float:
@@ -26,53 +60,276 @@ def peak_rss_mb() -> float:
     return usage / 1024 if sys.platform != "darwin" else usage / 1024 / 1024
 
 
-def time_runs(make: Callable[[], Simulation], repeats: int = 3, warmup: int = 1
-              ) -> dict[str, Any]:
+def numba_threads() -> int:
+    """Threads numba's parallel kernels use in this process (1 without numba)."""
+    try:
+        import numba
+    except ImportError:  # pragma: no cover - numba is a dependency of mimics
+        return 1
+    return int(numba.get_num_threads())
+
+
+def threading_layer() -> str:
+    """numba's threading layer in use ("omp", "tbb", "workqueue"; "" before any parallel run)."""
+    try:
+        import numba
+
+        return str(numba.threading_layer())
+    except (ImportError, ValueError):
+        return ""
+
+
+def state_hashes(sim: Simulation) -> dict[str, str]:
+    """SHA-256 of the final pose and scan arrays (to compare runs bit for bit)."""
+    state = sim.state
+    return {name: hashlib.sha256(np.ascontiguousarray(getattr(state, name)).tobytes())
+            .hexdigest() for name in ("pose", "scan")}
+
+
+def attach_recorder(sim: Simulation, folder: str | Path, robot_logs: str = "auto") -> Any:
+    """Attach the recorder the CLI uses (``run_to_folder``'s) to ``sim``, writing ``folder``.
+
+    The same observer as ``mimics run``: trajectory and events parquet parts
+    while running, merged at the end, per-robot logs (``"auto"``: up to 200
+    robots), summary.txt and summary.json. ``sim`` must not have started.
+    """
+    from mimics.records.recorder import RunRecorder
+
+    recorder = RunRecorder(folder, robot_logs=robot_logs)  # type: ignore[arg-type]
+    sim.observers.append(recorder)
+    return recorder
+
+
+def folder_bytes(folder: Path) -> int:
+    """Total size of the files under ``folder``."""
+    return sum(f.stat().st_size for f in folder.rglob("*") if f.is_file())
+
+
+def time_runs(make: Callable[[], Simulation], repeats: int = 3, warmup: int = 1, *,
+              logging: bool = False, robot_logs: str = "auto",
+              warmup_make: Callable[[], Simulation] | None = None) -> dict[str, Any]:
     """Run fresh simulations ``warmup + repeats`` times; medians of the timed ones.
 
     Returns sim seconds per wall second, robot-steps per second and rays per
-    second (beams cast by active robots), with the raw wall times.
+    second (beams cast by active robots), with the raw wall times, the process
+    CPU time of the timed loop (all threads; a busy machine blurs wall time
+    more than CPU time), the 1-minute load average around the runs, numba's
+    threading layer and hashes of the final pose and scan arrays. With
+    ``logging`` each run (warm-ups too) is recorded into a fresh temporary
+    folder, removed after the run (outside the timing; the recorder's end of
+    run writing is inside it). ``warmup_make`` builds the warm-up runs (e.g. a
+    short one that only compiles the kernels); default ``make``.
     """
     walls: list[float] = []
+    cpus: list[float] = []
     sample: dict[str, Any] = {}
+    load = os.getloadavg()[0]
     for attempt in range(warmup + repeats):
-        sim = make()
+        sim = (warmup_make or make)() if attempt < warmup else make()
+        folder = Path(tempfile.mkdtemp(prefix="mimics-bench-")) if logging else None
+        if folder is not None:
+            attach_recorder(sim, folder / "run", robot_logs)
         robot_steps = 0
         rays = 0
-        sim.start()
-        start = time.perf_counter()
-        while True:
-            active = sim.state.active
-            robot_steps += int(active.sum())
-            rays += int(sim.types.beam_count[active].sum())
-            if not sim.step():
-                break
-        wall = time.perf_counter() - start
+        recorded = 0
+        try:
+            sim.start()
+            start = time.perf_counter()
+            cpu_start = time.process_time()
+            while True:
+                active = sim.state.active
+                robot_steps += int(active.sum())
+                rays += int(sim.types.beam_count[active].sum())
+                if not sim.step():
+                    break
+            wall = time.perf_counter() - start
+            cpu = time.process_time() - cpu_start
+            if folder is not None:
+                recorded = folder_bytes(folder)
+        finally:
+            if folder is not None:
+                shutil.rmtree(folder, ignore_errors=True)
         if attempt >= warmup:
             walls.append(wall)
-            sample = {"sim_time": sim.state.time, "robot_steps": robot_steps, "rays": rays,
-                      "status": sim.status, "robots": sim.state.n}
+            cpus.append(cpu)
+            sample = {"sim_time": sim.state.time, "steps": sim.state.step,
+                      "robot_steps": robot_steps, "rays": rays, "status": sim.status,
+                      "robots": sim.state.n,
+                      "beams_per_robot": float(np.mean(sim.types.beam_count)),
+                      "logging": logging, "recorded_bytes": recorded,
+                      "threads": numba_threads(), "threading_layer": threading_layer(),
+                      "hashes": state_hashes(sim)}
     wall = statistics.median(walls)
     return {**sample, "wall_time": wall, "wall_times": walls,
+            "cpu_time": statistics.median(cpus), "cpu_times": cpus,
+            "load_average_before": load, "load_average_after": os.getloadavg()[0],
             "sim_speed": sample["sim_time"] / wall,
             "robot_steps_per_s": sample["robot_steps"] / wall,
+            "us_per_robot_step": 1e6 * wall / max(sample["robot_steps"], 1),
             "rays_per_s": sample["rays"] / wall, "peak_rss_mb": peak_rss_mb()}
 
 
-def save(section: str, rows: list[dict[str, Any]] | dict[str, Any]) -> None:
-    """Merge ``rows`` under ``section`` into benchmarks/results.json."""
-    data = json.loads(RESULTS.read_text()) if RESULTS.exists() else {}
+# -- one row per fresh process --------------------------------------------------
+
+def load_algorithm(name: str, local: dict[str, Any] | None = None) -> Any:
+    """An algorithm by built-in name (``find_algorithm``) or from ``local`` (the script's)."""
+    if local and name in local:
+        return local[name]
+    from mimics.catalog import find_algorithm
+
+    return find_algorithm(name)[1]
+
+
+def default_build(spec: dict[str, Any]) -> Any:
+    """The scenario of a spec: ``load_scenario(spec["scenario"], **spec["params"])``."""
+    from mimics.catalog import load_scenario
+
+    return load_scenario(spec["scenario"], **spec.get("params", {}))
+
+
+def measure_spec(spec: dict[str, Any], build: Build = default_build,
+                 algorithms: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Time the runs a spec describes, in this process.
+
+    Spec keys: ``algorithm`` (name), ``time`` (simulated s), ``warmup_time``
+    (simulated s of each warm-up run; default ``time``), ``repeats``,
+    ``warmup``, ``seed``, ``logging``, ``robot_logs``, plus what ``build``
+    reads (default: ``scenario`` and ``params``).
+    """
+    scenario = build(spec)
+    algorithm = load_algorithm(spec["algorithm"], algorithms)
+    name = spec["algorithm"]
+    seed = int(spec.get("seed", 1))
+
+    def make(limit: float) -> Callable[[], Simulation]:
+        return lambda: Simulation(scenario, algorithm, seed=seed, time_limit=limit,
+                                  algorithm_name=name)
+
+    sim_time = float(spec["time"])
+    figures = time_runs(make(sim_time), repeats=int(spec.get("repeats", 3)),
+                        warmup=int(spec.get("warmup", 1)), logging=bool(spec.get("logging")),
+                        robot_logs=spec.get("robot_logs", "auto"),
+                        warmup_make=make(float(spec.get("warmup_time") or sim_time)))
+    figures["segments"] = len(scenario.map.segments)
+    for name in ("NUMBA_NUM_THREADS", "NUMBA_THREADING_LAYER", "OMP_WAIT_POLICY"):
+        figures[f"env_{name}"] = os.environ.get(name, "")
+    return figures
+
+
+def child_main(spec_text: str, build: Build = default_build,
+               algorithms: dict[str, Any] | None = None) -> None:
+    """The ``--child SPEC`` side: measure the spec and print its figures as one JSON line."""
+    print(json.dumps(measure_spec(json.loads(spec_text), build, algorithms)))
+
+
+def run_child(script: str | Path, spec: dict[str, Any], threads: int | None = None
+              ) -> dict[str, Any]:
+    """Run ``script --child SPEC`` in a fresh Python process; returns its figures.
+
+    ``threads`` sets ``NUMBA_NUM_THREADS`` for the child (default: inherited).
+    """
+    env = dict(os.environ)
+    if threads is not None:
+        env["NUMBA_NUM_THREADS"] = str(threads)
+    command = [sys.executable, str(script), "--child", json.dumps(spec)]
+    done = subprocess.run(command, env=env, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"{Path(script).name} child failed ({done.returncode}):\n"
+                           f"{done.stderr[-3000:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def row_from(benchmark: str, form: str, figures: dict[str, Any], **extra: Any
+             ) -> dict[str, Any]:
+    """A results row: the :data:`ROW_COLUMNS` first, then the other figures."""
+    row: dict[str, Any] = {"benchmark": benchmark, "form": form}
+    row.update({c: figures.get(c) for c in ROW_COLUMNS if c not in row})
+    row.update(extra)
+    row.update({k: v for k, v in figures.items() if k not in row})
+    return row
+
+
+def add_common_arguments(parser: argparse.ArgumentParser, time: float, quick_time: float
+                         ) -> None:
+    """The options every benchmark script shares."""
+    parser.add_argument("--time", type=float, default=None,
+                        help=f"simulated seconds per timed run (default {time:g}; "
+                             f"{quick_time:g} with --quick)")
+    parser.add_argument("--repeats", type=int, default=None,
+                        help="timed runs per row, median reported (default 3; 1 with --quick)")
+    parser.add_argument("--warmup", type=int, default=1, help="untimed warm-up runs per row")
+    parser.add_argument("--warmup-time", type=float, default=1.0,
+                        help="simulated seconds of each warm-up run (compiles the kernels)")
+    parser.add_argument("--no-logging", dest="logging", action="store_false",
+                        help="do not record the runs (default: recorded like `mimics run`)")
+    parser.add_argument("--threads", type=int, default=None,
+                        help="NUMBA_NUM_THREADS for the runs (default: inherited)")
+    parser.add_argument("--quick", action="store_true", help="a short smoke run")
+    parser.add_argument("--results", type=Path, default=RESULTS,
+                        help="results file to merge into (default benchmarks/results.json)")
+    parser.add_argument("--child", default=None, help=argparse.SUPPRESS)
+    parser.set_defaults(default_time=time, quick_time=quick_time)
+
+
+def resolve(args: argparse.Namespace) -> argparse.Namespace:
+    """Fill the defaults that depend on ``--quick``."""
+    if args.time is None:
+        args.time = args.quick_time if args.quick else args.default_time
+    if args.repeats is None:
+        args.repeats = 1 if args.quick else 3
+    args.warmup_time = min(args.warmup_time, args.time)
+    return args
+
+
+def base_spec(args: argparse.Namespace, **spec: Any) -> dict[str, Any]:
+    """A child spec from the shared options plus ``spec``."""
+    return {"time": args.time, "repeats": args.repeats, "warmup": args.warmup,
+            "warmup_time": args.warmup_time, "logging": args.logging, "seed": 1, **spec}
+
+
+def meta(args: argparse.Namespace) -> dict[str, Any]:
+    """What a results section records about how it was measured."""
+    return {"time": args.time, "repeats": args.repeats, "warmup": args.warmup,
+            "warmup_time": args.warmup_time, "logging": args.logging, "quick": args.quick,
+            "threads_requested": args.threads, "cpus": os.cpu_count(),
+            "machine": platform.platform(), "python": platform.python_version(),
+            "measured": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+
+
+def save(section: str, rows: list[dict[str, Any]] | dict[str, Any],
+         path: Path = RESULTS) -> None:
+    """Merge ``rows`` under ``section`` into ``path`` (default benchmarks/results.json)."""
+    path = Path(path)
+    data = json.loads(path.read_text()) if path.exists() else {}
     data[section] = rows
-    RESULTS.write_text(json.dumps(data, indent=2) + "\n")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(data, indent=2) + "\n")
 
 
-def print_table(title: str, rows: list[dict[str, Any]], columns: list[str]) -> None:
-    """A plain fixed-width table on stdout."""
-    print(title)
-    print("  ".join(f"{c:>14}" for c in columns))
+def print_table(title: str, rows: list[dict[str, Any]], columns: list[str],
+                header: bool = True) -> None:
+    """A plain fixed-width table on stdout (``header=False``: the rows only)."""
+    if title:
+        print(title)
+    if header:
+        print("  ".join(f"{HEADERS.get(c, c):>14}" for c in columns))
     for row in rows:
         cells = []
         for c in columns:
             value = row.get(c, "")
             cells.append(f"{value:>14.4g}" if isinstance(value, float) else f"{value!s:>14}")
-        print("  ".join(cells))
+        print("  ".join(cells), flush=True)
+
+
+def form_rows(script: str | Path, benchmark: str, args: argparse.Namespace,
+              algorithms: dict[str, str], **spec: Any) -> list[dict[str, Any]]:
+    """One row per form (``{"per-robot": "deployment", "team": ...}``), each in a fresh
+    process, printed as it comes."""
+    rows: list[dict[str, Any]] = []
+    columns = [*ROW_COLUMNS[1:], "us_per_robot_step"]
+    print_table("", [], columns)
+    for form, algorithm in algorithms.items():
+        figures = run_child(script, base_spec(args, algorithm=algorithm, **spec), args.threads)
+        rows.append(row_from(benchmark, form, figures, algorithm=algorithm))
+        print_table("", rows[-1:], columns, header=False)
+    return rows

@@ -1,6 +1,7 @@
 """The paper's line scenario at growing team sizes: is the cost per robot-step flat?
 
     python benchmarks/line_scaling.py [--robots 1 10 60 100 300 1000] [--repeats 3]
+                                      [--results benchmarks/results.json]
 
 Prints s_sim/s and robot-steps/s for the per-robot and team ``go_to_goal``.
 """
@@ -8,8 +9,9 @@ Prints s_sim/s and robot-steps/s for the per-robot and team ``go_to_goal``.
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
-from common import print_table, save, time_runs
+from common import RESULTS, print_table, save, time_runs
 
 from mimics.algorithms import go_to_goal, go_to_goal_team
 from mimics.engine.simulation import Simulation
@@ -21,6 +23,7 @@ def main() -> None:
     parser.add_argument("--robots", type=int, nargs="+", default=[1, 10, 60, 100, 300, 1000])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--time", type=float, default=21.8)
+    parser.add_argument("--results", type=Path, default=RESULTS)
     args = parser.parse_args()
     rows = []
     for form, algorithm in (("per-robot", go_to_goal), ("team", go_to_goal_team)):
@@ -33,7 +36,7 @@ def main() -> None:
             rows.append({"benchmark": "line", "form": form, **figures})
             print_table("", [rows[-1]], ["form", "robots", "sim_speed", "robot_steps_per_s",
                                          "us_per_robot_step", "rays_per_s", "peak_rss_mb"])
-    save("line_scaling", rows)
+    save("line_scaling", rows, args.results)
 
 
 if __name__ == "__main__":

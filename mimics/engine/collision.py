@@ -7,18 +7,19 @@ cross, or the segment lies inside) or the rectangle of another solid robot
 rotated corners lands a hair away, and a gap of 1e-6 m is never a collision.
 
 Candidates come from the grids: wall segments in the cells under a robot's
-bounding box, and robots with an edge in the cells within reach of it, where
-the reach also covers the largest solid robot's half-diagonal, so that a
-small robot entirely inside a big one (touching none of its edges) is found.
+bounding box, and solid robots whose bounding circle meets its own (from the
+robot index's cells within reach), so that a small robot entirely inside a
+big one, touching none of its edges, is found too.
 Robots are checked in parallel (``prange``), each from its own inputs only.
 
 >>> import numpy as np
->>> from mimics.engine.spatial_index import build_robot_grid, build_segment_grid
+>>> from mimics.engine.robot_index import build_robot_index
+>>> from mimics.engine.spatial_index import build_segment_grid
 >>> bodies = Bodies(np.array([[0.0, 0.0], [1.5, 0.0], [5.0, 0.0]]), np.zeros(3),
 ...                 np.full(3, 0.5), np.full(3, 0.5))
 >>> walls = build_segment_grid(np.array([[5.5, -1.0, 5.5, 1.0]]), (-2, -2, 7, 2))
 >>> solid = np.ones(3, dtype=bool)
->>> robots = build_robot_grid(*bodies, solid)
+>>> robots = build_robot_index(*bodies, solid)
 >>> with_whom, wall = find_collisions(bodies, solid, solid, walls, robots)
 >>> with_whom.tolist(), wall.tolist()
 ([-2, -2, -1], [-1, -1, 0])
@@ -32,9 +33,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
+from mimics.engine.robot_index import RobotIndex, build_robot_index, coerce_robot_index
 from mimics.engine.spatial_index import (
     SegmentGrid,
-    build_robot_grid,
     cell_span,
     coerce_array,
     coerce_grid,
@@ -173,27 +174,26 @@ def _lowest_wall(b: Bodies, i: int, walls: SegmentGrid) -> int:
 
 
 @njit(cache=True)
-def _lowest_robot(b: Bodies, i: int, solid: np.ndarray, robots: SegmentGrid,
-                  reach: float) -> int:
-    """Lowest index of a solid robot touching robot ``i``, or -1."""
+def _lowest_robot(b: Bodies, i: int, robots: RobotIndex) -> int:
+    """Lowest index of a visible (solid) robot touching robot ``i``, or -1."""
     cx, cy = b.centers[i, 0], b.centers[i, 1]
     h = b.headings[i]
-    c, s = math.cos(h), math.sin(h)
     hl, hw = b.half_length[i], b.half_width[i]
-    margin = TOUCH_EPS + grid_pad(robots.origin, robots.shape, robots.cell)
-    # a robot containing i has an edge within its half-diagonal (<= reach) of i's centre
-    ex = max(hl * abs(c) + hw * abs(s), reach) + margin
-    ey = max(hl * abs(s) + hw * abs(c), reach) + margin
-    nx, ny = robots.shape[0], robots.shape[1]
-    ix0, ix1 = cell_span(cx - ex, cx + ex, robots.origin[0], robots.cell, nx)
-    iy0, iy1 = cell_span(cy - ey, cy + ey, robots.origin[1], robots.cell, ny)
+    # bounding circles that touch: centres at most the two radii apart
+    reach = math.hypot(hl, hw) + robots.max_radius + TOUCH_EPS
+    nx = robots.shape[0]
+    ix0, ix1 = cell_span(cx - reach, cx + reach, robots.origin[0], robots.cell, nx)
+    iy0, iy1 = cell_span(cy - reach, cy + reach, robots.origin[1], robots.cell, robots.shape[1])
     best = -1
     for iy in range(iy0, iy1 + 1):
         for ix in range(ix0, ix1 + 1):
-            cid = iy * nx + ix
-            for p in range(robots.cell_start[cid], robots.cell_start[cid + 1]):
-                j = robots.owner[robots.cell_items[p]]
-                if j < 0 or j == i or not solid[j] or (best >= 0 and j >= best):
+            c = iy * nx + ix
+            for p in range(robots.grid_start[c], robots.grid_start[c + 1]):
+                j = robots.grid_items[p]
+                if j == i or (best >= 0 and j >= best):
+                    continue
+                gap = math.hypot(robots.centers[j, 0] - cx, robots.centers[j, 1] - cy)
+                if gap > math.hypot(hl, hw) + robots.radius[j] + TOUCH_EPS:
                     continue
                 if boxes_touch(cx, cy, h, hl, hw, b.centers[j, 0], b.centers[j, 1],
                                b.headings[j], b.half_length[j], b.half_width[j], TOUCH_EPS):
@@ -202,9 +202,8 @@ def _lowest_robot(b: Bodies, i: int, solid: np.ndarray, robots: SegmentGrid,
 
 
 @njit(parallel=True, cache=True)
-def _collide_kernel(b: Bodies, check: np.ndarray, solid: np.ndarray, walls: SegmentGrid,
-                    robots: SegmentGrid, reach: float, with_whom: np.ndarray,
-                    wall_segment: np.ndarray) -> None:
+def _collide_kernel(b: Bodies, check: np.ndarray, walls: SegmentGrid, robots: RobotIndex,
+                    with_whom: np.ndarray, wall_segment: np.ndarray) -> None:
     """Fill ``with_whom`` and ``wall_segment`` for every checked robot."""
     for i in prange(check.shape[0]):
         with_whom[i] = NONE
@@ -212,7 +211,7 @@ def _collide_kernel(b: Bodies, check: np.ndarray, solid: np.ndarray, walls: Segm
         if not check[i]:
             continue
         wall = _lowest_wall(b, i, walls)
-        other = _lowest_robot(b, i, solid, robots, reach)
+        other = _lowest_robot(b, i, robots)
         wall_segment[i] = wall
         if other >= 0:
             with_whom[i] = other
@@ -235,7 +234,7 @@ def _as_bodies(bodies: Bodies) -> Bodies:
 
 def find_collisions(bodies: Bodies, check: np.ndarray, solid: np.ndarray,
                     walls: SegmentGrid,
-                    robots: SegmentGrid | None = None) -> tuple[np.ndarray, np.ndarray]:
+                    robots: RobotIndex | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Which checked robots touch a wall or another solid robot.
 
     A robot touching both a robot and a wall is reported as touching the
@@ -245,9 +244,9 @@ def find_collisions(bodies: Bodies, check: np.ndarray, solid: np.ndarray,
         bodies: all robots' rectangles.
         check: ``(n,)`` bool, robots to check.
         solid: ``(n,)`` bool, robots that others can touch.
-        walls: grid of wall segments.
-        robots: grid of the edges of (at least) the solid robots, built from
-            the same ``bodies`` by ``build_robot_grid``; None builds it here.
+        walls: grid of wall segments (a ``WallIndex.grid``).
+        robots: index of the solid robots, built from the same ``bodies`` and
+            ``solid`` by ``build_robot_index``; None builds it here.
 
     Returns:
         ``with_whom (n,)`` int64: -2 touches nothing (or not checked), -1
@@ -267,11 +266,10 @@ def find_collisions(bodies: Bodies, check: np.ndarray, solid: np.ndarray,
     if not (np.all(np.isfinite(b.centers[used])) and np.all(np.isfinite(b.headings[used]))):
         raise ValueError("checked and solid robots must have finite poses")
     if robots is None:
-        robots = build_robot_grid(b.centers, b.headings, b.half_length, b.half_width, sol)
-    reach = float(np.max(np.hypot(b.half_length[sol], b.half_width[sol]), initial=0.0))
+        robots = build_robot_index(b.centers, b.headings, b.half_length, b.half_width, sol)
     with_whom = np.full(n, NONE, dtype=np.int64)
     wall_segment = np.full(n, -1, dtype=np.int64)
     if chk.any():
-        _collide_kernel(b, chk, sol, coerce_grid(walls), coerce_grid(robots), reach, with_whom,
+        _collide_kernel(b, chk, coerce_grid(walls), coerce_robot_index(robots), with_whom,
                         wall_segment)
     return with_whom, wall_segment

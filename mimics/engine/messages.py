@@ -33,9 +33,19 @@ class MessageBus:
         if not self._outgoing:
             return
         in_range = np.isfinite(self.comm_range)
+        everyone = np.flatnonzero(active)
         for sender, to, message in self._outgoing:
-            targets = np.flatnonzero(active) if to is None else np.array([to])
-            for target in targets.tolist():
+            if to is None:
+                # a broadcast: all active robots but the sender, distances in one go
+                targets = everyone[everyone != sender]
+                if in_range and targets.size:
+                    gap = np.hypot(positions[targets, 0] - positions[sender, 0],
+                                   positions[targets, 1] - positions[sender, 1])
+                    targets = targets[~(gap > self.comm_range)]
+                for target in targets.tolist():
+                    self._inboxes.setdefault(target, []).append((sender, message))
+                continue
+            for target in np.array([to]).tolist():
                 if target == sender or not (0 <= target < len(active)) or not active[target]:
                     continue
                 if in_range:

@@ -1,11 +1,15 @@
 """Exact ray casting of range-finder beams against walls and robot edges.
 
-Each beam walks the cells of the walls grid, then of the robots grid, along
-its ray (Amanatides-Woo), and stops as soon as its best hit is no farther
-than the exit of the cell it is in, so its cost depends on the segments near
-it, not on the size of the map. Scanning robots run in parallel (``prange``);
-every beam is computed from its own inputs only, so the results are the same
-bit for bit whatever the number of threads.
+Per scanning robot, every wall that comes within range of it (listed ahead
+of time for its cell, see ``wall_index.py``) and every edge of a robot whose
+bounding circle comes within range (``robot_index.py``) is swept once: its
+angular span, seen from the sensor, gives the few beams it can hit, and only
+those are intersected exactly. The cost per robot is the segments near it
+plus the beams each one covers, not the size of the map. Beyond the walls'
+sweep reach (maps too big for the near lists), beams walk the fine walls grid
+cell by cell (Amanatides-Woo) until their first hit. Scanning robots run in
+parallel (``prange``); each row is computed from its own inputs only, so the
+results are the same bit for bit whatever the number of threads.
 
 The geometry (see :func:`ray_segment_distance`):
 
@@ -17,11 +21,11 @@ The geometry (see :func:`ray_segment_distance`):
   before any robot, and robot 2 before robot 5).
 
 >>> import numpy as np
->>> from mimics.engine.spatial_index import build_segment_grid, empty_grid
->>> walls = build_segment_grid(np.array([[3.0, -1.0, 3.0, 1.0]]), (-5, -5, 5, 5))
+>>> from mimics.engine.wall_index import build_wall_index
+>>> walls = build_wall_index(np.array([[3.0, -1.0, 3.0, 1.0]]), (-5, -5, 5, 5), reach=8.0)
 >>> query = RangerQuery(np.zeros((1, 2)), np.zeros(1), np.array([[0.0, np.pi]]),
 ...                     np.array([8.0]), np.array([-1]))
->>> ranges, owner = cast_rays(query, walls, empty_grid())
+>>> ranges, owner = cast_rays(query, walls)
 >>> ranges.tolist(), owner.tolist()
 ([[3.0, 8.0]], [[-1, -2]])
 """
@@ -34,12 +38,24 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from mimics.engine.spatial_index import SegmentGrid, coerce_array, coerce_grid
+from mimics.engine.robot_index import RobotIndex, coerce_robot_index
+from mimics.engine.spatial_index import SegmentGrid, cell_span, coerce_array
+from mimics.engine.wall_index import (
+    WallIndex,
+    coerce_wall_index,
+    near_cell_of,
+    point_segment_distance,
+)
 
 NO_HIT = -2  # hit_owner of a beam that hit nothing within range
 WALL = -1  # hit_owner of a beam that hit a wall
 PARALLEL_EPS = 1e-12  # |sin| of the beam-segment angle below which they are parallel
 COLLINEAR_EPS = 1e-10  # a parallel segment this close to the beam's line lies on it (m)
+ANGLE_EPS = 1e-6  # sin of the angle a segment spans below which all beams test it
+MIN_SPACING = 1e-9  # rad: beams closer than this are tested one by one
+TAU = 2.0 * math.pi
+RINGS = 16  # distance classes in which walls are swept, nearest first
+BLOCK = 8  # beams per block whose farthest hit so far lets a segment skip them all
 
 
 class RangerQuery(NamedTuple):
@@ -105,14 +121,18 @@ def ray_segment_distance(ox: float, oy: float, dx: float, dy: float, x1: float, 
 
 @njit(cache=True)
 def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit: float,
-           me: int, best_t: float, best_o: int) -> tuple[float, int]:
-    """Improve ``(best_t, best_o)`` with the segments of ``grid`` hit within ``limit``."""
+           me: int, best_t: float, best_o: int, start: float = 0.0) -> tuple[float, int]:
+    """Improve ``(best_t, best_o)`` with the segments of ``grid`` hit in ``[start, limit]``.
+
+    The walk starts in the cell holding the ray's point at ``start``: hits
+    nearer than that must already be in ``best_t``.
+    """
     if grid.segments.shape[0] == 0:
         return best_t, best_o
     gx, gy, c = grid.origin[0], grid.origin[1], grid.cell
     nx, ny = grid.shape[0], grid.shape[1]
     # clip the ray's [0, limit] to the grid box: it may start outside
-    t0, t1 = 0.0, limit
+    t0, t1 = start, limit
     if dx != 0.0:
         ta, tb = (gx - ox) / dx, (gx + nx * c - ox) / dx
         t0, t1 = max(t0, min(ta, tb)), min(t1, max(ta, tb))
@@ -170,28 +190,265 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
     return best_t, best_o
 
 
-@njit(parallel=True, cache=True)
-def _cast_kernel(query: RangerQuery, walls: SegmentGrid, robots: SegmentGrid,
-                 ranges: np.ndarray, hit_owner: np.ndarray) -> None:
-    """Fill ``ranges`` and ``hit_owner`` row by row (one scanning robot per row)."""
-    k, beams = query.offsets.shape
-    for i in prange(k):
-        ox, oy = query.origins[i, 0], query.origins[i, 1]
-        limit = query.max_range[i]
-        me = query.robot[i]
-        for j in range(beams):
-            offset = query.offsets[i, j]
-            if math.isnan(offset):
-                ranges[i, j] = math.nan
-                hit_owner[i, j] = NO_HIT
+@njit(cache=True)
+def _consider(ox: float, oy: float, dx: np.ndarray, dy: np.ndarray, j: int, x1: float,
+              y1: float, x2: float, y2: float, o: int, limit: float, best_t: np.ndarray,
+              best_o: np.ndarray) -> bool:
+    """Let segment ``(x1, y1, x2, y2)`` of owner ``o`` improve beam ``j``'s hit."""
+    t = ray_segment_distance(ox, oy, dx[j], dy[j], x1, y1, x2, y2)
+    if t <= limit and (t < best_t[j] or (t == best_t[j] and o < best_o[j])):
+        best_t[j] = t
+        best_o[j] = o
+        return True
+    return False
+
+
+@njit(cache=True)
+def _below(distance: float) -> float:
+    """A distance shrunk past rounding: beams hitting nearer than it surely skip a segment."""
+    return distance - 1e-9 * (1.0 + distance)
+
+
+@njit(cache=True)
+def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: float, x2: float,
+                 y2: float, o: int, nearest: float, limit: float, dx: np.ndarray,
+                 dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
+                 block_far: np.ndarray) -> None:
+    """Test beams ``first..last`` against one segment, skipping blocks already nearer."""
+    for b in range(first // BLOCK, last // BLOCK + 1):
+        if block_far[b] < nearest:  # every beam of the block hits nearer than the segment
+            continue
+        changed = False
+        for j in range(max(first, b * BLOCK), min(last, b * BLOCK + BLOCK - 1) + 1):
+            if best_t[j] >= nearest:  # unused slots hold -inf
+                changed |= _consider(ox, oy, dx, dy, j, x1, y1, x2, y2, o, limit, best_t,
+                                     best_o)
+        if changed:
+            block_far[b] = np.max(best_t[b * BLOCK: b * BLOCK + BLOCK])
+
+
+@njit(cache=True)
+def _beam_range(low: float, span: float, layout: np.ndarray, shift: float) -> tuple[int, int]:
+    """Beams whose angle lies in ``[low, low + span] + shift`` (with the layout's margin)."""
+    base, spacing, count, margin = layout[0], layout[1], int(layout[2]), int(layout[3])
+    rel = low - base
+    rel -= TAU * math.floor(rel / TAU)
+    first = max(math.ceil((rel + shift) / spacing) - margin, 0)
+    last = min(math.floor((rel + shift + span) / spacing) + margin, count - 1)
+    return first, last
+
+
+@njit(cache=True)
+def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float, o: int,
+                   nearest: float, limit: float, layout: np.ndarray, dx: np.ndarray,
+                   dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
+                   block_far: np.ndarray) -> None:
+    """Test one segment against the beams its angular span covers (all beams if unsure).
+
+    ``layout`` is ``(base angle, spacing, count, margin)`` of evenly spaced
+    beams, or has spacing 0 for beams in no usable order. ``nearest`` is the
+    segment's distance from the sensor: beams that already hit nearer skip it.
+    """
+    ax, ay, bx, by = x1 - ox, y1 - oy, x2 - ox, y2 - oy
+    cross = ax * by - ay * bx
+    if layout[1] <= 0.0 or abs(cross) <= ANGLE_EPS * math.hypot(ax, ay) * math.hypot(bx, by):
+        # no order to use, or the sensor sits on the segment's line (span near 0 or pi)
+        _sweep_beams(0, best_t.shape[0] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit, dx, dy,
+                     best_t, best_o, block_far)
+        return
+    low = math.atan2(ay, ax)
+    span = math.atan2(cross, ax * bx + ay * by)  # signed angle from end 1 to end 2
+    if span < 0.0:
+        low += span
+        span = -span
+    for shift in (-TAU, 0.0, TAU):  # beams may wrap around a full circle
+        first, last = _beam_range(low, span, layout, shift)
+        if first <= last:
+            _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, dx, dy,
+                         best_t, best_o, block_far)
+
+
+@njit(cache=True)
+def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, r: int,
+                 gap: float, radius: float, limit: float, layout: np.ndarray, dx: np.ndarray,
+                 dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
+                 block_far: np.ndarray) -> None:
+    """Test robot ``r``'s four edges against the beams its bounding circle covers.
+
+    ``gap`` is a lower bound of the robot's distance (from its circle).
+    """
+    distance = math.hypot(center[0] - ox, center[1] - oy)
+    if layout[1] <= 0.0 or distance <= radius * (1.0 + 1e-9):  # no order, or inside its circle
+        for e in range(4):
+            _sweep_segment(ox, oy, corners[e, 0], corners[e, 1], corners[e + 1, 0],
+                           corners[e + 1, 1], r, gap, limit, layout, dx, dy, best_t, best_o,
+                           block_far)
+        return
+    # from outside, a beam meets a convex body first on a side facing the sensor: skip
+    # the sides facing away (a ray through a shared corner still meets the facing one)
+    facing = np.empty(4, dtype=np.bool_)
+    for e in range(4):
+        ex, ey = corners[e + 1, 0] - corners[e, 0], corners[e + 1, 1] - corners[e, 1]
+        wx, wy = ox - corners[e, 0], oy - corners[e, 1]
+        cross = ex * wy - ey * wx  # > 0: the sensor is on the inner (left) side
+        facing[e] = cross <= 1e-9 * (abs(ex) + abs(ey)) * (abs(wx) + abs(wy) + 1.0)
+    half = math.asin(radius / distance) * (1.0 + 1e-9)
+    low = math.atan2(center[1] - oy, center[0] - ox) - half
+    for shift in (-TAU, 0.0, TAU):
+        first, last = _beam_range(low, 2.0 * half, layout, shift)
+        for b in range(first // BLOCK, last // BLOCK + 1) if first <= last else range(0):
+            if block_far[b] < gap:
                 continue
-            angle = query.headings[i] + offset
-            dx, dy = math.cos(angle), math.sin(angle)
-            t, o = _trace(walls, ox, oy, dx, dy, limit, me, math.inf, NO_HIT)
-            # robots only matter nearer than the nearest wall
-            t, o = _trace(robots, ox, oy, dx, dy, min(limit, t), me, t, o)
-            ranges[i, j] = limit if o == NO_HIT else t
-            hit_owner[i, j] = o
+            changed = False
+            for j in range(max(first, b * BLOCK), min(last, b * BLOCK + BLOCK - 1) + 1):
+                if best_t[j] < gap:
+                    continue
+                for e in range(4):
+                    if facing[e]:
+                        changed |= _consider(ox, oy, dx, dy, j, corners[e, 0], corners[e, 1],
+                                             corners[e + 1, 0], corners[e + 1, 1], r, limit,
+                                             best_t, best_o)
+            if changed:
+                block_far[b] = np.max(best_t[b * BLOCK: b * BLOCK + BLOCK])
+
+
+@njit(cache=True)
+def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
+    """``(base angle, spacing, count, margin)`` of a row of beams (spacing 0: no order).
+
+    Rows whose used beams form a prefix of increasing, near-evenly spaced
+    angles spanning at most a full turn get their spacing; the margin (in
+    beams) covers the deviation from even spacing plus rounding.
+    """
+    beams = offsets.shape[0]
+    layout = np.zeros(4)
+    layout[0] = heading + offsets[0]
+    layout[2] = beams
+    count = 0
+    while count < beams and not math.isnan(offsets[count]):
+        count += 1
+    if count < 2 or count * 2 < beams:  # few beams: one by one costs as little
+        return layout
+    for j in range(count, beams):
+        if not math.isnan(offsets[j]):
+            return layout  # used beams are not a prefix
+    spacing = (offsets[count - 1] - offsets[0]) / (count - 1)
+    if not (spacing > MIN_SPACING and spacing * (count - 1) <= TAU):
+        return layout
+    deviation = 0.0
+    for j in range(count):
+        deviation = max(deviation, abs(offsets[j] - (offsets[0] + j * spacing)))
+    margin = 1.0 + math.ceil(deviation / spacing)
+    if margin <= 3.0:
+        layout[1], layout[2], layout[3] = spacing, count, margin
+    return layout
+
+
+@njit(cache=True)
+def _by_distance(distance: np.ndarray, limit: float) -> np.ndarray:
+    """Indices of the distances within ``limit``, roughly nearest first.
+
+    A counting sort into ``RINGS`` rings: O(n), where a full sort of a few
+    hundred walls per robot would cost more than sweeping them.
+    """
+    counts = np.zeros(RINGS + 1, dtype=np.int64)
+    ring = np.empty(distance.shape[0], dtype=np.int64)
+    for p in range(distance.shape[0]):
+        d = distance[p]
+        ring[p] = -1 if d > limit else (0 if d <= 0.0 else min(int(d / limit * RINGS), RINGS - 1))
+        if ring[p] >= 0:
+            counts[ring[p] + 1] += 1
+    for k in range(RINGS):
+        counts[k + 1] += counts[k]
+    order = np.empty(counts[RINGS], dtype=np.int64)
+    for p in range(distance.shape[0]):
+        if ring[p] >= 0:
+            order[counts[ring[p]]] = p
+            counts[ring[p]] += 1
+    return order
+
+
+@njit(cache=True)
+def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
+              near: SegmentGrid, reach: float, robots: RobotIndex, best_t: np.ndarray,
+              best_o: np.ndarray) -> None:
+    """Fill one scanning robot's ranges (``best_t``) and owners (``best_o``).
+
+    The walls come as the fields of a ``WallIndex`` (``grid``, ``near``,
+    ``reach``): parallel kernels take no nested tuples.
+    """
+    beams = query.offsets.shape[1]
+    segs = near.segments
+    ox, oy = query.origins[i, 0], query.origins[i, 1]
+    limit = query.max_range[i]
+    me = query.robot[i]
+    layout = _layout(query.offsets[i], query.headings[i])
+    dx, dy = np.empty(beams), np.empty(beams)
+    for j in range(beams):
+        offset = query.offsets[i, j]
+        angle = query.headings[i] + offset
+        dx[j], dy[j] = math.cos(angle), math.sin(angle)
+        best_o[j] = NO_HIT
+        best_t[j] = -math.inf if math.isnan(offset) else math.inf  # -inf: never tested
+    block_far = np.full((beams + BLOCK - 1) // BLOCK, math.inf)
+    # walls near the sensor, nearest first: farther ones then skip the beams already hit
+    cell = near_cell_of(near, ox, oy)
+    certain = 0.0
+    if cell >= 0:
+        certain = reach
+        listed = near.cell_items[near.cell_start[cell]: near.cell_start[cell + 1]]
+        distance = np.empty(listed.shape[0])
+        for p in range(listed.shape[0]):
+            s = listed[p]
+            distance[p] = _below(point_segment_distance(ox, oy, segs[s, 0], segs[s, 1],
+                                                        segs[s, 2], segs[s, 3]))
+        for p in _by_distance(distance, limit):
+            s = listed[p]
+            _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], WALL,
+                           distance[p], limit, layout, dx, dy, best_t, best_o, block_far)
+    if certain < limit:  # beyond the sweep's reach: walk the fine grid
+        for j in range(beams):
+            if best_t[j] > certain:
+                best_t[j], best_o[j] = _trace(grid, ox, oy, dx[j], dy[j], limit, me,
+                                              best_t[j], best_o[j], certain)
+    # robots whose bounding circle comes within range, nearest first
+    span = limit + robots.max_radius
+    nx = robots.shape[0]
+    ix0, ix1 = cell_span(ox - span, ox + span, robots.origin[0], robots.cell, nx)
+    iy0, iy1 = cell_span(oy - span, oy + span, robots.origin[1], robots.cell, robots.shape[1])
+    found = 0
+    for iy in range(iy0, iy1 + 1):
+        found += robots.grid_start[iy * nx + ix1 + 1] - robots.grid_start[iy * nx + ix0]
+    seen = np.empty(found, dtype=np.int64)
+    gap = np.empty(found)
+    found = 0
+    for iy in range(iy0, iy1 + 1):  # the cells of a row are contiguous in the CSR
+        for p in range(robots.grid_start[iy * nx + ix0], robots.grid_start[iy * nx + ix1 + 1]):
+            r = robots.grid_items[p]
+            seen[found] = r
+            gap[found] = _below(math.hypot(robots.centers[r, 0] - ox,
+                                           robots.centers[r, 1] - oy) - robots.radius[r])
+            if r == me:
+                gap[found] = math.inf
+            found += 1
+    for p in _by_distance(gap, limit):
+        r = seen[p]
+        _sweep_robot(ox, oy, robots.corners[r], robots.centers[r], r, max(gap[p], 0.0),
+                     robots.radius[r], limit, layout, dx, dy, best_t, best_o, block_far)
+    for j in range(beams):
+        if best_t[j] == -math.inf:
+            best_t[j] = math.nan
+        elif best_o[j] == NO_HIT:
+            best_t[j] = limit
+
+
+@njit(parallel=True, cache=True)
+def _cast_kernel(query: RangerQuery, grid: SegmentGrid,
+                 near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
+                 hit_owner: np.ndarray) -> None:
+    """Fill ``ranges`` and ``hit_owner`` row by row (one scanning robot per row)."""
+    for i in prange(query.offsets.shape[0]):
+        _scan_row(query, i, grid, near, reach, robots, ranges[i], hit_owner[i])
 
 
 def _as_query(query: RangerQuery) -> RangerQuery:
@@ -212,15 +469,14 @@ def _as_query(query: RangerQuery) -> RangerQuery:
     return q
 
 
-def cast_rays(query: RangerQuery, walls: SegmentGrid,
-              robots: SegmentGrid | None = None) -> tuple[np.ndarray, np.ndarray]:
+def cast_rays(query: RangerQuery, walls: WallIndex,
+              robots: RobotIndex | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Trace every beam to its nearest wall or other robot's edge.
 
     Args:
         query: the beams (see :class:`RangerQuery`).
-        walls: grid of wall segments (``build_segment_grid``).
-        robots: grid of robot edges (``build_robot_grid``, built from the
-            same poses), or None for no robots.
+        walls: the map's walls (``build_wall_index``).
+        robots: the robots that can be seen (``build_robot_index``), or None.
 
     Returns:
         ``ranges (k, B)``: distance to the nearest hit, ``max_range`` when
@@ -236,5 +492,7 @@ def cast_rays(query: RangerQuery, walls: SegmentGrid,
     ranges = np.empty((k, beams))
     hit_owner = np.empty((k, beams), dtype=np.int64)
     if k and beams:
-        _cast_kernel(q, coerce_grid(walls), coerce_grid(robots), ranges, hit_owner)
+        w = coerce_wall_index(walls)
+        _cast_kernel(q, w.grid, w.near, w.reach,
+                     coerce_robot_index(robots), ranges, hit_owner)
     return ranges, hit_owner

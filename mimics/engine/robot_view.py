@@ -9,6 +9,7 @@ read-only view of that robot's row, never a copy of the world.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -26,26 +27,52 @@ def _frozen(view: np.ndarray) -> np.ndarray:
     return view
 
 
+_Views = dict[str, tuple[np.ndarray, np.ndarray]]
+
+
+def _row_view(views: _Views, key: str, source: np.ndarray, index: Any) -> np.ndarray:
+    """A read-only view ``source[index]``, made on first use and then reused.
+
+    The engine updates its arrays in place, so one view shows the current
+    values at every step: user code reading a sensor pays a dict look-up, not
+    a new view. The view is remade if ``source`` is ever a different array.
+    """
+    hit = views.get(key)
+    if hit is None or hit[0] is not source:
+        hit = views[key] = (source, _frozen(source[index]))
+    return hit[1]
+
+
 class Scan:
     """One robot's latest ranger reading."""
 
-    __slots__ = ("_index", "_sim")
+    __slots__ = ("_index", "_sim", "_views")
 
     def __init__(self, sim: Simulation, index: int) -> None:
         self._sim = sim
         self._index = index
+        self._views: _Views = {}
+
+    def _beams(self) -> tuple[int, slice]:
+        return self._index, slice(0, int(self._sim.types.beam_count[self._index]))
 
     @property
     def ranges(self) -> np.ndarray:
         """Distance per beam (m); ``max_range`` where nothing was hit."""
-        count = self._sim.types.beam_count[self._index]
-        return _frozen(self._sim.state.scan[self._index, :count])
+        hit = self._views.get("ranges")
+        source = self._sim.state.scan
+        if hit is not None and hit[0] is source:  # the common case, inlined
+            return hit[1]
+        return _row_view(self._views, "ranges", source, self._beams())
 
     @property
     def angles(self) -> np.ndarray:
         """Beam angles relative to the robot's heading (rad), right to left."""
-        count = self._sim.types.beam_count[self._index]
-        return _frozen(self._sim.types.beam_offsets[self._index, :count])
+        hit = self._views.get("angles")
+        source = self._sim.types.beam_offsets
+        if hit is not None and hit[0] is source:
+            return hit[1]
+        return _row_view(self._views, "angles", source, self._beams())
 
     @property
     def hits(self) -> np.ndarray:
@@ -77,22 +104,25 @@ class Robot:
     ``send(msg, to=None)`` and ``inbox``.
     """
 
-    __slots__ = ("_sim", "id", "scan")
+    __slots__ = ("_sim", "_type", "_views", "id", "scan")
 
     def __init__(self, sim: Simulation, index: int) -> None:
         self._sim = sim
         self.id = index
         self.scan = Scan(sim, index)
+        self._views: _Views = {}
+        self._type: RobotType | None = None
 
     @property
     def pose(self) -> np.ndarray:
         """Measured ``(x, y, theta)``."""
-        return _frozen(self._sim.state.measured_pose[self.id])
+        return _row_view(self._views, "pose", self._sim.state.measured_pose, self.id)
 
     @property
     def position(self) -> np.ndarray:
         """Measured ``(x, y)``."""
-        return _frozen(self._sim.state.measured_pose[self.id, :2])
+        return _row_view(self._views, "position", self._sim.state.measured_pose,
+                         (self.id, slice(0, 2)))
 
     @property
     def heading(self) -> float:
@@ -102,33 +132,34 @@ class Robot:
     @property
     def true_pose(self) -> np.ndarray:
         """Ground-truth ``(x, y, theta)``."""
-        return _frozen(self._sim.state.pose[self.id])
+        return _row_view(self._views, "true_pose", self._sim.state.pose, self.id)
 
     @property
     def velocity(self) -> np.ndarray:
         """Measured ``(v, w)``: speed (m/s) and turn rate (rad/s)."""
-        return _frozen(self._sim.state.measured_velocity[self.id])
+        return _row_view(self._views, "velocity", self._sim.state.measured_velocity, self.id)
 
     @property
     def true_velocity(self) -> np.ndarray:
         """Ground-truth ``(v, w)``."""
-        return _frozen(self._sim.state.velocity[self.id])
+        return _row_view(self._views, "true_velocity", self._sim.state.velocity, self.id)
 
     @property
     def acceleration(self) -> np.ndarray:
         """Measured ``(dv/dt, dw/dt)``."""
-        return _frozen(self._sim.state.measured_acceleration[self.id])
+        return _row_view(self._views, "acceleration", self._sim.state.measured_acceleration,
+                         self.id)
 
     @property
     def odometry(self) -> np.ndarray:
         """The odometer's integrated ``(x, y, theta)`` estimate (drifts with motion)."""
-        return _frozen(self._sim.state.odometry[self.id])
+        return _row_view(self._views, "odometry", self._sim.state.odometry, self.id)
 
     @property
     def goal(self) -> tuple[float, float] | None:
         """``(x, y)`` of the goal, or None for robots without one."""
-        gx, gy = self._sim.state.goal[self.id]
-        return None if np.isnan(gx) else (float(gx), float(gy))
+        gx, gy = self._sim.state.goal[self.id].tolist()  # Python floats in one call
+        return None if math.isnan(gx) else (gx, gy)
 
     @property
     def time(self) -> float:
@@ -143,7 +174,9 @@ class Robot:
     @property
     def type(self) -> RobotType:
         """This robot's type (dimensions, dynamics, sensors)."""
-        return self._sim.scenario.robot_type(self.id)
+        if self._type is None:  # looked up once: a scenario (frozen) never changes it
+            self._type = self._sim.scenario.robot_type(self.id)
+        return self._type
 
     @property
     def map(self) -> Map:

@@ -25,10 +25,22 @@ def _noisy(rng: np.random.Generator, values: np.ndarray, sigma: np.ndarray) -> n
 
 def measure_positioning(state: WorldState, types: TypeArrays, rng: np.random.Generator) -> None:
     """Fill the measured pose, velocity and acceleration from the ground truth."""
-    state.measured_pose[:, :2] = _noisy(rng, state.pose[:, :2], types.sigma_position)
+    noise = types.noisy
+    # Without noise the measured values are plain copies: skip the temporaries.
+    if "sigma_position" in noise:
+        state.measured_pose[:, :2] = _noisy(rng, state.pose[:, :2], types.sigma_position)
+    else:
+        state.measured_pose[:, :2] = state.pose[:, :2]
     state.measured_pose[:, 2] = state.pose[:, 2]
-    state.measured_velocity[:] = _noisy(rng, state.velocity, types.sigma_velocity)
-    state.measured_acceleration[:] = _noisy(rng, state.acceleration, types.sigma_acceleration)
+    if "sigma_velocity" in noise:
+        state.measured_velocity[:] = _noisy(rng, state.velocity, types.sigma_velocity)
+    else:
+        state.measured_velocity[:] = state.velocity
+    if "sigma_acceleration" in noise:
+        state.measured_acceleration[:] = _noisy(rng, state.acceleration,
+                                                types.sigma_acceleration)
+    else:
+        state.measured_acceleration[:] = state.acceleration
 
 
 def add_ranger_noise(ranges: np.ndarray, max_range: np.ndarray, sigma: np.ndarray,
@@ -40,19 +52,38 @@ def add_ranger_noise(ranges: np.ndarray, max_range: np.ndarray, sigma: np.ndarra
     return np.clip(noisy, 0.0, max_range[:, None])
 
 
+def odometry_is_exact(state: WorldState, types: TypeArrays) -> bool:
+    """Whether the odometer has no noise and still reads the true pose, bit for bit.
+
+    Then integrating the next step's increments gives the new true pose
+    exactly (``update_odometry`` runs the same ``advance_pose`` on the same
+    numbers), so the engine may copy the pose instead. Without odometry noise
+    this holds for the whole run: both start from the initial stage.
+    """
+    if "sigma_translation" in types.noisy or "sigma_rotation" in types.noisy:
+        return False
+    return state.odometry.tobytes() == state.pose.tobytes()
+
+
 def update_odometry(state: WorldState, types: TypeArrays, distance: np.ndarray,
-                    turn: np.ndarray, moving: np.ndarray, rng: np.random.Generator) -> None:
-    """Integrate noisy increments into the odometer; noise only where there is motion."""
-    measured_distance = distance.copy()
-    measured_turn = turn.copy()
-    if np.any(types.sigma_translation > 0):
-        noise = rng.standard_normal(state.n)
-        measured_distance += noise * types.sigma_translation * np.abs(distance)
-    if np.any(types.sigma_rotation > 0):
-        noise = rng.standard_normal(state.n)
-        measured_turn += noise * types.sigma_rotation * np.abs(turn)
+                    turn: np.ndarray, moving: np.ndarray | None, rng: np.random.Generator) -> None:
+    """Integrate noisy increments into the odometer; noise only where there is motion.
+
+    ``moving`` is a mask of the robots that moved, or None when all did.
+    """
+    noise = types.noisy
+    measured_distance, measured_turn = distance, turn
+    if "sigma_translation" in noise:
+        draw = rng.standard_normal(state.n)
+        measured_distance = distance + draw * types.sigma_translation * np.abs(distance)
+    if "sigma_rotation" in noise:
+        draw = rng.standard_normal(state.n)
+        measured_turn = turn + draw * types.sigma_rotation * np.abs(turn)
     updated = advance_pose(state.odometry, measured_distance, measured_turn)
-    state.odometry[moving] = updated[moving]
+    if moving is None:
+        state.odometry[:] = updated
+    else:
+        state.odometry[moving] = updated[moving]
 
 
 def comms_matrix(state: WorldState) -> np.ndarray:

@@ -28,16 +28,20 @@ from mimics.engine.dynamics import advance_pose, integrate_velocities, pid_actua
 from mimics.engine.messages import MessageBus
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
 from mimics.engine.ranger import RangerQuery, cast_rays
+from mimics.engine.robot_index import RobotIndex, build_robot_index
 from mimics.engine.sensors import (
     add_ranger_noise,
     comms_matrix,
     measure_positioning,
+    odometry_is_exact,
     update_odometry,
 )
-from mimics.engine.spatial_index import SegmentGrid, build_robot_grid, build_segment_grid
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState, steps_for
+from mimics.engine.wall_index import WallIndex, build_wall_index
 from mimics.world.scenario import Scenario
+
+_ESCAPED = int(Status.ESCAPED)  # a plain int: comparing arrays with an IntEnum is slow
 
 Policy = Literal["abort", "deactivate"]
 POLICIES = ("abort", "deactivate")
@@ -93,7 +97,13 @@ class Simulation:
         self.messages = MessageBus(settings.comm_range)
         self.events: list[Event] = []
         self.timing = TimingStats()
-        self.walls: SegmentGrid = build_segment_grid(scenario.map.segments, scenario.map.bounds)
+        reach = float(np.max(self.types.max_range, initial=0.0))
+        self.walls: WallIndex = build_wall_index(scenario.map.segments, scenario.map.bounds,
+                                                 reach)
+        # robot index cells: a sensor visits about 5 x 5 of them, a collision check 1 to 4
+        largest = float(np.max(np.hypot(self.types.half_length, self.types.half_width),
+                               initial=0.0))
+        self._robot_cell = max(reach / 2, 4 * largest, 1e-3)
         self.status = "running"
         self.error = ""
         self.wall_time = 0.0
@@ -102,7 +112,7 @@ class Simulation:
         self._ever_livelocked = np.zeros(self.state.n, dtype=bool)
         self._stalls = StallDetector(settings, self.state.n)
         self._start_goal_distance = self.state.goal_distance()
-        self._grid: SegmentGrid | None = None
+        self._grid: RobotIndex | None = None
         self._grid_key: tuple[int, bytes] | None = None
         self._pending: dict[int, Status] = {}  # deactivations applied at the end of the step
         self._started = False
@@ -141,10 +151,10 @@ class Simulation:
         if self.status != "running":
             return False
         state = self.state
-        ids = np.flatnonzero(state.active)
-        for i in ids.tolist():
-            state.user_message[i] = ""
-            state.system_message[i] = ""
+        active = state.active
+        ids = active.nonzero()[0]  # = flatnonzero, without its Python wrappers
+        _clear_messages(state.user_message, active)
+        _clear_messages(state.system_message, active)
         failures = self.controller.compute(self, ids)
         self.timing.add(state.user_time[ids])
         failed = self._handle_failures(failures)
@@ -153,8 +163,10 @@ class Simulation:
         state.step += 1
         state.time = state.step * self.scenario.settings.dt
         self._check_bodies(moving)
-        self._check_goals_and_bounds(moving)
-        self._check_stalls()
+        distance = state.goal_distance()  # shared by the goal and the stall checks
+        self._check_goals_and_bounds(moving, distance)
+        # no status changes since the top of the step (they wait in _pending)
+        self._check_stalls(distance, active)
         self._finish_deactivations()
         self._sense()
         for observer in self.observers:
@@ -188,18 +200,18 @@ class Simulation:
         """Robots that others can hit and see."""
         state = self.state
         if self.scenario.settings.inactive_as_obstacles:
-            return state.status != Status.ESCAPED
+            return state.status != _ESCAPED
         return state.active
 
-    def _robot_grid(self) -> SegmentGrid:
-        """Index of solid robots' edges; rebuilt only when poses or the solid set changed."""
+    def _robot_index(self) -> RobotIndex:
+        """Index of the solid robots; rebuilt only when poses or the solid set changed."""
         state = self.state
         solid = self._solid()
         key = (state.step, solid.tobytes())
         if self._grid_key != key:
-            self._grid = build_robot_grid(state.pose[:, :2], state.pose[:, 2],
-                                          self.types.half_length, self.types.half_width, solid,
-                                          self.scenario.map.bounds)
+            self._grid = build_robot_index(state.pose[:, :2], state.pose[:, 2],
+                                           self.types.half_length, self.types.half_width, solid,
+                                           cell=self._robot_cell)
             self._grid_key = key
         return self._grid
 
@@ -214,7 +226,7 @@ class Simulation:
                 headings=np.ascontiguousarray(state.pose[ids, 2]),
                 offsets=self.types.beam_offsets[ids], max_range=self.types.max_range[ids],
                 robot=ids.astype(np.int64))
-            ranges, owner = cast_rays(query, self.walls, self._robot_grid())
+            ranges, owner = cast_rays(query, self.walls, self._robot_index())
             ranges = add_ranger_noise(ranges, self.types.max_range[ids],
                                       self.types.sigma_range[ids], self.rng)
             state.scan[ids] = ranges
@@ -225,27 +237,44 @@ class Simulation:
     def _move(self, ids: np.ndarray) -> None:
         """PID loops and exact integration of the dynamics for robots ``ids``."""
         state, types, dt = self.state, self.types, self.scenario.settings.dt
-        v, w = state.velocity[ids, 0], state.velocity[ids, 1]
-        u_v, i_v = pid_actuation(state.reference[ids, 0] - v, state.acceleration[ids, 0],
-                                 state.pid_integral[ids, 0], types.pid.speed[ids], dt)
-        heading_error = wrap_angle(state.reference[ids, 1] - state.pose[ids, 2])
-        u_w, i_w = pid_actuation(heading_error, w, state.pid_integral[ids, 1],
-                                 types.pid.heading[ids], dt)
-        plant = type(types.plant)(*(p[ids] for p in types.plant))
+        n = state.n
+        # All robots moving (the usual case): plain views instead of gathers and
+        # scatters; the arithmetic, element by element, is the same.
+        rows: np.ndarray | slice = slice(None) if ids.size == n else ids
+        velocity = state.velocity[rows]  # a copy for ids, a view for all: copy below
+        v, w = velocity[:, 0].copy(), velocity[:, 1].copy()
+        pose = state.pose[rows]
+        u_v, i_v = pid_actuation(state.reference[rows, 0] - v, state.acceleration[rows, 0],
+                                 state.pid_integral[rows, 0], types.pid.speed[rows], dt)
+        heading_error = wrap_angle(state.reference[rows, 1] - pose[:, 2])
+        u_w, i_w = pid_actuation(heading_error, w, state.pid_integral[rows, 1],
+                                 types.pid.heading[rows], dt)
+        plant = types.plant if ids.size == n else type(types.plant)(*(p[ids]
+                                                                      for p in types.plant))
         motion = integrate_velocities(v, w, u_v, u_w, plant, dt)
-        state.actuation[ids, 0], state.actuation[ids, 1] = u_v, u_w
-        state.pid_integral[ids, 0], state.pid_integral[ids, 1] = i_v, i_w
-        state.acceleration[ids, 0] = (motion.v - v) / dt
-        state.acceleration[ids, 1] = (motion.w - w) / dt
-        state.velocity[ids, 0], state.velocity[ids, 1] = motion.v, motion.w
-        state.pose[ids] = advance_pose(state.pose[ids], motion.distance, motion.turn)
-        state.path_length[ids] += np.abs(motion.distance)
-        distance = np.zeros(state.n)
-        turn = np.zeros(state.n)
-        distance[ids], turn[ids] = motion.distance, motion.turn
-        moved = np.zeros(state.n, dtype=bool)
-        moved[ids] = True
-        update_odometry(state, types, distance, turn, moved, self.rng)
+        odometer_exact = odometry_is_exact(state, types)  # checked before the pose moves
+        state.actuation[rows, 0], state.actuation[rows, 1] = u_v, u_w
+        state.pid_integral[rows, 0], state.pid_integral[rows, 1] = i_v, i_w
+        state.acceleration[rows, 0] = (motion.v - v) / dt
+        state.acceleration[rows, 1] = (motion.w - w) / dt
+        state.velocity[rows, 0], state.velocity[rows, 1] = motion.v, motion.w
+        state.pose[rows] = advance_pose(pose, motion.distance, motion.turn)
+        state.path_length[rows] += np.abs(motion.distance)
+        if ids.size == n:
+            distance, turn = motion.distance, motion.turn
+            moved: np.ndarray | None = None
+        else:
+            distance = np.zeros(n)
+            turn = np.zeros(n)
+            distance[ids], turn[ids] = motion.distance, motion.turn
+            moved = np.zeros(n, dtype=bool)
+            moved[ids] = True
+        if odometer_exact:
+            # Same start, same increments, same arithmetic: the odometer would
+            # compute the true pose again, bit for bit (and it draws no noise).
+            state.odometry[:] = state.pose
+        else:
+            update_odometry(state, types, distance, turn, moved, self.rng)
 
     def _check_bodies(self, ids: np.ndarray) -> None:
         """Exact collision check of robots ``ids`` against walls and solid robots."""
@@ -257,29 +286,38 @@ class Simulation:
         bodies = Bodies(np.ascontiguousarray(state.pose[:, :2]),
                         np.ascontiguousarray(state.pose[:, 2]),
                         self.types.half_length, self.types.half_width)
-        with_whom, _ = find_collisions(bodies, check, self._solid(), self.walls,
-                                       self._robot_grid())
-        for i in np.flatnonzero(with_whom != -2).tolist():
+        with_whom, _ = find_collisions(bodies, check, self._solid(), self.walls.grid,
+                                       self._robot_index())
+        touching = with_whom != -2
+        if not np.count_nonzero(touching):  # nobody touches anything (the usual case)
+            return
+        for i in touching.nonzero()[0].tolist():
             other = int(with_whom[i])
             what = "wall" if other == -1 else f"robot {other}"
             state.collided_with[i] = other
             self._mark(i, Status.COLLIDED, f"Collision with {what}", "collision", other=other)
 
-    def _check_goals_and_bounds(self, ids: np.ndarray) -> None:
+    def _check_goals_and_bounds(self, ids: np.ndarray,
+                                distance: np.ndarray | None = None) -> None:
         state = self.state
+        if distance is None:
+            distance = state.goal_distance()
         xmin, ymin, xmax, ymax = self.scenario.map.bounds
         x, y = state.pose[ids, 0], state.pose[ids, 1]
         outside = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
-        reached = state.goal_distance()[ids] <= self.scenario.settings.goal_tolerance
+        reached = distance[ids] <= self.scenario.settings.goal_tolerance
         for i in ids[outside].tolist():
             self._mark(i, Status.ESCAPED, "Escaped map", "escaped")
         for i in ids[reached & ~outside].tolist():
             state.goal_time[i] = state.time
             self._mark(i, Status.REACHED_GOAL, "Reached goal", "reached_goal")
 
-    def _check_stalls(self) -> None:
+    def _check_stalls(self, distance: np.ndarray | None = None,
+                      active: np.ndarray | None = None) -> None:
         state = self.state
-        flags = self._stalls.update(state)
+        flags = self._stalls.update(state, distance, active)
+        if not flags.changes:
+            return
         now = state.time
         for i in np.flatnonzero(flags.deadlock_started).tolist():
             self._ever_deadlocked[i] = True
@@ -352,7 +390,7 @@ class Simulation:
         state = self.state
         self.wall_time = time.perf_counter() - self._wall_start
         if self.status == "running":
-            if not state.active.any():
+            if not np.count_nonzero(state.active):
                 self.status = "completed"
             elif state.step >= self.max_steps:
                 self.status = "time_limit"
@@ -367,3 +405,14 @@ class Simulation:
             if hasattr(observer, "on_end"):
                 observer.on_end(self, result)
         return False
+
+
+def _clear_messages(messages: list[str], active: np.ndarray) -> None:
+    """Empty the messages of active robots (inactive ones keep their last words).
+
+    Most entries are already empty: scan in C and touch only the others.
+    """
+    if any(messages):
+        for i in [i for i, text in enumerate(messages) if text]:
+            if active[i]:
+                messages[i] = ""

@@ -24,6 +24,7 @@ class StallFlags(NamedTuple):
     livelock_started: np.ndarray
     livelock_ended: np.ndarray
     deadlock_ended: np.ndarray
+    changes: int = 0  # how many flags are set in all: 0 lets the caller skip the rest
 
 
 class StallDetector:
@@ -37,22 +38,29 @@ class StallDetector:
         self._distances = np.zeros((self.livelock_steps + 1, n))
         self._count = 0
 
-    def update(self, state: WorldState) -> StallFlags:
-        """Record the current positions and return the changes of stall state."""
+    def update(self, state: WorldState, distance: np.ndarray | None = None,
+               active: np.ndarray | None = None) -> StallFlags:
+        """Record the current positions and return the changes of stall state.
+
+        ``distance`` (``state.goal_distance()``) and ``active`` (``state.active``)
+        may be passed when the caller already has them this step.
+        """
         slot_d = self._count % len(self._positions)
         slot_l = self._count % len(self._distances)
-        self._positions[slot_d] = state.pose[:, :2]
-        distance = state.goal_distance()
+        now = state.pose[:, :2]
+        self._positions[slot_d] = now
+        if distance is None:
+            distance = state.goal_distance()
+        if active is None:
+            active = state.active
         self._distances[slot_l] = distance
         self._count += 1
-        candidates = state.active & ~np.isnan(distance)
+        candidates = active & ~np.isnan(distance)
         none = np.zeros(state.n, dtype=bool)
 
         deadlocked = none.copy()
-        if self._count > self.deadlock_steps:
-            offsets = self._positions - state.pose[None, :, :2]
-            spread = np.max(np.hypot(offsets[..., 0], offsets[..., 1]), axis=0)
-            deadlocked = candidates & (spread <= self.settings.deadlock_distance)
+        if self._count > self.deadlock_steps and np.count_nonzero(candidates):
+            deadlocked = self._deadlocked(now, candidates)
 
         livelocked = none.copy()
         if self._count > self.livelock_steps:
@@ -63,12 +71,33 @@ class StallDetector:
         flags = StallFlags(
             deadlock_started=deadlocked & ~state.in_deadlock,
             livelock_started=livelocked & ~state.in_livelock,
-            livelock_ended=state.in_livelock & ~livelocked & state.active,
-            deadlock_ended=state.in_deadlock & ~deadlocked & state.active,
+            livelock_ended=state.in_livelock & ~livelocked & active,
+            deadlock_ended=state.in_deadlock & ~deadlocked & active,
         )
-        state.in_deadlock[:] = deadlocked | (state.in_deadlock & ~state.active)
-        state.in_livelock[:] = livelocked | (state.in_livelock & ~state.active)
+        flags = flags._replace(changes=sum(np.count_nonzero(f) for f in flags[:4]))
+        state.in_deadlock[:] = deadlocked | (state.in_deadlock & ~active)
+        state.in_livelock[:] = livelocked | (state.in_livelock & ~active)
         return flags
+
+    def _deadlocked(self, now: np.ndarray, candidates: np.ndarray) -> np.ndarray:
+        """Candidates whose every position in the window lies within the distance of ``now``.
+
+        Exact, but cheap for moving robots: the oldest position of the window
+        is one of the positions checked, so a robot farther than the distance
+        from it cannot be in deadlock and its window is not scanned. Only the
+        robots left (nearly still ones) get the full O(window) check, on the
+        very same numbers as a check of every robot would use.
+        """
+        limit = self.settings.deadlock_distance
+        oldest = self._positions[self._count % len(self._positions)]
+        near = np.hypot(oldest[:, 0] - now[:, 0], oldest[:, 1] - now[:, 1]) <= limit
+        ids = (candidates & near).nonzero()[0]
+        deadlocked = np.zeros(len(now), dtype=bool)
+        if ids.size:
+            offsets = self._positions[:, ids] - now[None, ids]
+            spread = np.max(np.hypot(offsets[..., 0], offsets[..., 1]), axis=0)
+            deadlocked[ids] = spread <= limit
+        return deadlocked
 
     def window_start(self, kind: str, now: float) -> float:
         """The time a stall found now began (the start of its window)."""

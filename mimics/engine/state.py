@@ -7,8 +7,9 @@ objects user code sees are views into these rows (``robot_view.py``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from enum import IntEnum
+from functools import cached_property
 
 import numpy as np
 
@@ -32,6 +33,11 @@ class Status(IntEnum):
         return self.name.lower()
 
 
+# Comparing an array with an IntEnum member costs several microseconds (the
+# member is converted the slow way); with a plain int it is one ufunc call.
+_ACTIVE = int(Status.ACTIVE)
+
+
 @dataclass
 class TypeArrays:
     """Robot-type parameters broadcast to one row per robot."""
@@ -49,6 +55,15 @@ class TypeArrays:
     sigma_acceleration: np.ndarray
     sigma_translation: np.ndarray
     sigma_rotation: np.ndarray
+
+    @cached_property
+    def noisy(self) -> frozenset[str]:
+        """Names of the ``sigma_*`` fields that are above zero for some robot.
+
+        Computed once: the sensors ask every step which noise draws to make.
+        """
+        return frozenset(f.name for f in fields(self)
+                         if f.name.startswith("sigma_") and np.any(getattr(self, f.name) > 0))
 
     @classmethod
     def from_scenario(cls, scenario: Scenario) -> TypeArrays:
@@ -144,7 +159,7 @@ class WorldState:
     @property
     def active(self) -> np.ndarray:
         """Boolean mask of active robots."""
-        return self.status == Status.ACTIVE
+        return self.status == _ACTIVE
 
     def goal_distance(self) -> np.ndarray:
         """Distance from each robot's true position to its goal (NaN without a goal)."""

@@ -237,13 +237,15 @@ class BeamCaster:
 
     def __init__(self, scenario: Scenario) -> None:
         from mimics.engine.ranger import RangerQuery, cast_rays
-        from mimics.engine.spatial_index import build_robot_grid, build_segment_grid
+        from mimics.engine.robot_index import build_robot_index
         from mimics.engine.state import TypeArrays
+        from mimics.engine.wall_index import build_wall_index
 
-        self._query, self._cast, self._robot_grid = RangerQuery, cast_rays, build_robot_grid
+        self._query, self._cast, self._robot_index = RangerQuery, cast_rays, build_robot_index
         self.scenario = scenario
         self.types = TypeArrays.from_scenario(scenario)
-        self.walls = build_segment_grid(scenario.map.segments, scenario.map.bounds)
+        self.reach = float(np.max(self.types.max_range, initial=0.0))
+        self.walls = build_wall_index(scenario.map.segments, scenario.map.bounds, self.reach)
 
     @classmethod
     def available(cls, scenario: Scenario) -> BeamCaster | None:
@@ -266,9 +268,9 @@ class BeamCaster:
             solid = status != Status.ESCAPED
         else:
             solid = status == Status.ACTIVE
-        grid = self._robot_grid(np.ascontiguousarray(pose[:, :2]),
-                                np.ascontiguousarray(pose[:, 2]), types.half_length,
-                                types.half_width, solid, self.scenario.map.bounds)
+        robots = self._robot_index(np.ascontiguousarray(pose[:, :2]),
+                                   np.ascontiguousarray(pose[:, 2]), types.half_length,
+                                   types.half_width, solid, cell=max(self.reach / 2, 1e-3))
         ids = np.array([robot], dtype=np.int64)
         query = self._query(origins=np.ascontiguousarray(pose[ids, :2]),
                             headings=np.ascontiguousarray(pose[ids, 2]),
@@ -277,7 +279,7 @@ class BeamCaster:
         threads = numba.get_num_threads()
         numba.set_num_threads(1)  # one scan: a thread pool only adds launch latency
         try:
-            ranges, _ = self._cast(query, self.walls, grid)
+            ranges, _ = self._cast(query, self.walls, robots)
         finally:
             numba.set_num_threads(threads)
         return beam_segments(pose[robot, :2], pose[robot, 2], types.beam_offsets[robot],

@@ -10,21 +10,22 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mimics.engine.collision import Bodies, find_collisions
-from mimics.engine.spatial_index import build_robot_grid, build_segment_grid
+from mimics.engine.robot_index import build_robot_index
+from mimics.engine.spatial_index import build_segment_grid
 from tests import naive
 
 BOUNDS = (-10.0, -10.0, 10.0, 10.0)
 
 
 def collide(centers, headings, hl, hw, walls=(), check=None, solid=None, cell=None,
-            robot_cell=None):
+            robot_cell=1.0):
     n = len(centers)
     bodies = Bodies(np.array(centers, float).reshape(n, 2), np.array(headings, float),
                     np.array(hl, float), np.array(hw, float))
     check = np.ones(n, bool) if check is None else np.array(check)
     solid = np.ones(n, bool) if solid is None else np.array(solid)
     wall_grid = build_segment_grid(np.array(walls, float).reshape(-1, 4), BOUNDS, cell=cell)
-    robots = build_robot_grid(*bodies, solid, BOUNDS, cell=robot_cell)
+    robots = build_robot_index(*bodies, solid, cell=robot_cell)
     with_whom, wall = find_collisions(bodies, check, solid, wall_grid, robots)
     return with_whom.tolist(), wall.tolist()
 
@@ -49,7 +50,7 @@ def test_corner_touching_an_edge_collides():
 
 def test_small_robot_inside_a_big_one():
     # the small one touches none of the big one's edges, even with cells smaller than it
-    for robot_cell in (None, 0.05, 3.0):
+    for robot_cell in (1.0, 0.05, 3.0):
         got = collide([[0, 0], [1, 1]], [0.3, 1.0], [5, 0.1], [4, 0.1], robot_cell=robot_cell)
         assert got[0] == [1, 0]
 
@@ -178,12 +179,12 @@ def worlds(draw):
 
 @settings(max_examples=150, deadline=None)
 @given(world=worlds(), cell=st.sampled_from([0.2, 1.0, None]),
-       robot_cell=st.sampled_from([0.1, 1.5, None]))
+       robot_cell=st.sampled_from([0.1, 1.5, 20.0]))
 def test_matches_shapely_and_the_naive_reference(world, cell, robot_cell):
     centers, headings, hl, hw, walls, check, solid = world
     bodies = Bodies(centers, headings, hl, hw)
     wall_grid = build_segment_grid(walls, (-5, -5, 5, 5), cell=cell)
-    robots = build_robot_grid(centers, headings, hl, hw, solid, (-5, -5, 5, 5), cell=robot_cell)
+    robots = build_robot_index(centers, headings, hl, hw, solid, cell=robot_cell)
     with_whom, wall = find_collisions(bodies, check, solid, wall_grid, robots)
     pairs, robot_walls = truth(centers, headings, hl, hw, walls)
     assert_consistent(with_whom, wall, check, solid, pairs, robot_walls)

@@ -210,6 +210,44 @@ def test_robot_view_reads_the_world_without_copies() -> None:
     assert sim.state.user_message[1] == "hello"
 
 
+def test_robot_view_rows_are_made_once_and_follow_the_world() -> None:
+    sim = Simulation(line(robots=2), lambda r: (0.5, 0.0), time_limit=1.0)
+    sim.start()
+    robot = sim.controller._robots[1]
+    pose, ranges = robot.pose, robot.scan.ranges
+    sim.step()
+    sim.step()
+    # the same read-only objects, showing this step's values (no new arrays per read)
+    assert robot.pose is pose and robot.scan.ranges is ranges
+    assert pose.tolist() == sim.state.measured_pose[1].tolist()
+    assert not ranges.flags.writeable and np.shares_memory(ranges, sim.state.scan)
+    assert robot.position.tolist() == sim.state.measured_pose[1, :2].tolist()
+    # a replaced world array is picked up, never a stale row
+    sim.state.measured_pose = sim.state.measured_pose.copy()
+    sim.state.measured_pose[1, 0] = 123.0
+    assert robot.pose[0] == 123.0 and robot.pose is not pose
+
+
+def test_noise_free_odometer_reads_the_true_pose_exactly() -> None:
+    sim = Simulation(line(robots=3, random_yaw=True), go_to_goal, seed=1, time_limit=5.0)
+    sim.run()
+    assert sim.state.odometry.tobytes() == sim.state.pose.tobytes()
+
+
+def test_robots_that_failed_do_not_move_while_the_others_do() -> None:
+    def step(robot):
+        if robot.id == 1 and robot.time >= 0.5:
+            raise RuntimeError("stuck")
+        return 0.5, 0.0
+
+    sim = Simulation(line(robots=3), step, policy="deactivate", time_limit=2.0)
+    sim.run()
+    frozen_at = sim.state.pose[1].copy()
+    assert sim.state.status[1] == Status.ERROR
+    assert sim.state.pose[0, 0] > frozen_at[0] + 0.3  # the others went on
+    assert sim.state.odometry[1].tolist() == frozen_at.tolist()
+
+
 def test_per_robot_calls_are_timed() -> None:
     result = Simulation(line(robots=3), go_to_goal, time_limit=1.0).run()
     timing = result.summary()["user_code_time"]

@@ -11,13 +11,10 @@ from hypothesis.extra.numpy import arrays
 
 from mimics.engine.spatial_index import (
     MAX_CELLS,
-    build_robot_grid,
     build_segment_grid,
     choose_cell_size,
     grid_pad,
-    robot_edge_segments,
 )
-from tests.naive import robot_edges
 
 coords = st.floats(-7.0, 7.0, allow_nan=False, allow_infinity=False)
 
@@ -145,42 +142,3 @@ def test_every_segment_is_in_every_cell_it_crosses(segs, cell):
 
 
 # -- robot edges ----------------------------------------------------------------------
-
-
-def test_robot_edges_by_hand():
-    segs, owner = robot_edge_segments(np.array([[1.0, 2.0], [9.0, 9.0]]),
-                                      np.array([0.0, 0.3]), np.array([1.0, 1.0]),
-                                      np.array([0.5, 0.5]), np.array([True, False]))
-    assert owner.tolist() == [0, 0, 0, 0]
-    assert segs.tolist() == [[2.0, 2.5, 0.0, 2.5],  # left side
-                             [0.0, 2.5, 0.0, 1.5],  # rear
-                             [0.0, 1.5, 2.0, 1.5],  # right side
-                             [2.0, 1.5, 2.0, 2.5]]  # front
-    up, _ = robot_edge_segments(np.zeros((1, 2)), np.array([math.pi / 2]), 1.0, 0.5, True)
-    front = up[3]  # heading north: the front side is the top, 1 m up
-    assert np.allclose(front[[1, 3]], [1.0, 1.0]) and np.allclose(sorted(front[[0, 2]]),
-                                                                  [-0.5, 0.5])
-
-
-@settings(max_examples=60, deadline=None)
-@given(n=st.integers(0, 12), seed=st.integers(0, 2**32 - 1),
-       cell=st.sampled_from([None, 0.05, 0.8]))
-def test_robot_grid_lists_every_edge_where_it_is(n, seed, cell):
-    rng = np.random.default_rng(seed)
-    centers = rng.uniform(-10, 10, (n, 2))
-    headings = rng.uniform(-4, 4, n)
-    hl, hw = rng.uniform(0.05, 1.0, n), rng.uniform(0.05, 1.0, n)
-    include = rng.random(n) < 0.7
-    grid = build_robot_grid(centers, headings, hl, hw, include, (-5, -5, 5, 5), cell=cell)
-    expected = [e for i in range(n) if include[i]
-                for e in robot_edges(centers[i, 0], centers[i, 1], headings[i], hl[i], hw[i])]
-    assert grid.segments.tolist() == [list(e) for e in expected]  # same corners, bit for bit
-    assert grid.owner.tolist() == [i for i in range(n) if include[i] for _ in range(4)]
-    assert_exact_listing(grid)
-
-
-def test_robot_grid_with_no_robot_is_empty():
-    grid = build_robot_grid(np.zeros((2, 2)), np.zeros(2), 0.5, 0.5, np.zeros(2, bool),
-                            (0, 0, 16, 16))
-    assert len(grid.segments) == 0 and grid.cell_start.tolist() == [0, 0]
-    assert grid.origin[0] <= 0 and grid.origin[0] + grid.cell >= 16

@@ -3,9 +3,12 @@
 import math
 
 import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mimics.engine.simulation import Simulation
-from mimics.engine.state import Status
+from mimics.engine.stall import StallDetector
+from mimics.engine.state import Status, WorldState
 from mimics.world.maps import Map
 from mimics.world.robot_types import RobotType
 from mimics.world.scenario import Scenario, Settings
@@ -59,3 +62,47 @@ def test_robot_that_waits_then_goes_is_not_flagged() -> None:
     summary = result.summary()
     assert result.final_status[0] == Status.REACHED_GOAL
     assert summary["deadlocks"] == 0 and summary["livelocks"] == 0
+
+
+# -- the exact deadlock check against a brute-force window ------------------
+
+def _brute_force_deadlock(history: list[np.ndarray], window: int, limit: float,
+                          candidates: np.ndarray) -> np.ndarray:
+    """Every position over the last ``window`` steps within ``limit`` of now (no shortcut)."""
+    if len(history) <= window:
+        return np.zeros(len(candidates), dtype=bool)
+    now = history[-1]
+    spread = np.zeros(len(now))
+    for past in history[-(window + 1):]:
+        spread = np.maximum(spread, np.hypot(*(past - now).T))
+    return candidates & (spread <= limit)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), robots=st.integers(1, 6),
+       window=st.integers(1, 12), limit=st.sampled_from([0.0, 0.05, 0.3]),
+       still=st.floats(0.0, 0.9))
+def test_deadlock_matches_a_brute_force_window_check(seed: int, robots: int, window: int,
+                                                       limit: float, still: float) -> None:
+    # A random walk whose robots often stand still (or barely move) for a
+    # while: the shortcut of the detector must never change the verdict.
+    rng = np.random.default_rng(seed)
+    dt = 0.1
+    settings_ = Settings(dt=dt, deadlock_window=window * dt, livelock_window=1.0,
+                         deadlock_distance=limit)
+    rows = np.tile([0.0, 0.0, 0.0, 0.0, 10.0, 0.0], (robots, 1))
+    scenario = Scenario.from_matrix(rows, Map(np.zeros((0, 4)), (-50, -50, 50, 50)), BLIND,
+                                    settings=settings_)
+    state = WorldState.from_scenario(scenario, 0)
+    detector = StallDetector(settings_, robots)
+    assert detector.deadlock_steps == window
+    history = []
+    for _ in range(4 * window + 10):
+        moving = rng.random(robots) > still
+        sizes = rng.choice([1e-3, 0.02, 0.2, 1.0], size=robots)
+        state.pose[:, :2] += moving[:, None] * rng.normal(0.0, 1.0, (robots, 2)) * sizes[:, None]
+        history.append(state.pose[:, :2].copy())
+        expected = _brute_force_deadlock(history, window, limit, state.active)
+        detector.update(state)
+        assert np.array_equal(state.in_deadlock, expected)
+

@@ -6,7 +6,8 @@ import pytest
 
 from mimics.catalog import list_scenarios, load_scenario
 from mimics.engine.collision import Bodies, find_collisions
-from mimics.engine.spatial_index import build_robot_grid, build_segment_grid
+from mimics.engine.robot_index import build_robot_index
+from mimics.engine.spatial_index import build_segment_grid
 from mimics.world.data_folder import find_stage_file
 from mimics.world.errors import MimicsError, ScenarioError
 from mimics.world.robot_types import PIONEER_2DX, SWARMBOT
@@ -31,7 +32,7 @@ def engine_contacts(scenario: Scenario) -> np.ndarray:
                     sizes[:, 1].copy())
     solid = np.ones(scenario.robot_count, dtype=bool)
     walls = build_segment_grid(scenario.map.segments, scenario.map.bounds)
-    robots = build_robot_grid(*bodies, solid, scenario.map.bounds)
+    robots = build_robot_index(*bodies, solid)
     with_whom, _ = find_collisions(bodies, solid, solid, walls, robots)
     return np.flatnonzero(with_whom != -2)
 

@@ -8,7 +8,8 @@ import shapely
 
 from mimics.engine.collision import Bodies as EngineBodies
 from mimics.engine.collision import find_collisions
-from mimics.engine.spatial_index import build_robot_grid, build_segment_grid
+from mimics.engine.robot_index import build_robot_index
+from mimics.engine.spatial_index import build_segment_grid
 from mimics.world.errors import ScenarioError
 from mimics.world.map_files import save_map
 from mimics.world.maps import Map
@@ -251,7 +252,7 @@ def test_overlap_checks_agree_with_shapely_and_the_engine() -> None:
         solid = np.ones(60, dtype=bool)
         bounds = (-6.0, -6.0, 6.0, 6.0)
         with_whom, _ = find_collisions(engine, solid, solid, build_segment_grid(segments, bounds),
-                                       build_robot_grid(*engine, solid, bounds))
+                                       build_robot_index(*engine, solid))
         in_contact = set(robot.tolist()) | set(first.tolist()) | set(second.tolist())
         assert set(np.flatnonzero(with_whom != -2).tolist()) == in_contact
 

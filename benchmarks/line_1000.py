@@ -1,0 +1,71 @@
+"""The paper's line at 10 and 1,000 Pioneer3AT (270 beams, 30 m): is a robot-step as cheap?
+
+    python benchmarks/line_1000.py [--robots 10 1000] [--time 21.8] [--repeats 3]
+                                   [--no-logging] [--threads N] [--quick]
+
+Target (issue): with 1,000 robots, robot-steps/s within 2x of the 10-robot
+figure, for ``go_to_goal`` (per-robot) and ``go_to_goal_team`` (team). Each
+row runs in a fresh process (its own peak RSS), recorded like ``mimics run``
+unless ``--no-logging``; median of ``--repeats`` runs after a short warm-up.
+Prints the rows and, per form, the ratio of robot-steps/s at the largest team
+to the smallest; merges them into benchmarks/results.json under ``line_1000``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from common import (
+    ROW_COLUMNS,
+    add_common_arguments,
+    base_spec,
+    child_main,
+    meta,
+    print_table,
+    resolve,
+    row_from,
+    run_child,
+    save,
+)
+
+FORMS = {"per-robot": "go_to_goal", "team": "go_to_goal_team"}
+TARGET_RATIO = 0.5  # robot-steps/s at 1,000 robots over that at 10: within 2x
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_common_arguments(parser, time=21.8, quick_time=2.0)
+    parser.add_argument("--robots", type=int, nargs="+", default=[10, 1000])
+    args = resolve(parser.parse_args())
+    if args.child:
+        child_main(args.child)
+        return
+    print(f"line, robots {args.robots}, {args.time:g} s simulated per run (all reach their goals "
+          f"by 21.8 s), median of {args.repeats}, logging {'on' if args.logging else 'off'}")
+    columns = [*ROW_COLUMNS[1:], "us_per_robot_step"]
+    print_table("", [], columns)
+    rows: list[dict[str, Any]] = []
+    for form, algorithm in FORMS.items():
+        for n in args.robots:
+            spec = base_spec(args, algorithm=algorithm, scenario="line", params={"robots": n})
+            rows.append(row_from("line", form, run_child(__file__, spec, args.threads),
+                                 algorithm=algorithm))
+            print_table("", rows[-1:], columns, header=False)
+    ratios = []
+    for form in FORMS:
+        mine = sorted((r for r in rows if r["form"] == form), key=lambda r: r["robots"])
+        small, big = mine[0], mine[-1]
+        ratio = big["robot_steps_per_s"] / small["robot_steps_per_s"]
+        ratios.append({"benchmark": "line", "form": form, "robots_small": small["robots"],
+                       "robots_big": big["robots"], "ratio": ratio, "target": TARGET_RATIO,
+                       "target_met": ratio >= TARGET_RATIO})
+        print(f"  {form:>9}: robot-steps/s at {big['robots']} / at {small['robots']} = "
+              f"{ratio:.2f} (target >= {TARGET_RATIO:g}, within 2x): "
+              f"{'met' if ratio >= TARGET_RATIO else 'NOT met'}")
+    save("line_1000", {"meta": meta(args), "rows": rows, "ratios": ratios}, args.results)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,154 @@
+"""Run all the performance-issue benchmarks and print one table with the targets.
+
+    python benchmarks/run_all.py [--quick] [--only cave hospital ...] [--no-logging]
+                                 [--threads N] [--results benchmarks/results.json]
+
+Runs, each as its own script (each row in a fresh process): ``cave.py``,
+``hospital.py``, ``line_1000.py``, ``threads.py``, ``cave_tiling.py``,
+``beam_scaling.py`` and ``call_overhead.py``, passing ``--quick`` (short
+simulated times, one timed run per row: a smoke run, not figures to quote),
+``--no-logging``, ``--threads`` and ``--results`` on. Their own output is
+shown as they go; then one table: benchmark, form, robots, s_sim/s,
+robot-steps/s, rays/s, peak RSS, and the target with whether it is met, plus
+the thread speedup and determinism, the beam fit and the per-call cost. All
+figures are merged into the results file (default benchmarks/results.json).
+Nothing is asserted: the figures are for people to read.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from common import RESULTS
+
+HERE = Path(__file__).parent
+SCRIPTS = {"cave": "cave.py", "hospital": "hospital.py", "line_1000": "line_1000.py",
+           "threads": "threads.py", "cave_tiling": "cave_tiling.py",
+           "beam_scaling": "beam_scaling.py", "call_overhead": "call_overhead.py"}
+SPEED_TARGETS = {("cave", "per-robot"): 20.0, ("cave", "team"): 100.0,
+                 ("hospital", "per-robot"): 0.5, ("hospital", "team"): 2.0}
+
+
+def run_script(name: str, args: argparse.Namespace) -> bool:
+    """Run one benchmark script with the shared options; True if it succeeded."""
+    command = [sys.executable, str(HERE / SCRIPTS[name]), "--results", str(args.results)]
+    if args.quick:
+        command.append("--quick")
+    if args.threads is not None and name != "threads":
+        command += ["--threads", str(args.threads)]
+    if not args.logging and name != "call_overhead":  # call_overhead records only if asked
+        command.append("--no-logging")
+    print(f"\n=== {name}: {' '.join(command[1:])}", flush=True)
+    began = time.perf_counter()
+    done = subprocess.run(command)
+    print(f"=== {name}: {'done' if done.returncode == 0 else 'FAILED'} in "
+          f"{time.perf_counter() - began:.0f} s", flush=True)
+    return done.returncode == 0
+
+
+def table_rows(results: dict[str, Any], names: list[str]) -> list[dict[str, Any]]:
+    """The summary rows, with a target and whether it is met where the issue sets one."""
+    out: list[dict[str, Any]] = []
+    for name in ("cave", "hospital"):
+        if name in names:
+            for row in results[name]["rows"]:
+                target = SPEED_TARGETS[(name, row["form"])]
+                out.append({**row, "target": f">= {target:g} s_sim/s",
+                            "met": row["sim_speed"] >= target})
+    if "line_1000" in names:
+        ratios = {r["form"]: r for r in results["line_1000"]["ratios"]}
+        for row in results["line_1000"]["rows"]:
+            ratio = ratios[row["form"]]
+            if row["robots"] == ratio["robots_big"]:
+                out.append({**row, "target": f"rs/s >= 0.5x of {ratio['robots_small']} "
+                                             f"(x{ratio['ratio']:.2f})",
+                            "met": ratio["target_met"]})
+            else:
+                out.append({**row, "target": "(reference)", "met": None})
+    if "threads" in names:
+        section = results["threads"]
+        for row in section["rows"]:
+            out.append({**row, "benchmark": f"cave {row['threads']} thr",
+                        "target": f"speedup x{row['speedup']:.2f}, same state",
+                        "met": row["identical_to_first"]})
+    if "cave_tiling" in names:
+        ratios = {r["form"]: r for r in results["cave_tiling"]["ratios"]}
+        for row in results["cave_tiling"]["rows"]:
+            ratio = ratios[row["form"]]
+            label = f"cave {row['tiles']}"
+            if row["tiles"] == ratio["big"] and ratio["big"] != ratio["small"]:
+                out.append({**row, "benchmark": label,
+                            "target": f"us/rs <= 1.5x of {ratio['small']} (x{ratio['ratio']:.2f})",
+                            "met": ratio["target_met"]})
+            else:
+                out.append({**row, "benchmark": label, "target": "(reference)", "met": None})
+    if "beam_scaling" in names:
+        fit = results["beam_scaling"]["fit"]
+        for row in results["beam_scaling"]["rows"]:
+            out.append({**row, "benchmark": f"cave {row['beams_per_robot']:g} beams",
+                        "target": f"linear (R^2 {fit['r2']:.3f})", "met": None})
+    return out
+
+
+def print_summary(rows: list[dict[str, Any]]) -> None:
+    """The one table of the issue."""
+    print(f"{'benchmark':<20} {'form':<9} {'robots':>6} {'s_sim/s':>9} {'robot-steps/s':>13} "
+          f"{'rays/s':>10} {'peak RSS':>9} {'log':>3}  {'target':<34} met")
+    for row in rows:
+        met = {True: "yes", False: "NO", None: "-"}[row["met"]]
+        print(f"{row['benchmark']:<20} {row['form']:<9} {row['robots']:>6} "
+              f"{row['sim_speed']:>9.3g} {row['robot_steps_per_s']:>13.4g} "
+              f"{row['rays_per_s']:>10.3g} {row['peak_rss_mb']:>6.0f} MB "
+              f"{'on' if row['logging'] else 'off':>3}  {row['target']:<34} {met}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true",
+                        help="short simulated times, one timed run per row (smoke run)")
+    parser.add_argument("--only", nargs="+", choices=list(SCRIPTS), default=list(SCRIPTS))
+    parser.add_argument("--no-logging", dest="logging", action="store_false",
+                        help="do not record the runs (the issue's targets are with logging)")
+    parser.add_argument("--threads", type=int, default=None,
+                        help="NUMBA_NUM_THREADS for all but threads.py (default: inherited)")
+    parser.add_argument("--results", type=Path, default=RESULTS)
+    args = parser.parse_args()
+    began = time.perf_counter()
+    succeeded = [name for name in args.only if run_script(name, args)]
+    failed = [name for name in args.only if name not in succeeded]
+    results = json.loads(args.results.read_text()) if args.results.exists() else {}
+    print(f"\n=== summary ({'quick smoke run, not figures to quote' if args.quick else 'full'}"
+          f", {time.perf_counter() - began:.0f} s)")
+    for name in ("cave", "hospital", "line_1000"):
+        if name in succeeded:
+            m = results[name]["meta"]
+            print(f"  {name}: {m['time']:g} s simulated per run, median of {m['repeats']} "
+                  f"after {m['warmup']} warm-up")
+    print_summary(table_rows(results, succeeded))
+    if "threads" in succeeded:
+        t = results["threads"]
+        print(f"threads: speedup 1 -> 2 threads x{t['speedup']:.2f}, final pose/scan "
+              f"bit-identical: {'yes' if t['identical'] else 'NO'}")
+    if "beam_scaling" in succeeded:
+        fit = results["beam_scaling"]["fit"]
+        print(f"beam scaling: us per robot-step = {fit['intercept_us']:.1f} + "
+              f"{fit['us_per_beam']:.4f} * beams, R^2 = {fit['r2']:.4f}")
+    if "call_overhead" in succeeded:
+        for row in results["call_overhead"]["rows"]:
+            print(f"per-robot call overhead ({row['algorithm']}, {row['scenario']}, "
+                  f"{row['robots']} robots): {row['us_per_call']:.2f} us per call "
+                  f"({row['inside_us_per_call']:.2f} us inside the call)")
+    if failed:
+        print(f"FAILED: {', '.join(failed)} (see their output above)")
+    print(f"figures merged into {args.results}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,76 @@
+"""Both cores: the Cave (team form) with NUMBA_NUM_THREADS=1 and 2; speedup and determinism.
+
+    python benchmarks/threads.py [--threads-list 1 2] [--time 60] [--repeats 3]
+                                 [--algorithm deployment_team] [--no-logging] [--quick]
+
+Each thread count runs in a fresh process with ``NUMBA_NUM_THREADS`` set
+(recorded like ``mimics run`` unless ``--no-logging``; median of
+``--repeats`` runs after a short warm-up). Prints s_sim/s per thread count,
+the speedup of each over the first, and whether the final states are
+bit-identical: SHA-256 of the final pose and scan arrays of the same seeded
+run. Merges the figures into benchmarks/results.json under ``threads``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from common import (
+    ROW_COLUMNS,
+    add_common_arguments,
+    base_spec,
+    child_main,
+    meta,
+    print_table,
+    resolve,
+    row_from,
+    run_child,
+    save,
+)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_common_arguments(parser, time=60.0, quick_time=5.0)
+    parser.add_argument("--threads-list", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--algorithm", default="deployment_team")
+    parser.add_argument("--scenario", default="cave")
+    args = resolve(parser.parse_args())
+    if args.child:
+        child_main(args.child)
+        return
+    print(f"{args.scenario} / {args.algorithm}, {args.time:g} s simulated per run, median of "
+          f"{args.repeats}, logging {'on' if args.logging else 'off'}, NUMBA_NUM_THREADS "
+          f"{args.threads_list}")
+    columns = [*ROW_COLUMNS[1:], "us_per_robot_step"]
+    print_table("", [], columns)
+    form = "team" if args.algorithm.endswith("_team") else "per-robot"
+    rows: list[dict[str, Any]] = []
+    for threads in args.threads_list:
+        spec = base_spec(args, algorithm=args.algorithm, scenario=args.scenario)
+        rows.append(row_from(args.scenario, form, run_child(__file__, spec, threads),
+                             algorithm=args.algorithm, threads_requested=threads))
+        print_table("", rows[-1:], columns, header=False)
+    base = rows[0]
+    for row in rows:
+        row["speedup"] = row["sim_speed"] / base["sim_speed"]
+        row["identical_to_first"] = row["hashes"] == base["hashes"]
+    for row in rows[1:]:
+        print(f"  speedup {base['threads']} -> {row['threads']} threads: {row['speedup']:.2f}x")
+    for row in rows:
+        print(f"  {row['threads']} thread(s): pose {row['hashes']['pose'][:16]}  "
+              f"scan {row['hashes']['scan'][:16]}")
+    identical = all(row["identical_to_first"] for row in rows)
+    print(f"  final pose and scan arrays bit-identical across thread counts: "
+          f"{'yes' if identical else 'NO'}")
+    if any(row["threads"] != row["threads_requested"] for row in rows):
+        print("  warning: numba ran with a different thread count than requested "
+              "(more threads than cores?)")
+    save("threads", {"meta": meta(args), "rows": rows, "identical": identical,
+                     "speedup": rows[-1]["speedup"]}, args.results)
+
+
+if __name__ == "__main__":
+    main()
