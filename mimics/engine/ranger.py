@@ -51,7 +51,8 @@ NO_HIT = -2  # hit_owner of a beam that hit nothing within range
 WALL = -1  # hit_owner of a beam that hit a wall
 PARALLEL_EPS = 1e-12  # |sin| of the beam-segment angle below which they are parallel
 COLLINEAR_EPS = 1e-10  # a parallel segment this close to the beam's line lies on it (m)
-ANGLE_EPS = 1e-6  # sin of the angle a segment spans below which all beams test it
+ANGLE_EPS = 1e-9  # sin of the angle a segment spans below which all beams test it
+ANGLE_SLACK = 1e-6  # rad added around every swept span: covers fast_atan2's error (< 1e-7)
 MIN_SPACING = 1e-9  # rad: beams closer than this are tested one by one
 TAU = 2.0 * math.pi
 RINGS = 16  # distance classes in which walls are swept, nearest first
@@ -190,7 +191,7 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
     return best_t, best_o
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _consider(ox: float, oy: float, dx: np.ndarray, dy: np.ndarray, j: int, x1: float,
               y1: float, x2: float, y2: float, o: int, limit: float, best_t: np.ndarray,
               best_o: np.ndarray) -> bool:
@@ -203,13 +204,13 @@ def _consider(ox: float, oy: float, dx: np.ndarray, dy: np.ndarray, j: int, x1: 
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _below(distance: float) -> float:
     """A distance shrunk past rounding: beams hitting nearer than it surely skip a segment."""
     return distance - 1e-9 * (1.0 + distance)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: float, x2: float,
                  y2: float, o: int, nearest: float, limit: float, dx: np.ndarray,
                  dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
@@ -227,7 +228,31 @@ def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: flo
             block_far[b] = np.max(best_t[b * BLOCK: b * BLOCK + BLOCK])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def fast_atan2(y: float, x: float) -> float:
+    """``atan2(y, x)`` within 1e-7 rad, faster than libm's.
+
+    Only used to pick which beams a segment may hit (with ``ANGLE_SLACK`` to
+    spare); the hits themselves are computed exactly.
+    """
+    ax, ay = abs(x), abs(y)
+    big = max(ax, ay)
+    if big == 0.0:
+        return 0.0
+    a = min(ax, ay) / big
+    s = a * a
+    # atan on [0, 1], Abramowitz & Stegun 4.4.49 (error below 2e-8)
+    r = a * (0.9999993329 + s * (-0.3332985605 + s * (0.1994653599 + s * (
+        -0.1390853351 + s * (0.0964200441 + s * (-0.0559098861 + s * (
+            0.0218612288 + s * -0.0040540580)))))))
+    if ay > ax:
+        r = 0.5 * math.pi - r
+    if x < 0.0:
+        r = math.pi - r
+    return -r if y < 0.0 else r
+
+
+@njit(cache=True, inline="always")
 def _beam_range(low: float, span: float, layout: np.ndarray, shift: float) -> tuple[int, int]:
     """Beams whose angle lies in ``[low, low + span] + shift`` (with the layout's margin)."""
     base, spacing, count, margin = layout[0], layout[1], int(layout[2]), int(layout[3])
@@ -256,11 +281,13 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
         _sweep_beams(0, best_t.shape[0] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit, dx, dy,
                      best_t, best_o, block_far)
         return
-    low = math.atan2(ay, ax)
-    span = math.atan2(cross, ax * bx + ay * by)  # signed angle from end 1 to end 2
+    # the span runs counterclockwise from ``low``: its orientation is the sign of cross
+    low, high = fast_atan2(ay, ax), fast_atan2(by, bx)
+    if cross < 0.0:
+        low, high = high, low
+    span = high - low
     if span < 0.0:
-        low += span
-        span = -span
+        span += TAU  # a near-zero span that rounding turned round covers all: still exact
     for shift in (-TAU, 0.0, TAU):  # beams may wrap around a full circle
         first, last = _beam_range(low, span, layout, shift)
         if first <= last:
@@ -286,14 +313,15 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, 
         return
     # from outside, a beam meets a convex body first on a side facing the sensor: skip
     # the sides facing away (a ray through a shared corner still meets the facing one)
-    facing = np.empty(4, dtype=np.bool_)
+    facing = 0  # bit e set: side e faces the sensor
     for e in range(4):
         ex, ey = corners[e + 1, 0] - corners[e, 0], corners[e + 1, 1] - corners[e, 1]
         wx, wy = ox - corners[e, 0], oy - corners[e, 1]
         cross = ex * wy - ey * wx  # > 0: the sensor is on the inner (left) side
-        facing[e] = cross <= 1e-9 * (abs(ex) + abs(ey)) * (abs(wx) + abs(wy) + 1.0)
-    half = math.asin(radius / distance) * (1.0 + 1e-9)
-    low = math.atan2(center[1] - oy, center[0] - ox) - half
+        if cross <= 1e-9 * (abs(ex) + abs(ey)) * (abs(wx) + abs(wy) + 1.0):
+            facing |= 1 << e
+    half = 0.5 * math.pi * radius / distance * (1.0 + 1e-9)  # asin(x) <= x pi / 2
+    low = fast_atan2(center[1] - oy, center[0] - ox) - half
     for shift in (-TAU, 0.0, TAU):
         first, last = _beam_range(low, 2.0 * half, layout, shift)
         for b in range(first // BLOCK, last // BLOCK + 1) if first <= last else range(0):
@@ -304,7 +332,7 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, 
                 if best_t[j] < gap:
                     continue
                 for e in range(4):
-                    if facing[e]:
+                    if facing & (1 << e):
                         changed |= _consider(ox, oy, dx, dy, j, corners[e, 0], corners[e, 1],
                                              corners[e + 1, 0], corners[e + 1, 1], r, limit,
                                              best_t, best_o)
@@ -318,7 +346,8 @@ def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
 
     Rows whose used beams form a prefix of increasing, near-evenly spaced
     angles spanning at most a full turn get their spacing; the margin (in
-    beams) covers the deviation from even spacing plus rounding.
+    beams) covers the deviation from even spacing, ``fast_atan2``'s error and
+    rounding.
     """
     beams = offsets.shape[0]
     layout = np.zeros(4)
@@ -338,7 +367,7 @@ def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
     deviation = 0.0
     for j in range(count):
         deviation = max(deviation, abs(offsets[j] - (offsets[0] + j * spacing)))
-    margin = 1.0 + math.ceil(deviation / spacing)
+    margin = 1.0 + math.ceil((deviation + ANGLE_SLACK) / spacing)
     if margin <= 3.0:
         layout[1], layout[2], layout[3] = spacing, count, margin
     return layout

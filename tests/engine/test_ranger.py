@@ -290,3 +290,14 @@ def test_same_bits_whatever_the_number_of_threads():
         numba.set_num_threads(before)
     assert one[0].tobytes() == many[0].tobytes()
     assert one[1].tobytes() == many[1].tobytes()
+
+
+# -- the fast arctangent that picks the beams a segment spans -------------------------
+
+
+@settings(max_examples=500, deadline=None)
+@given(y=st.floats(-1e6, 1e6), x=st.floats(-1e6, 1e6))
+def test_fast_atan2_is_within_its_slack(y, x):
+    from mimics.engine.ranger import ANGLE_SLACK, fast_atan2
+    error = abs(fast_atan2(y, x) - math.atan2(y, x))
+    assert min(error, 2 * math.pi - error) < ANGLE_SLACK / 10
