@@ -267,9 +267,19 @@ def find_collisions(bodies: Bodies, check: np.ndarray, solid: np.ndarray,
         raise ValueError("checked and solid robots must have finite poses")
     if robots is None:
         robots = build_robot_index(b.centers, b.headings, b.half_length, b.half_width, sol)
+    return collide(b, chk, coerce_grid(walls), coerce_robot_index(robots))
+
+
+def collide(bodies: Bodies, check: np.ndarray, walls: SegmentGrid,
+            robots: RobotIndex) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`find_collisions` without the checks, for the engine's own arrays.
+
+    ``bodies`` and ``check`` must be C-contiguous float64 and bool arrays with
+    finite poses; ``walls`` and ``robots`` as the kernels take them.
+    """
+    n = len(bodies.centers)
     with_whom = np.full(n, NONE, dtype=np.int64)
     wall_segment = np.full(n, -1, dtype=np.int64)
-    if chk.any():
-        _collide_kernel(b, chk, coerce_grid(walls), coerce_robot_index(robots), with_whom,
-                        wall_segment)
+    if n:
+        _collide_kernel(bodies, check, walls, robots, with_whom, wall_segment)
     return with_whom, wall_segment

@@ -516,12 +516,19 @@ def cast_rays(query: RangerQuery, walls: WallIndex,
         ValueError: mismatched shapes, non-finite origins, headings or
             offsets, or a negative (or NaN) range.
     """
-    q = _as_query(query)
-    k, beams = q.offsets.shape
+    return trace_beams(_as_query(query), coerce_wall_index(walls), coerce_robot_index(robots))
+
+
+def trace_beams(query: RangerQuery, walls: WallIndex,
+                robots: RobotIndex) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`cast_rays` without the checks, for the engine's own arrays.
+
+    The query's arrays must be C-contiguous, of the dtypes and shapes
+    :class:`RangerQuery` gives, with finite origins and headings.
+    """
+    k, beams = query.offsets.shape
     ranges = np.empty((k, beams))
     hit_owner = np.empty((k, beams), dtype=np.int64)
     if k and beams:
-        w = coerce_wall_index(walls)
-        _cast_kernel(q, w.grid, w.near, w.reach,
-                     coerce_robot_index(robots), ranges, hit_owner)
+        _cast_kernel(query, walls.grid, walls.near, walls.reach, robots, ranges, hit_owner)
     return ranges, hit_owner

@@ -151,11 +151,21 @@ def build_robot_index(centers: np.ndarray, headings: np.ndarray, half_length: np
         raise ValueError("included robots must have finite poses")
     if not (math.isfinite(cell) and cell > 0):
         raise ValueError(f"cell must be a positive number, got {cell!r}")
-    radius = np.hypot(hl, hw)
-    origin, shape, size, start, items = _bucket(c, inc, float(cell))
-    max_radius = float(np.max(radius[inc], initial=0.0))
-    return RobotIndex(_corners(c, h, hl, hw), radius, c, origin, float(size), shape, start,
-                      items, max_radius)
+    return index_robots(c, h, hl, hw, inc, float(cell))
+
+
+def index_robots(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
+                 half_width: np.ndarray, include: np.ndarray, cell: float) -> RobotIndex:
+    """:func:`build_robot_index` without the checks, for the engine's own arrays.
+
+    The arrays must be C-contiguous float64 (``include`` bool), of matching
+    lengths, with finite poses where ``include`` is set, and ``cell > 0``.
+    """
+    radius = np.hypot(half_length, half_width)
+    origin, shape, size, start, items = _bucket(centers, include, cell)
+    max_radius = float(np.max(radius, where=include, initial=0.0))
+    return RobotIndex(_corners(centers, headings, half_length, half_width), radius, centers,
+                      origin, float(size), shape, start, items, max_radius)
 
 
 def empty_robot_index() -> RobotIndex:

@@ -22,13 +22,13 @@ from typing import Any, Literal, Protocol
 
 import numpy as np
 
-from mimics.engine.collision import Bodies, find_collisions
+from mimics.engine.collision import Bodies, collide
 from mimics.engine.controllers import Controller, UserFailure, controller_from
 from mimics.engine.dynamics import advance_pose, integrate_velocities, pid_actuation, wrap_angle
 from mimics.engine.messages import MessageBus
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
-from mimics.engine.ranger import RangerQuery, cast_rays
-from mimics.engine.robot_index import RobotIndex, build_robot_index
+from mimics.engine.ranger import RangerQuery, trace_beams
+from mimics.engine.robot_index import RobotIndex, index_robots
 from mimics.engine.sensors import (
     add_ranger_noise,
     comms_matrix,
@@ -209,9 +209,10 @@ class Simulation:
         solid = self._solid()
         key = (state.step, solid.tobytes())
         if self._grid_key != key:
-            self._grid = build_robot_index(state.pose[:, :2], state.pose[:, 2],
-                                           self.types.half_length, self.types.half_width, solid,
-                                           cell=self._robot_cell)
+            self._grid = index_robots(np.ascontiguousarray(state.pose[:, :2]),
+                                      np.ascontiguousarray(state.pose[:, 2]),
+                                      self.types.half_length, self.types.half_width, solid,
+                                      self._robot_cell)
             self._grid_key = key
         return self._grid
 
@@ -226,7 +227,7 @@ class Simulation:
                 headings=np.ascontiguousarray(state.pose[ids, 2]),
                 offsets=self.types.beam_offsets[ids], max_range=self.types.max_range[ids],
                 robot=ids.astype(np.int64))
-            ranges, owner = cast_rays(query, self.walls, self._robot_index())
+            ranges, owner = trace_beams(query, self.walls, self._robot_index())
             ranges = add_ranger_noise(ranges, self.types.max_range[ids],
                                       self.types.sigma_range[ids], self.rng)
             state.scan[ids] = ranges
@@ -283,11 +284,10 @@ class Simulation:
             return
         check = np.zeros(state.n, dtype=bool)
         check[ids] = True
-        bodies = Bodies(np.ascontiguousarray(state.pose[:, :2]),
-                        np.ascontiguousarray(state.pose[:, 2]),
+        robots = self._robot_index()
+        bodies = Bodies(robots.centers, np.ascontiguousarray(state.pose[:, 2]),
                         self.types.half_length, self.types.half_width)
-        with_whom, _ = find_collisions(bodies, check, self._solid(), self.walls.grid,
-                                       self._robot_index())
+        with_whom, _ = collide(bodies, check, self.walls.grid, robots)
         touching = with_whom != -2
         if not np.count_nonzero(touching):  # nobody touches anything (the usual case)
             return

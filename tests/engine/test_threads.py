@@ -1,0 +1,37 @@
+"""Whole runs are bit-identical whatever the number of Numba threads."""
+
+import hashlib
+
+import numba
+import numpy as np
+import pytest
+
+from mimics.algorithms import deployment_team, wall_aware
+from mimics.catalog import load_scenario
+from mimics.engine.simulation import Simulation
+
+
+def run_digest(scenario, algorithm, threads: int) -> str:
+    before = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    try:
+        sim = Simulation(scenario, algorithm, seed=3, time_limit=6.0)
+        sim.run()
+    finally:
+        numba.set_num_threads(before)
+    digest = hashlib.sha256()
+    for array in (sim.state.pose, sim.state.scan, sim.state.scan_hit, sim.state.status,
+                  sim.state.odometry):
+        digest.update(np.ascontiguousarray(array).tobytes())
+    digest.update(repr([(e.time, e.robot, e.kind) for e in sim.events]).encode())
+    return digest.hexdigest()
+
+
+@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads")
+@pytest.mark.parametrize("name, algorithm", [("obstacle_room", deployment_team),
+                                             ("circle_swap", wall_aware)])
+def test_one_thread_and_all_threads_give_the_same_run(name, algorithm):
+    scenario = load_scenario(name, robots=24)
+    one = run_digest(scenario, algorithm, 1)
+    many = run_digest(scenario, algorithm, numba.config.NUMBA_NUM_THREADS)
+    assert one == many
