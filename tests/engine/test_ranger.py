@@ -6,7 +6,7 @@ import numba
 import numpy as np
 import pytest
 import shapely
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
@@ -299,5 +299,6 @@ def test_same_bits_whatever_the_number_of_threads():
 @given(y=st.floats(-1e6, 1e6), x=st.floats(-1e6, 1e6))
 def test_fast_atan2_is_within_its_slack(y, x):
     from mimics.engine.ranger import ANGLE_SLACK, fast_atan2
+    assume(x != 0.0 or y != 0.0)  # no direction (the kernel never asks: it tests all beams)
     error = abs(fast_atan2(y, x) - math.atan2(y, x))
     assert min(error, 2 * math.pi - error) < ANGLE_SLACK / 10
