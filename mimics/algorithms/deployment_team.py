@@ -45,17 +45,10 @@ def _team_constants(team):
         unused = np.isnan(angles)
         cos = np.cos(angles)
         # free space needed along each beam: REACH all round, more and more toward the front
-        length, cruise = _lengths(team), SPEED * team.max_speed
+        length, cruise = team.length, SPEED * team.max_speed
         ahead = np.minimum(np.maximum(AHEAD * length, STOPPING * cruise),
                            AHEAD_RANGE * team.scan.max_range)
         needed = REACH * length[:, None] + ahead[:, None] * np.maximum(cos, 0.0)
         kept = (key, np.sin(angles), cos, needed, unused if unused.any() else None, cruise)
         team.memory["deployment_team.constants"] = kept
     return kept[1:]
-
-
-def _lengths(team):
-    """Each robot's length ``(k,)``: ``team.length`` where the team view offers it."""
-    if hasattr(type(team), "length"):
-        return team.length
-    return 2 * team._sim.types.half_length[team.ids]  # engines whose Team lacks .length

@@ -8,7 +8,9 @@ An algorithm is any of:
 * a class with ``step(self, robot)`` (and optional ``reset(self, robot)``):
   one instance per robot, so ``self`` is that robot's private memory;
 * a team function ``team_step(team) -> (speed_refs, heading_refs)`` (arrays
-  over ``team.ids``), or a class with ``team_step``, for vectorised teams.
+  over ``team.ids``), or a class with ``team_step``, for vectorised teams. A
+  function passed on its own is a team function when it is named
+  ``team_step``, a per-robot one otherwise.
 
 ``speed_ref`` is in m/s, ``heading_ref`` an absolute heading in radians. Each
 per-robot call is timed on its own, one robot after another.
@@ -234,6 +236,8 @@ def controller_from(algorithm: Any, name: str | None = None) -> Controller:
             return PerRobotController(label, factory=algorithm)
         raise AlgorithmError(f"algorithm class {label!r} has neither step nor team_step")
     if callable(algorithm):
+        if getattr(algorithm, "__name__", "") == "team_step":  # named as in a module
+            return TeamController(label, team_step=algorithm)
         return PerRobotController(label, step=algorithm)
     raise AlgorithmError(f"algorithm {label!r}: expected a function, class or module, "
                          f"got {type(algorithm).__name__}")

@@ -289,6 +289,16 @@ class Team:
         return self._sim.types.plant.kv[self.ids]
 
     @property
+    def length(self) -> np.ndarray:
+        """Each robot's length ``(k,)`` (m, along its heading)."""
+        return 2.0 * self._sim.types.half_length[self.ids]
+
+    @property
+    def width(self) -> np.ndarray:
+        """Each robot's width ``(k,)`` (m)."""
+        return 2.0 * self._sim.types.half_width[self.ids]
+
+    @property
     def odometry(self) -> np.ndarray:
         """Odometer estimates ``(k, 3)``."""
         return self._sim.state.odometry[self.ids]

@@ -276,3 +276,20 @@ def test_stop_when_predicate_ends_the_run() -> None:
     result = sim.run()
     assert result.status == "stopped"
     assert result.sim_time == pytest.approx(1.0)
+
+
+def test_team_view_gives_each_robots_size():
+    from mimics.world.robot_types import PIONEER_2DX
+
+    seen = {}
+
+    def team_step(team):
+        seen["length"], seen["width"] = team.length.copy(), team.width.copy()
+        return np.zeros(len(team)), team.pose[:, 2]
+
+    base = line(robots=2)
+    scenario = Scenario(map=base.map, types=(PIONEER_3AT, PIONEER_2DX), type_index=[0, 1],
+                        stages=base.stages, goals=base.goals)
+    Simulation(scenario, team_step, seed=1, time_limit=0.1).run()
+    assert seen["length"].tolist() == [PIONEER_3AT.length, PIONEER_2DX.length]
+    assert seen["width"].tolist() == [PIONEER_3AT.width, PIONEER_2DX.width]
