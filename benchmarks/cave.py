@@ -13,33 +13,10 @@ benchmarks/results.json under ``cave``.
 
 from __future__ import annotations
 
-import argparse
-
-from common import add_common_arguments, child_main, form_rows, meta, resolve, save
+from common import deployment_benchmark
 
 TARGETS = {"per-robot": 20.0, "team": 100.0}  # s_sim/s
 
-
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=60.0, quick_time=5.0)
-    args = resolve(parser.parse_args())
-    if args.child:
-        child_main(args.child)
-        return
-    print(f"cave, 100 Pioneer2DX, {args.time:g} s simulated per run, median of "
-          f"{args.repeats} after {args.warmup} warm-up of {args.warmup_time:g} s, "
-          f"logging {'on' if args.logging else 'off'}")
-    rows = form_rows(__file__, "cave", args,
-                     {"per-robot": "deployment", "team": "deployment_team"}, scenario="cave")
-    for row in rows:
-        row["target_sim_speed"] = TARGETS[row["form"]]
-        row["target_met"] = row["sim_speed"] >= TARGETS[row["form"]]
-        print(f"  {row['form']:>9}: {row['sim_speed']:.2f} s_sim/s, target >= "
-              f"{row['target_sim_speed']:g}: {'met' if row['target_met'] else 'NOT met'}")
-    save("cave", {"meta": meta(args), "rows": rows}, args.results)
-
-
 if __name__ == "__main__":
-    main()
+    deployment_benchmark(__file__, "cave", "100 Pioneer2DX", TARGETS, time=60.0, quick_time=5.0,
+                         doc=__doc__)

@@ -333,3 +333,27 @@ def form_rows(script: str | Path, benchmark: str, args: argparse.Namespace,
         rows.append(row_from(benchmark, form, figures, algorithm=algorithm))
         print_table("", rows[-1:], columns, header=False)
     return rows
+
+
+def deployment_benchmark(script: str, name: str, label: str, targets: dict[str, float],
+                         time: float, quick_time: float, doc: str) -> None:
+    """The Cave and Hospital scripts: both forms of ``deployment`` on scenario ``name``,
+    against per-form speed targets (s_sim/s); rows saved under ``name``."""
+    parser = argparse.ArgumentParser(description=doc,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_common_arguments(parser, time=time, quick_time=quick_time)
+    args = resolve(parser.parse_args())
+    if args.child:
+        child_main(args.child)
+        return
+    print(f"{name}, {label}, {args.time:g} s simulated per run, median of "
+          f"{args.repeats} after {args.warmup} warm-up of {args.warmup_time:g} s, "
+          f"logging {'on' if args.logging else 'off'}")
+    rows = form_rows(script, name, args,
+                     {"per-robot": "deployment", "team": "deployment_team"}, scenario=name)
+    for row in rows:
+        row["target_sim_speed"] = targets[row["form"]]
+        row["target_met"] = row["sim_speed"] >= targets[row["form"]]
+        print(f"  {row['form']:>9}: {row['sim_speed']:.2f} s_sim/s, target >= "
+              f"{row['target_sim_speed']:g}: {'met' if row['target_met'] else 'NOT met'}")
+    save(name, {"meta": meta(args), "rows": rows}, args.results)
