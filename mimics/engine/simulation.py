@@ -24,7 +24,7 @@ import numpy as np
 
 from mimics.engine.collision import Bodies, collide
 from mimics.engine.controllers import Controller, UserFailure, controller_from
-from mimics.engine.dynamics import advance_pose, integrate_velocities, pid_actuation, wrap_angle
+from mimics.engine.dynamics import move_robots
 from mimics.engine.messages import MessageBus
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
 from mimics.engine.ranger import RangerQuery, trace_beams
@@ -237,44 +237,22 @@ class Simulation:
 
     def _move(self, ids: np.ndarray) -> None:
         """PID loops and exact integration of the dynamics for robots ``ids``."""
-        state, types, dt = self.state, self.types, self.scenario.settings.dt
+        state, types = self.state, self.types
         n = state.n
-        # All robots moving (the usual case): plain views instead of gathers and
-        # scatters; the arithmetic, element by element, is the same.
-        rows: np.ndarray | slice = slice(None) if ids.size == n else ids
-        velocity = state.velocity[rows]  # a copy for ids, a view for all: copy below
-        v, w = velocity[:, 0].copy(), velocity[:, 1].copy()
-        pose = state.pose[rows]
-        u_v, i_v = pid_actuation(state.reference[rows, 0] - v, state.acceleration[rows, 0],
-                                 state.pid_integral[rows, 0], types.pid.speed[rows], dt)
-        heading_error = wrap_angle(state.reference[rows, 1] - pose[:, 2])
-        u_w, i_w = pid_actuation(heading_error, w, state.pid_integral[rows, 1],
-                                 types.pid.heading[rows], dt)
-        plant = types.plant if ids.size == n else type(types.plant)(*(p[ids]
-                                                                      for p in types.plant))
-        motion = integrate_velocities(v, w, u_v, u_w, plant, dt)
         odometer_exact = odometry_is_exact(state, types)  # checked before the pose moves
-        state.actuation[rows, 0], state.actuation[rows, 1] = u_v, u_w
-        state.pid_integral[rows, 0], state.pid_integral[rows, 1] = i_v, i_w
-        state.acceleration[rows, 0] = (motion.v - v) / dt
-        state.acceleration[rows, 1] = (motion.w - w) / dt
-        state.velocity[rows, 0], state.velocity[rows, 1] = motion.v, motion.w
-        state.pose[rows] = advance_pose(pose, motion.distance, motion.turn)
-        state.path_length[rows] += np.abs(motion.distance)
-        if ids.size == n:
-            distance, turn = motion.distance, motion.turn
-            moved: np.ndarray | None = None
-        else:
-            distance = np.zeros(n)
-            turn = np.zeros(n)
-            distance[ids], turn[ids] = motion.distance, motion.turn
-            moved = np.zeros(n, dtype=bool)
-            moved[ids] = True
+        distance, turn = np.zeros(n), np.zeros(n)
+        move_robots(ids, state.pose, state.velocity, state.acceleration, state.reference,
+                    state.pid_integral, state.actuation, state.path_length, types.pid.speed,
+                    types.pid.heading, *types.plant, self.scenario.settings.dt, distance, turn)
         if odometer_exact:
             # Same start, same increments, same arithmetic: the odometer would
             # compute the true pose again, bit for bit (and it draws no noise).
             state.odometry[:] = state.pose
         else:
+            moved = None
+            if ids.size != n:
+                moved = np.zeros(n, dtype=bool)
+                moved[ids] = True
             update_odometry(state, types, distance, turn, moved, self.rng)
 
     def _check_bodies(self, ids: np.ndarray) -> None:
