@@ -33,6 +33,8 @@ The geometry (see :func:`ray_segment_distance`):
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -532,3 +534,14 @@ def trace_beams(query: RangerQuery, walls: WallIndex,
     if k and beams:
         _cast_kernel(query, walls.grid, walls.near, walls.reach, robots, ranges, hit_owner)
     return ranges, hit_owner
+
+
+def kernels_cached() -> bool:
+    """False when Numba's on-disk cache lacks the ray kernel: the first run compiles it.
+
+    Looks in Numba's default cache folder beside this file; with
+    ``NUMBA_CACHE_DIR`` set it cannot tell and answers True.
+    """
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return True
+    return any((Path(__file__).parent / "__pycache__").glob("ranger._cast_kernel-*.nbi"))

@@ -15,7 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mimics.interfaces.cli_output import fail
+from mimics.interfaces.cli_output import fail, note
 from mimics.world.errors import MimicsError
 
 app = typer.Typer(
@@ -106,6 +106,10 @@ def run(
     if view not in VIEW_CHOICES:
         raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
     live = make_live_view(view)
+    from mimics.engine.ranger import kernels_cached
+
+    if not kernels_cached():
+        note("mimics: first run: compiling the simulation kernels (about 20 s, once)")
     try:
         params = parse_params(param or [])
         sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed,

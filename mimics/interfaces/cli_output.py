@@ -16,3 +16,8 @@ def fail(message: str) -> typer.Exit:
 def say(message: str) -> None:
     """Print a plain line on stdout, without Rich markup."""
     Console(highlight=False, soft_wrap=True).print(message, markup=False)
+
+
+def note(message: str) -> None:
+    """Print a plain line on stderr (progress notes that are not results)."""
+    Console(stderr=True, highlight=False, soft_wrap=True).print(message, markup=False)

@@ -302,3 +302,14 @@ def test_fast_atan2_is_within_its_slack(y, x):
     assume(x != 0.0 or y != 0.0)  # no direction (the kernel never asks: it tests all beams)
     error = abs(fast_atan2(y, x) - math.atan2(y, x))
     assert min(error, 2 * math.pi - error) < ANGLE_SLACK / 10
+
+
+def test_kernels_cached_reads_numbas_cache_folder(tmp_path, monkeypatch):
+    from mimics.engine import ranger
+
+    cast_rays(RangerQuery(np.zeros((1, 2)), np.zeros(1), np.zeros((1, 1)), np.ones(1),
+                          np.full(1, -1)), build_wall_index(np.zeros((0, 4)), BOUNDS, 1.0))
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    assert ranger.kernels_cached()  # the kernel just ran with cache=True
+    monkeypatch.setattr(ranger, "__file__", str(tmp_path / "ranger.py"))
+    assert not ranger.kernels_cached()  # an empty folder: a fresh install
