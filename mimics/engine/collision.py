@@ -37,6 +37,7 @@ from mimics.engine.robot_index import RobotIndex, build_robot_index, coerce_robo
 from mimics.engine.spatial_index import (
     SegmentGrid,
     cell_span,
+    clip_to_slab,
     coerce_array,
     coerce_grid,
     grid_pad,
@@ -79,25 +80,9 @@ def segment_touches_box(x1: float, y1: float, x2: float, y2: float, hx: float,
     Returns:
         True when some point of the segment lies in the box.
     """
-    s0, s1 = 0.0, 1.0
-    ex, ey = x2 - x1, y2 - y1
-    if ex == 0.0:
-        if x1 < -hx or x1 > hx:
-            return False
-    else:
-        a, b = (-hx - x1) / ex, (hx - x1) / ex
-        s0, s1 = max(s0, min(a, b)), min(s1, max(a, b))
-        if s0 > s1:
-            return False
-    if ey == 0.0:
-        if y1 < -hy or y1 > hy:
-            return False
-    else:
-        a, b = (-hy - y1) / ey, (hy - y1) / ey
-        s0, s1 = max(s0, min(a, b)), min(s1, max(a, b))
-        if s0 > s1:
-            return False
-    return True
+    s0, s1 = clip_to_slab(x1, x2 - x1, -hx, hx, 0.0, 1.0)
+    s0, s1 = clip_to_slab(y1, y2 - y1, -hy, hy, s0, s1)
+    return s0 <= s1
 
 
 @njit(cache=True)

@@ -41,7 +41,7 @@ import numpy as np
 from numba import njit, parallel_chunksize, prange
 
 from mimics.engine.robot_index import RobotIndex, coerce_robot_index
-from mimics.engine.spatial_index import SegmentGrid, cell_span, coerce_array
+from mimics.engine.spatial_index import SegmentGrid, cell_span, clip_to_slab, coerce_array
 from mimics.engine.wall_index import (
     WallIndex,
     coerce_wall_index,
@@ -123,6 +123,17 @@ def ray_segment_distance(ox: float, oy: float, dx: float, dy: float, x1: float, 
     return max(near, 0.0)
 
 
+@njit(cache=True, inline="always")
+def _cell_exit(grid_start: float, index: int, cell: float, origin: float,
+               delta: float) -> float:
+    """Ray parameter where it leaves cell ``index`` of one grid axis (inf if parallel)."""
+    if delta > 0:
+        return (grid_start + (index + 1) * cell - origin) / delta
+    if delta < 0:
+        return (grid_start + index * cell - origin) / delta
+    return math.inf
+
+
 @njit(cache=True)
 def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit: float,
            me: int, best_t: float, best_o: int, start: float = 0.0) -> tuple[float, int]:
@@ -135,18 +146,9 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
         return best_t, best_o
     gx, gy, c = grid.origin[0], grid.origin[1], grid.cell
     nx, ny = grid.shape[0], grid.shape[1]
-    # clip the ray's [0, limit] to the grid box: it may start outside
-    t0, t1 = start, limit
-    if dx != 0.0:
-        ta, tb = (gx - ox) / dx, (gx + nx * c - ox) / dx
-        t0, t1 = max(t0, min(ta, tb)), min(t1, max(ta, tb))
-    elif ox < gx or ox > gx + nx * c:
-        return best_t, best_o
-    if dy != 0.0:
-        ta, tb = (gy - oy) / dy, (gy + ny * c - oy) / dy
-        t0, t1 = max(t0, min(ta, tb)), min(t1, max(ta, tb))
-    elif oy < gy or oy > gy + ny * c:
-        return best_t, best_o
+    # clip the ray's [start, limit] to the grid box: it may start outside
+    t0, t1 = clip_to_slab(ox, dx, gx, gx + nx * c, start, limit)
+    t0, t1 = clip_to_slab(oy, dy, gy, gy + ny * c, t0, t1)
     if t0 > t1:
         return best_t, best_o
     ix = int(min(max(math.floor((ox + t0 * dx - gx) / c), 0.0), nx - 1.0))
@@ -156,18 +158,8 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
     segs, owner = grid.segments, grid.owner
     for _ in range(nx + ny):  # a ray crosses at most nx + ny - 1 cells
         # exit distances recomputed from the cell index: no drift along long rays
-        if dx > 0:
-            tx = (gx + (ix + 1) * c - ox) / dx
-        elif dx < 0:
-            tx = (gx + ix * c - ox) / dx
-        else:
-            tx = math.inf
-        if dy > 0:
-            ty = (gy + (iy + 1) * c - oy) / dy
-        elif dy < 0:
-            ty = (gy + iy * c - oy) / dy
-        else:
-            ty = math.inf
+        tx = _cell_exit(gx, ix, c, ox, dx)
+        ty = _cell_exit(gy, iy, c, oy, dy)
         cid = iy * nx + ix
         for p in range(grid.cell_start[cid], grid.cell_start[cid + 1]):
             s = grid.cell_items[p]
@@ -327,20 +319,13 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, 
     low = fast_atan2(center[1] - oy, center[0] - ox) - half
     for shift in (-TAU, 0.0, TAU):
         first, last = _beam_range(low, 2.0 * half, layout, shift)
-        for b in range(first // BLOCK, last // BLOCK + 1) if first <= last else range(0):
-            if block_far[b] < gap:
-                continue
-            changed = False
-            for j in range(max(first, b * BLOCK), min(last, b * BLOCK + BLOCK - 1) + 1):
-                if best_t[j] < gap:
-                    continue
-                for e in range(4):
-                    if facing & (1 << e):
-                        changed |= _consider(ox, oy, dx, dy, j, corners[e, 0], corners[e, 1],
-                                             corners[e + 1, 0], corners[e + 1, 1], r, limit,
-                                             best_t, best_o)
-            if changed:
-                block_far[b] = np.max(best_t[b * BLOCK: b * BLOCK + BLOCK])
+        if first > last:
+            continue
+        for e in range(4):
+            if facing & (1 << e):
+                _sweep_beams(first, last, ox, oy, corners[e, 0], corners[e, 1],
+                             corners[e + 1, 0], corners[e + 1, 1], r, gap, limit, dx, dy,
+                             best_t, best_o, block_far)
 
 
 @njit(cache=True)

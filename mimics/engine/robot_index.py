@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from mimics.engine.spatial_index import _frame, coerce_array
+from mimics.engine.spatial_index import coerce_array, grid_frame
 
 MAX_CELLS_PER_ROBOT = 4  # the grid never has more than 4 n + 1024 cells
 
@@ -103,7 +103,7 @@ def _bucket(centers: np.ndarray, include: np.ndarray, cell_hint: float
     w, h = xmax - xmin, ymax - ymin
     cell = max(cell_hint, math.sqrt(w * h / (MAX_CELLS_PER_ROBOT * k + 1024)),
                max(w, h) / 65536.0, 1e-9)
-    origin, shape, cell = _frame(xmin, ymin, xmax, ymax, cell)
+    origin, shape, cell = grid_frame(xmin, ymin, xmax, ymax, cell)
     nx, ny = shape[0], shape[1]
     start = np.zeros(nx * ny + 1, dtype=np.int64)
     where = np.empty(n, dtype=np.int64)
@@ -122,6 +122,16 @@ def _bucket(centers: np.ndarray, include: np.ndarray, cell_hint: float
             items[cursor[where[i]]] = i
             cursor[where[i]] += 1
     return origin, shape, cell, start, items
+
+
+def index_cell(max_range: np.ndarray, half_length: np.ndarray,
+               half_width: np.ndarray) -> float:
+    """The grid cell for robots with these rangers and sizes: half the longest
+    range, so that a sensor visits about 5 x 5 cells and a collision check 1 to
+    4, but at least four robot half-diagonals."""
+    reach = float(np.max(max_range, initial=0.0))
+    largest = float(np.max(np.hypot(half_length, half_width), initial=0.0))
+    return max(reach / 2, 4 * largest, 1e-3)
 
 
 def build_robot_index(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,

@@ -28,7 +28,7 @@ from mimics.engine.dynamics import move_robots
 from mimics.engine.messages import MessageBus
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
 from mimics.engine.ranger import RangerQuery, trace_beams
-from mimics.engine.robot_index import RobotIndex, index_robots
+from mimics.engine.robot_index import RobotIndex, index_cell, index_robots
 from mimics.engine.sensors import (
     add_ranger_noise,
     comms_matrix,
@@ -97,13 +97,10 @@ class Simulation:
         self.messages = MessageBus(settings.comm_range)
         self.events: list[Event] = []
         self.timing = TimingStats()
-        reach = float(np.max(self.types.max_range, initial=0.0))
+        types = self.types
         self.walls: WallIndex = build_wall_index(scenario.map.segments, scenario.map.bounds,
-                                                 reach)
-        # robot index cells: a sensor visits about 5 x 5 of them, a collision check 1 to 4
-        largest = float(np.max(np.hypot(self.types.half_length, self.types.half_width),
-                               initial=0.0))
-        self._robot_cell = max(reach / 2, 4 * largest, 1e-3)
+                                                 float(np.max(types.max_range, initial=0.0)))
+        self._robot_cell = index_cell(types.max_range, types.half_length, types.half_width)
         self.status = "running"
         self.error = ""
         self.wall_time = 0.0

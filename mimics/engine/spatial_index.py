@@ -71,6 +71,20 @@ def grid_pad(origin: np.ndarray, shape: np.ndarray, cell: float) -> float:
     return PAD_RELATIVE * span
 
 
+@njit(cache=True, inline="always")
+def clip_to_slab(start: float, delta: float, lo: float, hi: float, s0: float,
+                 s1: float) -> tuple[float, float]:
+    """Narrow ``[s0, s1]``, parameters of ``start + s * delta``, to ``lo <= . <= hi``.
+
+    One axis of Liang-Barsky clipping; the result is empty (``s0 > s1``) when
+    no parameter qualifies.
+    """
+    if delta == 0.0:
+        return (s0, s1) if lo <= start <= hi else (1.0, 0.0)
+    a, b = (lo - start) / delta, (hi - start) / delta
+    return max(s0, min(a, b)), min(s1, max(a, b))
+
+
 @njit(cache=True)
 def cell_span(lo: float, hi: float, start: float, cell: float, n: int) -> tuple[int, int]:
     """Indices ``first, last`` of the cells of one axis overlapping ``[lo, hi]``.
@@ -154,7 +168,7 @@ def _build_csr(segments: np.ndarray, origin: np.ndarray, shape: np.ndarray,
 
 
 @njit(cache=True)
-def _frame(xmin: float, ymin: float, xmax: float, ymax: float,
+def grid_frame(xmin: float, ymin: float, xmax: float, ymax: float,
            cell: float) -> tuple[np.ndarray, np.ndarray, float]:
     """Origin, ``nx, ny`` and cell side of a grid covering the box with a thin margin.
 
@@ -187,14 +201,14 @@ def coerce_array(values: object, dtype: type, ndim: int, name: str) -> np.ndarra
     return arr
 
 
-def _as_segments(segments: object, name: str = "segments") -> np.ndarray:
+def as_segments(segments: object, name: str = "segments") -> np.ndarray:
     segs = coerce_array(np.asarray(segments, dtype=np.float64).reshape(-1, 4), np.float64, 2, name)
     if not np.all(np.isfinite(segs)):
         raise ValueError(f"{name} must be finite")
     return segs
 
 
-def _extent(segments: np.ndarray, bounds: Bounds | None) -> Bounds:
+def covering_box(segments: np.ndarray, bounds: Bounds | None) -> Bounds:
     """Box covering ``bounds`` and every segment (a unit box when both are empty)."""
     boxes = []
     if bounds is not None:
@@ -231,8 +245,8 @@ def choose_cell_size(segments: np.ndarray, bounds: Bounds | None) -> float:
     >>> choose_cell_size(np.array([[0.0, 0.0, 1.0, 0.0]] * 10), (0, 0, 10, 10))
     2.0
     """
-    segs = _as_segments(segments)
-    xmin, ymin, xmax, ymax = _extent(segs, bounds)
+    segs = as_segments(segments)
+    xmin, ymin, xmax, ymax = covering_box(segs, bounds)
     w, h = xmax - xmin, ymax - ymin
     longest = max(w, h, 1e-9)
     if len(segs) == 0:
@@ -255,7 +269,7 @@ def build_segment_grid(segments: np.ndarray, bounds: Bounds | None, cell: float 
         bounds: ``(xmin, ymin, xmax, ymax)`` to cover, or None for the
             segments' own box.
         cell: cell side (m); default :func:`choose_cell_size`. The grid's
-            cell may be larger by a relative 1e-7 (see ``_frame``).
+            cell may be larger by a relative 1e-7 (see ``grid_frame``).
         owner: ``(m,)`` owner of each segment; default -1 (walls).
 
     Returns:
@@ -269,7 +283,7 @@ def build_segment_grid(segments: np.ndarray, bounds: Bounds | None, cell: float 
     >>> [int(c) for c in range(9) if grid.cell_start[c + 1] > grid.cell_start[c]]
     [0, 1, 2]
     """
-    segs = _as_segments(segments)
+    segs = as_segments(segments)
     m = len(segs)
     if owner is None:
         own = np.full(m, -1, dtype=np.int64)
@@ -280,11 +294,11 @@ def build_segment_grid(segments: np.ndarray, bounds: Bounds | None, cell: float 
     size = choose_cell_size(segs, bounds) if cell is None else float(cell)
     if not (math.isfinite(size) and size > 0):
         raise ValueError(f"cell must be a positive number, got {cell!r}")
-    xmin, ymin, xmax, ymax = _extent(segs, bounds)
+    xmin, ymin, xmax, ymax = covering_box(segs, bounds)
     cells = (math.ceil((xmax - xmin) / size) + 1) * (math.ceil((ymax - ymin) / size) + 1)
     if cells > MAX_CELLS:
         raise ValueError(f"cell {size} m gives about {cells} cells (more than {MAX_CELLS})")
-    origin, shape, size = _frame(xmin, ymin, xmax, ymax, size)
+    origin, shape, size = grid_frame(xmin, ymin, xmax, ymax, size)
     start, items = _build_csr(segs, origin, shape, size)
     return SegmentGrid(segs, own, origin, size, shape, start, items)
 

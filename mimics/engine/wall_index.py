@@ -32,12 +32,13 @@ from numba import njit
 from mimics.engine.spatial_index import (
     Bounds,
     SegmentGrid,
-    _as_segments,
-    _extent,
-    _frame,
+    as_segments,
     build_segment_grid,
     cell_span,
+    clip_to_slab,
     coerce_grid,
+    covering_box,
+    grid_frame,
 )
 
 MAX_NEAR_ITEMS = 8_000_000  # budget for the near lists (64 MB of int64)
@@ -82,22 +83,10 @@ def point_segment_distance(px: float, py: float, x1: float, y1: float, x2: float
 @njit(cache=True)
 def _segment_crosses_box(x1: float, y1: float, x2: float, y2: float, x0: float, y0: float,
                          xb: float, yb: float) -> bool:
-    """Whether a segment has a point in the closed box (Liang-Barsky clipping)."""
-    t0, t1 = 0.0, 1.0
-    dx, dy = x2 - x1, y2 - y1
-    for p, q in ((-dx, x1 - x0), (dx, xb - x1), (-dy, y1 - y0), (dy, yb - y1)):
-        if p == 0.0:
-            if q < 0.0:
-                return False
-        else:
-            r = q / p
-            if p < 0.0:
-                t0 = max(t0, r)
-            else:
-                t1 = min(t1, r)
-            if t0 > t1:
-                return False
-    return True
+    """Whether a segment has a point in the closed box ``[x0, xb] x [y0, yb]``."""
+    s0, s1 = clip_to_slab(x1, x2 - x1, x0, xb, 0.0, 1.0)
+    s0, s1 = clip_to_slab(y1, y2 - y1, y0, yb, s0, s1)
+    return s0 <= s1
 
 
 @njit(cache=True)
@@ -188,11 +177,11 @@ def build_wall_index(segments: np.ndarray, bounds: Bounds | None, reach: float,
         ValueError: non-finite walls or bounds, a negative or NaN reach, or
             a non-positive cell.
     """
-    segs = _as_segments(segments)
+    segs = as_segments(segments)
     grid = build_segment_grid(segs, bounds, cell=cell)
     if not reach >= 0.0:
         raise ValueError(f"reach must be a number >= 0, got {reach!r}")
-    xmin, ymin, xmax, ymax = _extent(segs, bounds)
+    xmin, ymin, xmax, ymax = covering_box(segs, bounds)
     longest = max(xmax - xmin, ymax - ymin, 1e-9)
     reach = float(min(reach, 2.0 * longest))  # beyond the map's diagonal nothing changes
     if near_cell is None:
@@ -206,7 +195,7 @@ def build_wall_index(segments: np.ndarray, bounds: Bounds | None, reach: float,
         size = float(near_cell)
         if not (math.isfinite(size) and size > 0):
             raise ValueError(f"near_cell must be a positive number, got {near_cell!r}")
-    origin, shape, size = _frame(xmin, ymin, xmax, ymax, size)
+    origin, shape, size = grid_frame(xmin, ymin, xmax, ymax, size)
     # the near lists are conservative: pad the reach for rounding in the distance tests
     start, items = _near_lists(segs, origin, shape, size, reach * (1 + 1e-9) + 1e-9)
     near = SegmentGrid(segs, grid.owner, origin, size, shape, start, items)

@@ -237,15 +237,17 @@ class BeamCaster:
 
     def __init__(self, scenario: Scenario) -> None:
         from mimics.engine.ranger import RangerQuery, cast_rays
-        from mimics.engine.robot_index import build_robot_index
+        from mimics.engine.robot_index import build_robot_index, index_cell
         from mimics.engine.state import TypeArrays
         from mimics.engine.wall_index import build_wall_index
 
         self._query, self._cast, self._robot_index = RangerQuery, cast_rays, build_robot_index
         self.scenario = scenario
         self.types = TypeArrays.from_scenario(scenario)
-        self.reach = float(np.max(self.types.max_range, initial=0.0))
-        self.walls = build_wall_index(scenario.map.segments, scenario.map.bounds, self.reach)
+        types = self.types
+        self.walls = build_wall_index(scenario.map.segments, scenario.map.bounds,
+                                      float(np.max(types.max_range, initial=0.0)))
+        self.robot_cell = index_cell(types.max_range, types.half_length, types.half_width)
 
     @classmethod
     def available(cls, scenario: Scenario) -> BeamCaster | None:
@@ -270,7 +272,7 @@ class BeamCaster:
             solid = status == Status.ACTIVE
         robots = self._robot_index(np.ascontiguousarray(pose[:, :2]),
                                    np.ascontiguousarray(pose[:, 2]), types.half_length,
-                                   types.half_width, solid, cell=max(self.reach / 2, 1e-3))
+                                   types.half_width, solid, cell=self.robot_cell)
         ids = np.array([robot], dtype=np.int64)
         query = self._query(origins=np.ascontiguousarray(pose[ids, :2]),
                             headings=np.ascontiguousarray(pose[ids, 2]),
