@@ -42,7 +42,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from mimics.world.errors import MimicsError
+from mimics.world.errors import MimicsError, read_input_text
 
 BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
                 "record_every")
@@ -170,12 +170,7 @@ def load_battery(path: str | Path) -> BatterySpec:
         MimicsError: one line naming the file, the key and what was expected.
     """
     source = Path(path)
-    try:
-        text = source.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise MimicsError(f"{source}: no such battery file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MimicsError(f"{source}: cannot be read: {exc}") from None
+    text = read_input_text(source, "battery")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -85,7 +85,7 @@ from typing import Any
 import numpy as np
 import tomli_w
 
-from mimics.world.errors import MimicsError, ScenarioError
+from mimics.world.errors import MimicsError, ScenarioError, read_input_text
 from mimics.world.map_files import load_map, map_from_dict
 from mimics.world.maps import Map
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES, RobotType, robot_type_from_dict
@@ -687,13 +687,8 @@ def load_scenario_toml(path: str | Path, **param_overrides: Any) -> Scenario:
         ScenarioError: one line naming the file, key, line and what was expected.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(f"{path}: scenario file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"{path}: cannot read ({exc})") from None
-    return scenario_from_toml_text(text, path, **param_overrides)
+    return scenario_from_toml_text(read_input_text(path, "scenario", ScenarioError), path,
+                                   **param_overrides)
 
 
 def scenario_toml_parameters(path: str | Path) -> dict[str, Any]:
