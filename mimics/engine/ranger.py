@@ -271,7 +271,8 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
     """
     ax, ay, bx, by = x1 - ox, y1 - oy, x2 - ox, y2 - oy
     cross = ax * by - ay * bx
-    if layout[1] <= 0.0 or abs(cross) <= ANGLE_EPS * math.hypot(ax, ay) * math.hypot(bx, by):
+    lengths2 = (ax * ax + ay * ay) * (bx * bx + by * by)
+    if layout[1] <= 0.0 or abs(cross) <= ANGLE_EPS * math.sqrt(lengths2):
         # no order to use, or the sensor sits on the segment's line (span near 0 or pi)
         _sweep_beams(0, best_t.shape[0] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit, dx, dy,
                      best_t, best_o, block_far)
@@ -299,7 +300,8 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, 
 
     ``gap`` is a lower bound of the robot's distance (from its circle).
     """
-    distance = math.hypot(center[0] - ox, center[1] - oy)
+    cx, cy = center[0] - ox, center[1] - oy
+    distance = math.sqrt(cx * cx + cy * cy)
     if layout[1] <= 0.0 or distance <= radius * (1.0 + 1e-9):  # no order, or inside its circle
         for e in range(4):
             _sweep_segment(ox, oy, corners[e, 0], corners[e, 1], corners[e + 1, 0],
@@ -362,6 +364,53 @@ def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
 
 
 @njit(cache=True)
+def _field_of_view(offsets: np.ndarray, heading: float) -> np.ndarray:
+    """``(e0x, e0y, e1x, e1y, kind)``: the cone swept counterclockwise from ``e0`` to ``e1``.
+
+    The edges point along the lowest and highest beam angles; ``kind`` is 1
+    for a cone narrower than a half turn (outside it: beyond either edge), 2
+    for a wider one (outside it: beyond both) and 0 when there is no cone to
+    cull by (beams in no order, or a near-full turn).
+    """
+    cone = np.zeros(5)
+    low, high, count = math.inf, -math.inf, 0
+    for j in range(offsets.shape[0]):
+        if not math.isnan(offsets[j]):
+            low, high, count = min(low, offsets[j]), max(high, offsets[j]), count + 1
+    width = high - low
+    if count == 0 or width >= TAU - 1e-6:
+        return cone
+    # rounding is monotonic: every beam angle heading + offset lies between these two
+    first, last = heading + low, heading + high
+    cone[0], cone[1] = math.cos(first), math.sin(first)
+    cone[2], cone[3] = math.cos(last), math.sin(last)
+    cone[4] = 1.0 if width < math.pi - 1e-6 else 2.0
+    return cone
+
+
+@njit(cache=True, inline="always")
+def _beyond_edges(px: float, py: float, clearance: float, cone: np.ndarray) -> int:
+    """Bits 0 and 1: ``p`` lies more than ``clearance`` beyond edge 0, 1.
+
+    The slack covers rounding and the collinear tolerance of the hit test.
+    """
+    slack = clearance + 2.0 * COLLINEAR_EPS + 1e-9 * (abs(px) + abs(py))
+    bits = 0
+    if cone[0] * py - cone[1] * px < -slack:
+        bits |= 1
+    if cone[2] * py - cone[3] * px > slack:
+        bits |= 2
+    return bits
+
+
+@njit(cache=True, inline="always")
+def _outside_view(a: int, b: int, kind: float) -> bool:
+    """Whether a convex set whose extreme points have edge bits ``a`` and ``b`` is unseen."""
+    common = a & b
+    return common != 0 if kind == 1.0 else (kind == 2.0 and common == 3)
+
+
+@njit(cache=True)
 def _by_distance(distance: np.ndarray, limit: float) -> np.ndarray:
     """Indices of the distances within ``limit``, roughly nearest first.
 
@@ -408,6 +457,7 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         best_o[j] = NO_HIT
         best_t[j] = -math.inf if math.isnan(offset) else math.inf  # -inf: never tested
     block_far = np.full((beams + BLOCK - 1) // BLOCK, math.inf)
+    cone = _field_of_view(query.offsets[i], query.headings[i])
     # walls near the sensor, nearest first: farther ones then skip the beams already hit
     cell = near_cell_of(near, ox, oy)
     certain = 0.0
@@ -417,8 +467,12 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         distance = np.empty(listed.shape[0])
         for p in range(listed.shape[0]):
             s = listed[p]
-            distance[p] = _below(point_segment_distance(ox, oy, segs[s, 0], segs[s, 1],
-                                                        segs[s, 2], segs[s, 3]))
+            x1, y1, x2, y2 = segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3]
+            if _outside_view(_beyond_edges(x1 - ox, y1 - oy, 0.0, cone),
+                             _beyond_edges(x2 - ox, y2 - oy, 0.0, cone), cone[4]):
+                distance[p] = math.inf  # behind the sensor: no beam can reach it
+            else:
+                distance[p] = _below(point_segment_distance(ox, oy, x1, y1, x2, y2))
         for p in _by_distance(distance, limit):
             s = listed[p]
             _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], WALL,
@@ -443,9 +497,10 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         for p in range(robots.grid_start[iy * nx + ix0], robots.grid_start[iy * nx + ix1 + 1]):
             r = robots.grid_items[p]
             seen[found] = r
-            gap[found] = _below(math.hypot(robots.centers[r, 0] - ox,
-                                           robots.centers[r, 1] - oy) - robots.radius[r])
-            if r == me:
+            cx, cy = robots.centers[r, 0] - ox, robots.centers[r, 1] - oy
+            gap[found] = _below(math.sqrt(cx * cx + cy * cy) - robots.radius[r])
+            bits = _beyond_edges(cx, cy, robots.radius[r], cone)
+            if r == me or _outside_view(bits, bits, cone[4]):
                 gap[found] = math.inf
             found += 1
     for p in _by_distance(gap, limit):
