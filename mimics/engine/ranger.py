@@ -206,21 +206,62 @@ def _below(distance: float) -> float:
 
 
 @njit(cache=True, inline="always")
+def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
+                 o: int, limit: float, dx: np.ndarray, dy: np.ndarray, best_t: np.ndarray,
+                 best_o: np.ndarray) -> float:
+    """Let one segment improve the ``BLOCK`` beams from ``start``; their farthest hit after.
+
+    The same arithmetic as :func:`ray_segment_distance` without branches, so
+    that the compiler runs the block's beams side by side; beams that meet
+    the segment parallel (rare) go through it one by one.
+    """
+    ex, ey = x2 - x1, y2 - y1
+    wx, wy = x1 - ox, y1 - oy
+    num_t = wx * ey - wy * ex
+    parallel = PARALLEL_EPS * (abs(ex) + abs(ey))
+    block_t = best_t[start: start + BLOCK]
+    block_o = best_o[start: start + BLOCK]
+    block_dx = dx[start: start + BLOCK]
+    block_dy = dy[start: start + BLOCK]
+    any_parallel = False
+    for j in range(BLOCK):
+        denom = block_dx[j] * ey - block_dy[j] * ex
+        num_u = wx * block_dy[j] - wy * block_dx[j]
+        sign = math.copysign(1.0, denom)  # exact: as swapping the signs
+        crossing = abs(denom) > parallel
+        any_parallel |= not crossing
+        inside = (num_t * sign >= 0.0) & (num_u * sign >= 0.0) & (num_u * sign <= denom * sign)
+        ratio = num_t / denom  # every lane divides: no branch (needs error_model="numpy")
+        t = ratio if crossing & inside else math.inf
+        kept_t, kept_o = block_t[j], block_o[j]
+        better = (t <= limit) & ((t < kept_t) | ((t == kept_t) & (o < kept_o)))
+        block_t[j] = t if better else kept_t
+        block_o[j] = o if better else kept_o
+    if any_parallel:
+        for j in range(BLOCK):
+            if abs(block_dx[j] * ey - block_dy[j] * ex) <= parallel:
+                _consider(ox, oy, block_dx, block_dy, j, x1, y1, x2, y2, o, limit, block_t,
+                          block_o)
+    far = -math.inf
+    for j in range(BLOCK):  # apart: a float max in the loop above would keep it scalar
+        far = max(far, block_t[j])
+    return far
+
+
+@njit(cache=True, inline="always")
 def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: float, x2: float,
                  y2: float, o: int, nearest: float, limit: float, dx: np.ndarray,
                  dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
                  block_far: np.ndarray) -> None:
-    """Test beams ``first..last`` against one segment, skipping blocks already nearer."""
+    """Test the blocks of beams ``first..last`` against one segment, skipping those nearer.
+
+    Whole blocks are tested: a beam outside the span that meets the segment
+    is a true hit, so it changes nothing the span's beams would not.
+    """
     for b in range(first // BLOCK, last // BLOCK + 1):
-        if block_far[b] < nearest:  # every beam of the block hits nearer than the segment
-            continue
-        changed = False
-        for j in range(max(first, b * BLOCK), min(last, b * BLOCK + BLOCK - 1) + 1):
-            if best_t[j] >= nearest:  # unused slots hold -inf
-                changed |= _consider(ox, oy, dx, dy, j, x1, y1, x2, y2, o, limit, best_t,
-                                     best_o)
-        if changed:
-            block_far[b] = np.max(best_t[b * BLOCK: b * BLOCK + BLOCK])
+        if block_far[b] >= nearest:  # else every beam of the block hits nearer already
+            block_far[b] = _sweep_block(b * BLOCK, ox, oy, x1, y1, x2, y2, o, limit, dx, dy,
+                                        best_t, best_o)
 
 
 @njit(cache=True, inline="always")
@@ -250,22 +291,23 @@ def fast_atan2(y: float, x: float) -> float:
 @njit(cache=True, inline="always")
 def _beam_range(low: float, span: float, layout: np.ndarray, shift: float) -> tuple[int, int]:
     """Beams whose angle lies in ``[low, low + span] + shift`` (with the layout's margin)."""
-    base, spacing, count, margin = layout[0], layout[1], int(layout[2]), int(layout[3])
+    base, count, margin, per_rad = layout[0], int(layout[2]), int(layout[3]), layout[4]
     rel = low - base
-    rel -= TAU * math.floor(rel / TAU)
-    first = max(math.ceil((rel + shift) / spacing) - margin, 0)
-    last = min(math.floor((rel + shift + span) / spacing) + margin, count - 1)
+    rel -= TAU * math.floor(rel * (1.0 / TAU))
+    # products by the reciprocal differ from quotients by rounding only: the margin covers it
+    first = max(math.ceil((rel + shift) * per_rad) - margin, 0)
+    last = min(math.floor((rel + shift + span) * per_rad) + margin, count - 1)
     return first, last
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float, o: int,
                    nearest: float, limit: float, layout: np.ndarray, dx: np.ndarray,
                    dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
                    block_far: np.ndarray) -> None:
     """Test one segment against the beams its angular span covers (all beams if unsure).
 
-    ``layout`` is ``(base angle, spacing, count, margin)`` of evenly spaced
+    ``layout`` is ``(base angle, spacing, count, margin, 1 / spacing)`` of evenly spaced
     beams, or has spacing 0 for beams in no usable order. ``nearest`` is the
     segment's distance from the sensor: beams that already hit nearer skip it.
     """
@@ -291,12 +333,12 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
                          best_t, best_o, block_far)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, r: int,
                  gap: float, radius: float, limit: float, layout: np.ndarray, dx: np.ndarray,
                  dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
                  block_far: np.ndarray) -> None:
-    """Test robot ``r``'s four edges against the beams its bounding circle covers.
+    """Test robot ``r``'s edges that face the sensor against the beams each one spans.
 
     ``gap`` is a lower bound of the robot's distance (from its circle).
     """
@@ -308,31 +350,31 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, 
                            corners[e + 1, 1], r, gap, limit, layout, dx, dy, best_t, best_o,
                            block_far)
         return
+    # hidden when every beam its bounding circle spans already hits nearer
+    half = 0.5 * math.pi * radius / distance * (1.0 + 1e-9)  # asin(x) <= x pi / 2
+    low = fast_atan2(cy, cx) - half
+    hidden = True
+    for shift in (-TAU, 0.0, TAU):
+        first, last = _beam_range(low, 2.0 * half, layout, shift)
+        for b in range(first // BLOCK, last // BLOCK + 1) if first <= last else range(0):
+            hidden &= block_far[b] < gap
+    if hidden:
+        return
     # from outside, a beam meets a convex body first on a side facing the sensor: skip
     # the sides facing away (a ray through a shared corner still meets the facing one)
-    facing = 0  # bit e set: side e faces the sensor
     for e in range(4):
         ex, ey = corners[e + 1, 0] - corners[e, 0], corners[e + 1, 1] - corners[e, 1]
         wx, wy = ox - corners[e, 0], oy - corners[e, 1]
         cross = ex * wy - ey * wx  # > 0: the sensor is on the inner (left) side
         if cross <= 1e-9 * (abs(ex) + abs(ey)) * (abs(wx) + abs(wy) + 1.0):
-            facing |= 1 << e
-    half = 0.5 * math.pi * radius / distance * (1.0 + 1e-9)  # asin(x) <= x pi / 2
-    low = fast_atan2(center[1] - oy, center[0] - ox) - half
-    for shift in (-TAU, 0.0, TAU):
-        first, last = _beam_range(low, 2.0 * half, layout, shift)
-        if first > last:
-            continue
-        for e in range(4):
-            if facing & (1 << e):
-                _sweep_beams(first, last, ox, oy, corners[e, 0], corners[e, 1],
-                             corners[e + 1, 0], corners[e + 1, 1], r, gap, limit, dx, dy,
-                             best_t, best_o, block_far)
+            _sweep_segment(ox, oy, corners[e, 0], corners[e, 1], corners[e + 1, 0],
+                           corners[e + 1, 1], r, gap, limit, layout, dx, dy, best_t, best_o,
+                           block_far)
 
 
 @njit(cache=True)
 def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
-    """``(base angle, spacing, count, margin)`` of a row of beams (spacing 0: no order).
+    """``(base angle, spacing, count, margin, 1 / spacing)`` of a row of beams (spacing 0: none).
 
     Rows whose used beams form a prefix of increasing, near-evenly spaced
     angles spanning at most a full turn get their spacing; the margin (in
@@ -340,7 +382,7 @@ def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
     rounding.
     """
     beams = offsets.shape[0]
-    layout = np.zeros(4)
+    layout = np.zeros(5)
     layout[0] = heading + offsets[0]
     layout[2] = beams
     count = 0
@@ -359,7 +401,7 @@ def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
         deviation = max(deviation, abs(offsets[j] - (offsets[0] + j * spacing)))
     margin = 1.0 + math.ceil((deviation + ANGLE_SLACK) / spacing)
     if margin <= 3.0:
-        layout[1], layout[2], layout[3] = spacing, count, margin
+        layout[1], layout[2], layout[3], layout[4] = spacing, count, margin, 1.0 / spacing
     return layout
 
 
@@ -434,11 +476,11 @@ def _by_distance(distance: np.ndarray, limit: float) -> np.ndarray:
     return order
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
-              near: SegmentGrid, reach: float, robots: RobotIndex, best_t: np.ndarray,
-              best_o: np.ndarray) -> None:
-    """Fill one scanning robot's ranges (``best_t``) and owners (``best_o``).
+              near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
+              owners: np.ndarray) -> None:
+    """Fill one scanning robot's ``ranges`` and hit ``owners``.
 
     The walls come as the fields of a ``WallIndex`` (``grid``, ``near``,
     ``reach``): parallel kernels take no nested tuples.
@@ -449,40 +491,27 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     limit = query.max_range[i]
     me = query.robot[i]
     layout = _layout(query.offsets[i], query.headings[i])
-    dx, dy = np.empty(beams), np.empty(beams)
+    # whole blocks of beams; the padding's NaN directions never hit, -inf: never tested
+    blocks = (beams + BLOCK - 1) // BLOCK
+    dx, dy = np.full(blocks * BLOCK, math.nan), np.full(blocks * BLOCK, math.nan)
+    best_t = np.full(blocks * BLOCK, -math.inf)
+    best_o = np.full(blocks * BLOCK, NO_HIT)
     for j in range(beams):
         offset = query.offsets[i, j]
-        angle = query.headings[i] + offset
-        dx[j], dy[j] = math.cos(angle), math.sin(angle)
-        best_o[j] = NO_HIT
-        best_t[j] = -math.inf if math.isnan(offset) else math.inf  # -inf: never tested
-    block_far = np.full((beams + BLOCK - 1) // BLOCK, math.inf)
+        if not math.isnan(offset):
+            angle = query.headings[i] + offset
+            dx[j], dy[j] = math.cos(angle), math.sin(angle)
+            best_t[j] = math.inf
+    block_far = np.full(blocks, math.inf)
     cone = _field_of_view(query.offsets[i], query.headings[i])
-    # walls near the sensor, nearest first: farther ones then skip the beams already hit
+    # the walls listed for the sensor's cell (none outside the near grid)
     cell = near_cell_of(near, ox, oy)
-    certain = 0.0
+    certain = reach if cell >= 0 else 0.0
+    listed = near.cell_items[0:0]
     if cell >= 0:
-        certain = reach
         listed = near.cell_items[near.cell_start[cell]: near.cell_start[cell + 1]]
-        distance = np.empty(listed.shape[0])
-        for p in range(listed.shape[0]):
-            s = listed[p]
-            x1, y1, x2, y2 = segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3]
-            if _outside_view(_beyond_edges(x1 - ox, y1 - oy, 0.0, cone),
-                             _beyond_edges(x2 - ox, y2 - oy, 0.0, cone), cone[4]):
-                distance[p] = math.inf  # behind the sensor: no beam can reach it
-            else:
-                distance[p] = _below(point_segment_distance(ox, oy, x1, y1, x2, y2))
-        for p in _by_distance(distance, limit):
-            s = listed[p]
-            _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], WALL,
-                           distance[p], limit, layout, dx, dy, best_t, best_o, block_far)
-    if certain < limit:  # beyond the sweep's reach: walk the fine grid
-        for j in range(beams):
-            if best_t[j] > certain:
-                best_t[j], best_o[j] = _trace(grid, ox, oy, dx[j], dy[j], limit, me,
-                                              best_t[j], best_o[j], certain)
-    # robots whose bounding circle comes within range, nearest first
+    walls = listed.shape[0]
+    # the robots whose bounding circle comes within range
     span = limit + robots.max_radius
     nx = robots.shape[0]
     ix0, ix1 = cell_span(ox - span, ox + span, robots.origin[0], robots.cell, nx)
@@ -491,30 +520,52 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     for iy in range(iy0, iy1 + 1):
         found += robots.grid_start[iy * nx + ix1 + 1] - robots.grid_start[iy * nx + ix0]
     seen = np.empty(found, dtype=np.int64)
-    gap = np.empty(found)
+    # a lower bound of each one's distance; inf for those no beam can reach
+    distance = np.empty(walls + found)
+    for p in range(walls):
+        s = listed[p]
+        x1, y1, x2, y2 = segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3]
+        if _outside_view(_beyond_edges(x1 - ox, y1 - oy, 0.0, cone),
+                         _beyond_edges(x2 - ox, y2 - oy, 0.0, cone), cone[4]):
+            distance[p] = math.inf
+        else:
+            distance[p] = _below(point_segment_distance(ox, oy, x1, y1, x2, y2))
     found = 0
     for iy in range(iy0, iy1 + 1):  # the cells of a row are contiguous in the CSR
         for p in range(robots.grid_start[iy * nx + ix0], robots.grid_start[iy * nx + ix1 + 1]):
             r = robots.grid_items[p]
             seen[found] = r
             cx, cy = robots.centers[r, 0] - ox, robots.centers[r, 1] - oy
-            gap[found] = _below(math.sqrt(cx * cx + cy * cy) - robots.radius[r])
             bits = _beyond_edges(cx, cy, robots.radius[r], cone)
             if r == me or _outside_view(bits, bits, cone[4]):
-                gap[found] = math.inf
+                distance[walls + found] = math.inf
+            else:
+                distance[walls + found] = max(
+                    _below(math.sqrt(cx * cx + cy * cy) - robots.radius[r]), 0.0)
             found += 1
-    for p in _by_distance(gap, limit):
-        r = seen[p]
-        _sweep_robot(ox, oy, robots.corners[r], robots.centers[r], r, max(gap[p], 0.0),
-                     robots.radius[r], limit, layout, dx, dy, best_t, best_o, block_far)
+    # walls and robots together, nearest first: farther ones then skip the beams already
+    # hit (most beams of a crowded scan end on a neighbour, in front of the walls)
+    for p in _by_distance(distance, limit):
+        if p < walls:
+            s = listed[p]
+            _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], WALL,
+                           distance[p], limit, layout, dx, dy, best_t, best_o, block_far)
+        else:
+            r = seen[p - walls]
+            _sweep_robot(ox, oy, robots.corners[r], robots.centers[r], r, distance[p],
+                         robots.radius[r], limit, layout, dx, dy, best_t, best_o, block_far)
+    if certain < limit:  # beyond the sweep's reach: walk the fine grid
+        for j in range(beams):
+            if best_t[j] > certain:
+                best_t[j], best_o[j] = _trace(grid, ox, oy, dx[j], dy[j], limit, me,
+                                              best_t[j], best_o[j], certain)
     for j in range(beams):
-        if best_t[j] == -math.inf:
-            best_t[j] = math.nan
-        elif best_o[j] == NO_HIT:
-            best_t[j] = limit
+        ranges[j] = math.nan if best_t[j] == -math.inf else (
+            limit if best_o[j] == NO_HIT else best_t[j])
+        owners[j] = best_o[j]
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=True, error_model="numpy")
 def _cast_kernel(query: RangerQuery, grid: SegmentGrid,
                  near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
                  hit_owner: np.ndarray) -> None:
