@@ -219,32 +219,29 @@ def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: flo
     wx, wy = x1 - ox, y1 - oy
     num_t = wx * ey - wy * ex
     parallel = PARALLEL_EPS * (abs(ex) + abs(ey))
-    block_t = best_t[start: start + BLOCK]
-    block_o = best_o[start: start + BLOCK]
-    block_dx = dx[start: start + BLOCK]
-    block_dy = dy[start: start + BLOCK]
     any_parallel = False
-    for j in range(BLOCK):
-        denom = block_dx[j] * ey - block_dy[j] * ex
-        num_u = wx * block_dy[j] - wy * block_dx[j]
+    # plain indices, no slices: a slice is a new array whose reference counting would
+    # cost more than the block's arithmetic
+    for j in range(start, start + BLOCK):
+        denom = dx[j] * ey - dy[j] * ex
+        num_u = wx * dy[j] - wy * dx[j]
         sign = math.copysign(1.0, denom)  # exact: as swapping the signs
         crossing = abs(denom) > parallel
         any_parallel |= not crossing
         inside = (num_t * sign >= 0.0) & (num_u * sign >= 0.0) & (num_u * sign <= denom * sign)
         ratio = num_t / denom  # every lane divides: no branch (needs error_model="numpy")
         t = ratio if crossing & inside else math.inf
-        kept_t, kept_o = block_t[j], block_o[j]
+        kept_t, kept_o = best_t[j], best_o[j]
         better = (t <= limit) & ((t < kept_t) | ((t == kept_t) & (o < kept_o)))
-        block_t[j] = t if better else kept_t
-        block_o[j] = o if better else kept_o
+        best_t[j] = t if better else kept_t
+        best_o[j] = o if better else kept_o
     if any_parallel:
-        for j in range(BLOCK):
-            if abs(block_dx[j] * ey - block_dy[j] * ex) <= parallel:
-                _consider(ox, oy, block_dx, block_dy, j, x1, y1, x2, y2, o, limit, block_t,
-                          block_o)
+        for j in range(start, start + BLOCK):
+            if abs(dx[j] * ey - dy[j] * ex) <= parallel:
+                _consider(ox, oy, dx, dy, j, x1, y1, x2, y2, o, limit, best_t, best_o)
     far = -math.inf
-    for j in range(BLOCK):  # apart: a float max in the loop above would keep it scalar
-        far = max(far, block_t[j])
+    for j in range(start, start + BLOCK):  # apart: a float max above would keep it scalar
+        far = max(far, best_t[j])
     return far
 
 
@@ -300,7 +297,7 @@ def _beam_range(low: float, span: float, layout: np.ndarray, shift: float) -> tu
     return first, last
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float, o: int,
                    nearest: float, limit: float, layout: np.ndarray, dx: np.ndarray,
                    dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
@@ -334,21 +331,23 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
 
 
 @njit(cache=True, error_model="numpy")
-def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, r: int,
+def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray, r: int,
                  gap: float, radius: float, limit: float, layout: np.ndarray, dx: np.ndarray,
                  dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
                  block_far: np.ndarray) -> None:
     """Test robot ``r``'s edges that face the sensor against the beams each one spans.
 
-    ``gap`` is a lower bound of the robot's distance (from its circle).
+    ``corners`` and ``centers`` are all robots' (a ``RobotIndex``'s: whole arrays,
+    as views of one robot's rows would cost reference counting); ``gap`` is a
+    lower bound of the robot's distance (from its circle).
     """
-    cx, cy = center[0] - ox, center[1] - oy
+    cx, cy = centers[r, 0] - ox, centers[r, 1] - oy
     distance = math.sqrt(cx * cx + cy * cy)
     if layout[1] <= 0.0 or distance <= radius * (1.0 + 1e-9):  # no order, or inside its circle
         for e in range(4):
-            _sweep_segment(ox, oy, corners[e, 0], corners[e, 1], corners[e + 1, 0],
-                           corners[e + 1, 1], r, gap, limit, layout, dx, dy, best_t, best_o,
-                           block_far)
+            _sweep_segment(ox, oy, corners[r, e, 0], corners[r, e, 1], corners[r, e + 1, 0],
+                           corners[r, e + 1, 1], r, gap, limit, layout, dx, dy, best_t,
+                           best_o, block_far)
         return
     # hidden when every beam its bounding circle spans already hits nearer
     half = 0.5 * math.pi * radius / distance * (1.0 + 1e-9)  # asin(x) <= x pi / 2
@@ -363,13 +362,13 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, center: np.ndarray, 
     # from outside, a beam meets a convex body first on a side facing the sensor: skip
     # the sides facing away (a ray through a shared corner still meets the facing one)
     for e in range(4):
-        ex, ey = corners[e + 1, 0] - corners[e, 0], corners[e + 1, 1] - corners[e, 1]
-        wx, wy = ox - corners[e, 0], oy - corners[e, 1]
+        ex, ey = corners[r, e + 1, 0] - corners[r, e, 0], corners[r, e + 1, 1] - corners[r, e, 1]
+        wx, wy = ox - corners[r, e, 0], oy - corners[r, e, 1]
         cross = ex * wy - ey * wx  # > 0: the sensor is on the inner (left) side
         if cross <= 1e-9 * (abs(ex) + abs(ey)) * (abs(wx) + abs(wy) + 1.0):
-            _sweep_segment(ox, oy, corners[e, 0], corners[e, 1], corners[e + 1, 0],
-                           corners[e + 1, 1], r, gap, limit, layout, dx, dy, best_t, best_o,
-                           block_far)
+            _sweep_segment(ox, oy, corners[r, e, 0], corners[r, e, 1], corners[r, e + 1, 0],
+                           corners[r, e + 1, 1], r, gap, limit, layout, dx, dy, best_t,
+                           best_o, block_far)
 
 
 @njit(cache=True)
@@ -531,17 +530,19 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         else:
             distance[p] = _below(point_segment_distance(ox, oy, x1, y1, x2, y2))
     found = 0
+    corners, centers, radius = robots.corners, robots.centers, robots.radius
+    grid_start, grid_items = robots.grid_start, robots.grid_items
     for iy in range(iy0, iy1 + 1):  # the cells of a row are contiguous in the CSR
-        for p in range(robots.grid_start[iy * nx + ix0], robots.grid_start[iy * nx + ix1 + 1]):
-            r = robots.grid_items[p]
+        for p in range(grid_start[iy * nx + ix0], grid_start[iy * nx + ix1 + 1]):
+            r = grid_items[p]
             seen[found] = r
-            cx, cy = robots.centers[r, 0] - ox, robots.centers[r, 1] - oy
-            bits = _beyond_edges(cx, cy, robots.radius[r], cone)
+            cx, cy = centers[r, 0] - ox, centers[r, 1] - oy
+            bits = _beyond_edges(cx, cy, radius[r], cone)
             if r == me or _outside_view(bits, bits, cone[4]):
                 distance[walls + found] = math.inf
             else:
-                distance[walls + found] = max(
-                    _below(math.sqrt(cx * cx + cy * cy) - robots.radius[r]), 0.0)
+                distance[walls + found] = max(_below(math.sqrt(cx * cx + cy * cy) - radius[r]),
+                                              0.0)
             found += 1
     # walls and robots together, nearest first: farther ones then skip the beams already
     # hit (most beams of a crowded scan end on a neighbour, in front of the walls)
@@ -552,8 +553,8 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
                            distance[p], limit, layout, dx, dy, best_t, best_o, block_far)
         else:
             r = seen[p - walls]
-            _sweep_robot(ox, oy, robots.corners[r], robots.centers[r], r, distance[p],
-                         robots.radius[r], limit, layout, dx, dy, best_t, best_o, block_far)
+            _sweep_robot(ox, oy, corners, centers, r, distance[p], radius[r], limit, layout,
+                         dx, dy, best_t, best_o, block_far)
     if certain < limit:  # beyond the sweep's reach: walk the fine grid
         for j in range(beams):
             if best_t[j] > certain:
