@@ -60,6 +60,15 @@ TAU = 2.0 * math.pi
 RINGS = 16  # distance classes in which walls are swept, nearest first
 CHUNK_ROBOTS = 10  # robots per work item of the parallel loop: 2.0x on 2 threads (halves: 1.75x)
 BLOCK = 8  # beams per block whose farthest hit so far lets a segment skip them all
+# rows of a scan's work array (one array: every array an inlined helper takes is
+# reference-counted at each call); FAR holds one entry per block of beams
+DX, DY, NEAR, FAR = 0, 1, 2, 3
+
+
+#: ``(base angle, spacing, count, margin, 1 / spacing)`` of evenly spaced beams (``_layout``)
+Layout = tuple[float, float, float, float, float]
+#: ``(e0x, e0y, e1x, e1y, kind)``: the beams' field of view (``_field_of_view``)
+Cone = tuple[float, float, float, float, float]
 
 
 class RangerQuery(NamedTuple):
@@ -187,16 +196,13 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
 
 
 @njit(cache=True, inline="always")
-def _consider(ox: float, oy: float, dx: np.ndarray, dy: np.ndarray, j: int, x1: float,
-              y1: float, x2: float, y2: float, o: int, limit: float, best_t: np.ndarray,
-              best_o: np.ndarray) -> bool:
+def _consider(ox: float, oy: float, work: np.ndarray, j: int, x1: float, y1: float,
+              x2: float, y2: float, o: int, limit: float, best_o: np.ndarray) -> None:
     """Let segment ``(x1, y1, x2, y2)`` of owner ``o`` improve beam ``j``'s hit."""
-    t = ray_segment_distance(ox, oy, dx[j], dy[j], x1, y1, x2, y2)
-    if t <= limit and (t < best_t[j] or (t == best_t[j] and o < best_o[j])):
-        best_t[j] = t
+    t = ray_segment_distance(ox, oy, work[DX, j], work[DY, j], x1, y1, x2, y2)
+    if t <= limit and (t < work[NEAR, j] or (t == work[NEAR, j] and o < best_o[j])):
+        work[NEAR, j] = t
         best_o[j] = o
-        return True
-    return False
 
 
 @njit(cache=True, inline="always")
@@ -207,8 +213,7 @@ def _below(distance: float) -> float:
 
 @njit(cache=True, inline="always")
 def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
-                 o: int, limit: float, dx: np.ndarray, dy: np.ndarray, best_t: np.ndarray,
-                 best_o: np.ndarray) -> float:
+                 o: int, limit: float, work: np.ndarray, best_o: np.ndarray) -> float:
     """Let one segment improve the ``BLOCK`` beams from ``start``; their farthest hit after.
 
     The same arithmetic as :func:`ray_segment_distance` without branches, so
@@ -223,42 +228,42 @@ def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: flo
     # plain indices, no slices: a slice is a new array whose reference counting would
     # cost more than the block's arithmetic
     for j in range(start, start + BLOCK):
-        denom = dx[j] * ey - dy[j] * ex
-        num_u = wx * dy[j] - wy * dx[j]
+        dx, dy = work[DX, j], work[DY, j]
+        denom = dx * ey - dy * ex
+        num_u = wx * dy - wy * dx
         sign = math.copysign(1.0, denom)  # exact: as swapping the signs
         crossing = abs(denom) > parallel
         any_parallel |= not crossing
         inside = (num_t * sign >= 0.0) & (num_u * sign >= 0.0) & (num_u * sign <= denom * sign)
         ratio = num_t / denom  # every lane divides: no branch (needs error_model="numpy")
         t = ratio if crossing & inside else math.inf
-        kept_t, kept_o = best_t[j], best_o[j]
+        kept_t, kept_o = work[NEAR, j], best_o[j]
         better = (t <= limit) & ((t < kept_t) | ((t == kept_t) & (o < kept_o)))
-        best_t[j] = t if better else kept_t
+        work[NEAR, j] = t if better else kept_t
         best_o[j] = o if better else kept_o
     if any_parallel:
         for j in range(start, start + BLOCK):
-            if abs(dx[j] * ey - dy[j] * ex) <= parallel:
-                _consider(ox, oy, dx, dy, j, x1, y1, x2, y2, o, limit, best_t, best_o)
+            if abs(work[DX, j] * ey - work[DY, j] * ex) <= parallel:
+                _consider(ox, oy, work, j, x1, y1, x2, y2, o, limit, best_o)
     far = -math.inf
     for j in range(start, start + BLOCK):  # apart: a float max above would keep it scalar
-        far = max(far, best_t[j])
+        far = max(far, work[NEAR, j])
     return far
 
 
 @njit(cache=True, inline="always")
 def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: float, x2: float,
-                 y2: float, o: int, nearest: float, limit: float, dx: np.ndarray,
-                 dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
-                 block_far: np.ndarray) -> None:
+                 y2: float, o: int, nearest: float, limit: float, work: np.ndarray,
+                 best_o: np.ndarray) -> None:
     """Test the blocks of beams ``first..last`` against one segment, skipping those nearer.
 
     Whole blocks are tested: a beam outside the span that meets the segment
     is a true hit, so it changes nothing the span's beams would not.
     """
     for b in range(first // BLOCK, last // BLOCK + 1):
-        if block_far[b] >= nearest:  # else every beam of the block hits nearer already
-            block_far[b] = _sweep_block(b * BLOCK, ox, oy, x1, y1, x2, y2, o, limit, dx, dy,
-                                        best_t, best_o)
+        if work[FAR, b] >= nearest:  # else every beam of the block hits nearer already
+            work[FAR, b] = _sweep_block(b * BLOCK, ox, oy, x1, y1, x2, y2, o, limit, work,
+                                        best_o)
 
 
 @njit(cache=True, inline="always")
@@ -286,22 +291,21 @@ def fast_atan2(y: float, x: float) -> float:
 
 
 @njit(cache=True, inline="always")
-def _beam_range(low: float, span: float, layout: np.ndarray, shift: float) -> tuple[int, int]:
+def _beam_range(low: float, span: float, layout: Layout, shift: float) -> tuple[int, int]:
     """Beams whose angle lies in ``[low, low + span] + shift`` (with the layout's margin)."""
-    base, count, margin, per_rad = layout[0], int(layout[2]), int(layout[3]), layout[4]
+    base, _, count, margin, per_rad = layout
     rel = low - base
     rel -= TAU * math.floor(rel * (1.0 / TAU))
     # products by the reciprocal differ from quotients by rounding only: the margin covers it
-    first = max(math.ceil((rel + shift) * per_rad) - margin, 0)
-    last = min(math.floor((rel + shift + span) * per_rad) + margin, count - 1)
+    first = max(math.ceil((rel + shift) * per_rad) - int(margin), 0)
+    last = min(math.floor((rel + shift + span) * per_rad) + int(margin), int(count) - 1)
     return first, last
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float, o: int,
-                   nearest: float, limit: float, layout: np.ndarray, dx: np.ndarray,
-                   dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
-                   block_far: np.ndarray) -> None:
+                   nearest: float, limit: float, layout: Layout, work: np.ndarray,
+                   best_o: np.ndarray) -> None:
     """Test one segment against the beams its angular span covers (all beams if unsure).
 
     ``layout`` is ``(base angle, spacing, count, margin, 1 / spacing)`` of evenly spaced
@@ -313,8 +317,8 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
     lengths2 = (ax * ax + ay * ay) * (bx * bx + by * by)
     if layout[1] <= 0.0 or abs(cross) <= ANGLE_EPS * math.sqrt(lengths2):
         # no order to use, or the sensor sits on the segment's line (span near 0 or pi)
-        _sweep_beams(0, best_t.shape[0] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit, dx, dy,
-                     best_t, best_o, block_far)
+        _sweep_beams(0, work.shape[1] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit, work,
+                     best_o)
         return
     # the span runs counterclockwise from ``low``: its orientation is the sign of cross
     low, high = fast_atan2(ay, ax), fast_atan2(by, bx)
@@ -326,15 +330,13 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
     for shift in (-TAU, 0.0, TAU):  # beams may wrap around a full circle
         first, last = _beam_range(low, span, layout, shift)
         if first <= last:
-            _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, dx, dy,
-                         best_t, best_o, block_far)
+            _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, work, best_o)
 
 
 @njit(cache=True, error_model="numpy")
 def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray, r: int,
-                 gap: float, radius: float, limit: float, layout: np.ndarray, dx: np.ndarray,
-                 dy: np.ndarray, best_t: np.ndarray, best_o: np.ndarray,
-                 block_far: np.ndarray) -> None:
+                 gap: float, radius: float, limit: float, layout: Layout, work: np.ndarray,
+                 best_o: np.ndarray) -> None:
     """Test robot ``r``'s edges that face the sensor against the beams each one spans.
 
     ``corners`` and ``centers`` are all robots' (a ``RobotIndex``'s: whole arrays,
@@ -346,8 +348,7 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
     if layout[1] <= 0.0 or distance <= radius * (1.0 + 1e-9):  # no order, or inside its circle
         for e in range(4):
             _sweep_segment(ox, oy, corners[r, e, 0], corners[r, e, 1], corners[r, e + 1, 0],
-                           corners[r, e + 1, 1], r, gap, limit, layout, dx, dy, best_t,
-                           best_o, block_far)
+                           corners[r, e + 1, 1], r, gap, limit, layout, work, best_o)
         return
     # hidden when every beam its bounding circle spans already hits nearer
     half = 0.5 * math.pi * radius / distance * (1.0 + 1e-9)  # asin(x) <= x pi / 2
@@ -356,7 +357,7 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
     for shift in (-TAU, 0.0, TAU):
         first, last = _beam_range(low, 2.0 * half, layout, shift)
         for b in range(first // BLOCK, last // BLOCK + 1) if first <= last else range(0):
-            hidden &= block_far[b] < gap
+            hidden &= work[FAR, b] < gap
     if hidden:
         return
     # from outside, a beam meets a convex body first on a side facing the sensor: skip
@@ -367,12 +368,11 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
         cross = ex * wy - ey * wx  # > 0: the sensor is on the inner (left) side
         if cross <= 1e-9 * (abs(ex) + abs(ey)) * (abs(wx) + abs(wy) + 1.0):
             _sweep_segment(ox, oy, corners[r, e, 0], corners[r, e, 1], corners[r, e + 1, 0],
-                           corners[r, e + 1, 1], r, gap, limit, layout, dx, dy, best_t,
-                           best_o, block_far)
+                           corners[r, e + 1, 1], r, gap, limit, layout, work, best_o)
 
 
 @njit(cache=True)
-def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
+def _layout(offsets: np.ndarray, heading: float) -> Layout:
     """``(base angle, spacing, count, margin, 1 / spacing)`` of a row of beams (spacing 0: none).
 
     Rows whose used beams form a prefix of increasing, near-evenly spaced
@@ -381,31 +381,29 @@ def _layout(offsets: np.ndarray, heading: float) -> np.ndarray:
     rounding.
     """
     beams = offsets.shape[0]
-    layout = np.zeros(5)
-    layout[0] = heading + offsets[0]
-    layout[2] = beams
+    unordered = (heading + offsets[0], 0.0, float(beams), 0.0, 0.0)
     count = 0
     while count < beams and not math.isnan(offsets[count]):
         count += 1
     if count < 2 or count * 2 < beams:  # few beams: one by one costs as little
-        return layout
+        return unordered
     for j in range(count, beams):
         if not math.isnan(offsets[j]):
-            return layout  # used beams are not a prefix
+            return unordered  # used beams are not a prefix
     spacing = (offsets[count - 1] - offsets[0]) / (count - 1)
     if not (spacing > MIN_SPACING and spacing * (count - 1) <= TAU):
-        return layout
+        return unordered
     deviation = 0.0
     for j in range(count):
         deviation = max(deviation, abs(offsets[j] - (offsets[0] + j * spacing)))
     margin = 1.0 + math.ceil((deviation + ANGLE_SLACK) / spacing)
-    if margin <= 3.0:
-        layout[1], layout[2], layout[3], layout[4] = spacing, count, margin, 1.0 / spacing
-    return layout
+    if margin > 3.0:
+        return unordered
+    return (heading + offsets[0], spacing, float(count), margin, 1.0 / spacing)
 
 
 @njit(cache=True)
-def _field_of_view(offsets: np.ndarray, heading: float) -> np.ndarray:
+def _field_of_view(offsets: np.ndarray, heading: float) -> Cone:
     """``(e0x, e0y, e1x, e1y, kind)``: the cone swept counterclockwise from ``e0`` to ``e1``.
 
     The edges point along the lowest and highest beam angles; ``kind`` is 1
@@ -413,24 +411,21 @@ def _field_of_view(offsets: np.ndarray, heading: float) -> np.ndarray:
     for a wider one (outside it: beyond both) and 0 when there is no cone to
     cull by (beams in no order, or a near-full turn).
     """
-    cone = np.zeros(5)
     low, high, count = math.inf, -math.inf, 0
     for j in range(offsets.shape[0]):
         if not math.isnan(offsets[j]):
             low, high, count = min(low, offsets[j]), max(high, offsets[j]), count + 1
     width = high - low
     if count == 0 or width >= TAU - 1e-6:
-        return cone
+        return (1.0, 0.0, 1.0, 0.0, 0.0)
     # rounding is monotonic: every beam angle heading + offset lies between these two
     first, last = heading + low, heading + high
-    cone[0], cone[1] = math.cos(first), math.sin(first)
-    cone[2], cone[3] = math.cos(last), math.sin(last)
-    cone[4] = 1.0 if width < math.pi - 1e-6 else 2.0
-    return cone
+    return (math.cos(first), math.sin(first), math.cos(last), math.sin(last),
+            1.0 if width < math.pi - 1e-6 else 2.0)
 
 
 @njit(cache=True, inline="always")
-def _beyond_edges(px: float, py: float, clearance: float, cone: np.ndarray) -> int:
+def _beyond_edges(px: float, py: float, clearance: float, cone: Cone) -> int:
     """Bits 0 and 1: ``p`` lies more than ``clearance`` beyond edge 0, 1.
 
     The slack covers rounding and the collinear tolerance of the hit test.
@@ -492,16 +487,15 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     layout = _layout(query.offsets[i], query.headings[i])
     # whole blocks of beams; the padding's NaN directions never hit, -inf: never tested
     blocks = (beams + BLOCK - 1) // BLOCK
-    dx, dy = np.full(blocks * BLOCK, math.nan), np.full(blocks * BLOCK, math.nan)
-    best_t = np.full(blocks * BLOCK, -math.inf)
+    work = np.empty((4, blocks * BLOCK))
+    work[DX, :], work[DY, :], work[NEAR, :], work[FAR, :] = math.nan, math.nan, -math.inf, math.inf
     best_o = np.full(blocks * BLOCK, NO_HIT)
     for j in range(beams):
         offset = query.offsets[i, j]
         if not math.isnan(offset):
             angle = query.headings[i] + offset
-            dx[j], dy[j] = math.cos(angle), math.sin(angle)
-            best_t[j] = math.inf
-    block_far = np.full(blocks, math.inf)
+            work[DX, j], work[DY, j] = math.cos(angle), math.sin(angle)
+            work[NEAR, j] = math.inf
     cone = _field_of_view(query.offsets[i], query.headings[i])
     # the walls listed for the sensor's cell (none outside the near grid)
     cell = near_cell_of(near, ox, oy)
@@ -550,19 +544,19 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         if p < walls:
             s = listed[p]
             _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], WALL,
-                           distance[p], limit, layout, dx, dy, best_t, best_o, block_far)
+                           distance[p], limit, layout, work, best_o)
         else:
             r = seen[p - walls]
             _sweep_robot(ox, oy, corners, centers, r, distance[p], radius[r], limit, layout,
-                         dx, dy, best_t, best_o, block_far)
+                         work, best_o)
     if certain < limit:  # beyond the sweep's reach: walk the fine grid
         for j in range(beams):
-            if best_t[j] > certain:
-                best_t[j], best_o[j] = _trace(grid, ox, oy, dx[j], dy[j], limit, me,
-                                              best_t[j], best_o[j], certain)
+            if work[NEAR, j] > certain:
+                work[NEAR, j], best_o[j] = _trace(grid, ox, oy, work[DX, j], work[DY, j], limit,
+                                                  me, work[NEAR, j], best_o[j], certain)
     for j in range(beams):
-        ranges[j] = math.nan if best_t[j] == -math.inf else (
-            limit if best_o[j] == NO_HIT else best_t[j])
+        ranges[j] = math.nan if work[NEAR, j] == -math.inf else (
+            limit if best_o[j] == NO_HIT else work[NEAR, j])
         owners[j] = best_o[j]
 
 
