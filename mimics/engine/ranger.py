@@ -5,11 +5,25 @@ of time for its cell, see ``wall_index.py``) and every edge of a robot whose
 bounding circle comes within range (``robot_index.py``) is swept once: its
 angular span, seen from the sensor, gives the few beams it can hit, and only
 those are intersected exactly. The cost per robot is the segments near it
-plus the beams each one covers, not the size of the map. Beyond the walls'
-sweep reach (maps too big for the near lists), beams walk the fine walls grid
-cell by cell (Amanatides-Woo) until their first hit. Scanning robots run in
-parallel (``prange``); each row is computed from its own inputs only, so the
-results are the same bit for bit whatever the number of threads.
+plus the beams each one covers, not the size of the map.
+
+What keeps that cost down:
+
+- walls and robots lying wholly outside the sensor's field of view (behind
+  a 180-degree laser, say) are dropped before anything else is computed;
+- walls and robots are swept together, nearest first (16 distance rings),
+  and beams come in blocks of 8 that remember their farthest hit: a farther
+  segment skips every block already hit nearer, and a robot whose bounding
+  circle is hidden that way is skipped whole;
+- a robot is swept by its sides that face the sensor, each over its own span;
+- the 8 beams of a block are tested against a segment without branches.
+
+The order of the sweep changes no result: a hit replaces another only when
+nearer, or as near with a lower owner. Beyond the walls' sweep reach (maps
+too big for the near lists), beams walk the fine walls grid cell by cell
+(Amanatides-Woo) until their first hit. Scanning robots run in parallel
+(``prange``); each row is computed from its own inputs only, so the results
+are the same bit for bit whatever the number of threads.
 
 The geometry (see :func:`ray_segment_distance`):
 

@@ -313,3 +313,36 @@ def test_kernels_cached_reads_numbas_cache_folder(tmp_path, monkeypatch):
     assert ranger.kernels_cached()  # the kernel just ran with cache=True
     monkeypatch.setattr(ranger, "__file__", str(tmp_path / "ranger.py"))
     assert not ranger.kernels_cached()  # an empty folder: a fresh install
+
+
+def test_a_half_turn_fan_sees_along_its_edges_but_nothing_behind():
+    """Walls and robots behind a 180-degree laser are culled before the sweep;
+    those on or touching its edge rays must still be hit, as the reference says."""
+    heading = 0.3
+    edge = heading - math.pi / 2  # the first beam's direction
+    ex, ey = math.cos(edge), math.sin(edge)
+    bx, by = -math.cos(heading), -math.sin(heading)  # straight behind the sensor
+    walls = np.array([
+        [3 * bx - ey, 3 * by + ex, 3 * bx + ey, 3 * by - ex],  # wholly behind
+        [2 * ex + bx, 2 * ey + by, 2 * ex - bx, 2 * ey - by],  # across the first beam
+        [4 * ex, 4 * ey, 6 * ex, 6 * ey],  # along the first beam: hit at its nearer end
+        # a point on the last beam's line but 5e-11 m behind it: inside the tolerance
+        [0.01 * -ex + 5e-11 * bx, 0.01 * -ey + 5e-11 * by] * 2,
+    ])
+    centers = np.array([[0.0, 0.0], [4 * bx, 4 * by], [3 * -ex + 0.1 * bx, 3 * -ey + 0.1 * by]])
+    headings, half = np.zeros(3), np.full(3, 0.3)
+    solid = np.ones(3, bool)
+    offsets = np.linspace(-math.pi / 2, math.pi / 2, 181)[None]
+    query = RangerQuery(np.zeros((1, 2)), np.array([heading]), offsets, np.array([8.0]),
+                        np.array([0]))
+    robots = build_robot_index(centers, headings, half, half, solid, cell=1.0)
+    want = naive.cast_rays(query.origins, query.headings, offsets, query.max_range, query.robot,
+                           walls, centers, headings, half, half, solid)
+    for reach in (8.0, 0.0):
+        ranges, owner = cast_rays(query, build_wall_index(walls, BOUNDS, reach=reach), robots)
+        np.testing.assert_allclose(ranges, want[0], rtol=0, atol=1e-9)
+        np.testing.assert_array_equal(owner, want[1])
+    assert owner[0, 0] == -1 and ranges[0, 0] == pytest.approx(2.0)  # the crossing wall
+    assert owner[0, 180] == -1 and ranges[0, 180] == pytest.approx(0.01)  # the point
+    assert owner[0, 179] == 2  # the robot straddling the last beam's line
+    assert not np.any(owner == 1)  # the robot behind is never seen
