@@ -305,14 +305,25 @@ def fast_atan2(y: float, x: float) -> float:
 
 
 @njit(cache=True, inline="always")
-def _beam_range(low: float, span: float, layout: Layout, shift: float) -> tuple[int, int]:
-    """Beams whose angle lies in ``[low, low + span] + shift`` (with the layout's margin)."""
-    base, _, count, margin, per_rad = layout
-    rel = low - base
-    rel -= TAU * math.floor(rel * (1.0 / TAU))
+def _relative(angle: float, layout: Layout) -> float:
+    """``angle`` less the first beam's, in ``[0, 2 pi)`` (up to rounding)."""
+    rel = angle - layout[0]
+    return rel - TAU * math.floor(rel * (1.0 / TAU))
+
+
+@njit(cache=True, inline="always")
+def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
+    """Beams whose angle less the first beam's lies in ``[rel, rel + span]``, with margin.
+
+    Empty (first > last) when no beam is there; spans wholly before the first
+    beam or after the last are told apart before any rounding to beams.
+    """
+    _, spacing, count, margin, per_rad = layout
+    if rel + span < -(margin + 1.0) * spacing or rel > (count + margin) * spacing:
+        return 1, 0
     # products by the reciprocal differ from quotients by rounding only: the margin covers it
-    first = max(math.ceil((rel + shift) * per_rad) - int(margin), 0)
-    last = min(math.floor((rel + shift + span) * per_rad) + int(margin), int(count) - 1)
+    first = max(math.ceil(rel * per_rad) - int(margin), 0)
+    last = min(math.floor((rel + span) * per_rad) + int(margin), int(count) - 1)
     return first, last
 
 
@@ -329,7 +340,7 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
     ax, ay, bx, by = x1 - ox, y1 - oy, x2 - ox, y2 - oy
     cross = ax * by - ay * bx
     lengths2 = (ax * ax + ay * ay) * (bx * bx + by * by)
-    if layout[1] <= 0.0 or abs(cross) <= ANGLE_EPS * math.sqrt(lengths2):
+    if layout[1] <= 0.0 or cross * cross <= ANGLE_EPS * ANGLE_EPS * lengths2:
         # no order to use, or the sensor sits on the segment's line (span near 0 or pi)
         _sweep_beams(0, work.shape[1] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit, work,
                      best_o)
@@ -341,8 +352,9 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
     span = high - low
     if span < 0.0:
         span += TAU  # a near-zero span that rounding turned round covers all: still exact
+    rel = _relative(low, layout)
     for shift in (-TAU, 0.0, TAU):  # beams may wrap around a full circle
-        first, last = _beam_range(low, span, layout, shift)
+        first, last = _beam_range(rel + shift, span, layout)
         if first <= last:
             _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, work, best_o)
 
@@ -365,11 +377,12 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
                            corners[r, e + 1, 1], r, gap, limit, layout, work, best_o)
         return
     # hidden when every beam its bounding circle spans already hits nearer
-    half = 0.5 * math.pi * radius / distance * (1.0 + 1e-9)  # asin(x) <= x pi / 2
-    low = fast_atan2(cy, cx) - half
+    x = radius / distance  # below 1 here
+    half = x / math.sqrt(1.0 - x * x) * (1.0 + 1e-9) + 1e-12  # asin(x) <= tan(asin(x))
+    rel = _relative(fast_atan2(cy, cx) - half, layout)
     hidden = True
     for shift in (-TAU, 0.0, TAU):
-        first, last = _beam_range(low, 2.0 * half, layout, shift)
+        first, last = _beam_range(rel + shift, 2.0 * half, layout)
         for b in range(first // BLOCK, last // BLOCK + 1) if first <= last else range(0):
             hidden &= work[FAR, b] < gap
     if hidden:
