@@ -200,8 +200,8 @@ class TeamController(Controller):
         state.user_time[ids] = (time.perf_counter() - start) / max(len(ids), 1)
         try:
             speed, heading = output
-            speed = np.broadcast_to(np.asarray(speed, dtype=np.float64), ids.shape)
-            heading = np.broadcast_to(np.asarray(heading, dtype=np.float64), ids.shape)
+            speed = _as_rows(speed, ids.shape)
+            heading = _as_rows(heading, ids.shape)
         except (TypeError, ValueError):
             return [_invalid(-1, now, f"team_step() must return (speed_refs, heading_refs), "
                                       f"two arrays of length {len(ids)}; got {output!r:.200}")]
@@ -216,6 +216,14 @@ class TeamController(Controller):
         return [_invalid(int(i), now, f"robot {int(i)}: team_step() returned a non-finite "
                                       f"reference (speed_ref={s}, heading_ref={h})")
                 for i, s, h in zip(ids[~good], speed[~good], heading[~good], strict=True)]
+
+
+def _as_rows(values: Any, shape: tuple[int, ...]) -> np.ndarray:
+    """A team's output as float rows of ``shape`` (broadcast when it is a scalar or short)."""
+    values = np.asarray(values, dtype=np.float64)
+    if values.shape == shape:  # the usual case: skip broadcast_to's Python overhead
+        return values
+    return np.broadcast_to(values, shape)
 
 
 def controller_from(algorithm: Any, name: str | None = None) -> Controller:

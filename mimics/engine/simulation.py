@@ -219,16 +219,18 @@ class Simulation:
         self._comms = None
         ids = np.flatnonzero(state.active & (self.types.beam_count > 0))
         if ids.size:
+            # every robot scanning (the usual case): whole arrays, no gathering copies
+            rows = slice(None) if ids.size == state.n else ids
+            types = self.types
             query = RangerQuery(
-                origins=np.ascontiguousarray(state.pose[ids, :2]),
-                headings=np.ascontiguousarray(state.pose[ids, 2]),
-                offsets=self.types.beam_offsets[ids], max_range=self.types.max_range[ids],
-                robot=ids.astype(np.int64))
+                origins=np.ascontiguousarray(state.pose[rows, :2]),
+                headings=np.ascontiguousarray(state.pose[rows, 2]),
+                offsets=types.beam_offsets[rows], max_range=types.max_range[rows],
+                robot=ids.astype(np.int64, copy=False))
             ranges, owner = trace_beams(query, self.walls, self._robot_index())
-            ranges = add_ranger_noise(ranges, self.types.max_range[ids],
-                                      self.types.sigma_range[ids], self.rng)
-            state.scan[ids] = ranges
-            state.scan_hit[ids] = owner
+            ranges = add_ranger_noise(ranges, query.max_range, types.sigma_range[rows], self.rng)
+            state.scan[rows] = ranges
+            state.scan_hit[rows] = owner
         measure_positioning(state, self.types, self.rng)
         self.messages.deliver(state.pose[:, :2], state.active)
 
