@@ -232,9 +232,10 @@ def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: flo
                  o: int, limit: float, work: np.ndarray, best_o: np.ndarray) -> float:
     """Let one segment improve the ``BLOCK`` beams from ``start``; their farthest hit after.
 
-    The same arithmetic as :func:`ray_segment_distance` without branches, so
-    that the compiler runs the block's beams side by side; beams that meet
-    the segment parallel (rare) go through it one by one.
+    The same arithmetic as :func:`ray_segment_distance`, hence the same bits,
+    but with selects instead of branches: whether a beam hits is as good as
+    random, and a mispredicted branch costs more than the arithmetic. Beams
+    that meet the segment parallel (rare) go through it one by one.
     """
     ex, ey = x2 - x1, y2 - y1
     wx, wy = x1 - ox, y1 - oy
