@@ -330,7 +330,7 @@ def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
     return first, last
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float, o: int,
                    nearest: float, limit: float, layout: Layout, work: np.ndarray,
                    best_o: np.ndarray) -> None:
