@@ -109,7 +109,7 @@ def run(
     from mimics.engine.ranger import kernels_cached
 
     if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (about 20 s, once)")
+        note("mimics: first run: compiling the simulation kernels (about 25 s, once)")
         _compile_kernels()
     try:
         params = parse_params(param or [])
