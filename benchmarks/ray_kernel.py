@@ -1,0 +1,119 @@
+"""The ray kernel alone, on states of the Cave and the Hospital, optionally against a revision.
+
+    python benchmarks/ray_kernel.py [--against REV] [--repeats 40] [--no-hospital]
+
+Runs ``deployment_team`` in the Cave to t = 0.5, 5, 20 and 45 s (and the
+Hospital to 0.5 s), and times the ray kernel on each state: the minimum of
+``--repeats`` calls, in µs per scanning robot, with the threads Numba has
+(``NUMBA_NUM_THREADS=1`` for one). With ``--against REV`` the ranger of git
+revision REV (``mimics/engine/ranger.py`` as it was there) is compiled beside
+this one and the two are called in turn on the same states, so that a busy
+or drifting machine slows both alike; the script says whether their results
+are the same bits. Like ``phases.py`` it reaches into the engine (the state,
+the wall and robot indexes), so it may need changes when those do.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numba
+import numpy as np
+
+from mimics.catalog import find_algorithm, load_scenario
+from mimics.engine import ranger
+from mimics.engine.ranger import RangerQuery
+from mimics.engine.simulation import Simulation
+
+ROOT = Path(__file__).resolve().parent.parent
+STATES = {"cave": (0.5, 5.0, 20.0, 45.0), "hospital": (0.5,)}
+
+
+def states(names: list[str]) -> list[tuple[str, float, Simulation, RangerQuery, Any]]:
+    """(scenario, time, simulation, query, robot index) at each time of ``STATES``."""
+    found = []
+    team = find_algorithm("deployment_team")[1]
+    for name in names:
+        sim = Simulation(load_scenario(name), team, seed=1, time_limit=1e9)
+        sim.start()
+        for when in STATES[name]:
+            while sim.state.time < when - 1e-9:
+                sim.step()
+            state, types = sim.state, sim.types
+            query = RangerQuery(np.ascontiguousarray(state.pose[:, :2]),
+                                np.ascontiguousarray(state.pose[:, 2]), types.beam_offsets,
+                                types.max_range, np.arange(state.n, dtype=np.int64))
+            # a copy: later steps must not change the index this state is timed on
+            index = type(sim._robot_index())(*(np.copy(a) if isinstance(a, np.ndarray) else a
+                                                for a in sim._robot_index()))
+            found.append((name, when, sim, query, index))
+    return found
+
+
+def ranger_at(revision: str) -> ModuleType:
+    """``mimics/engine/ranger.py`` as it was at ``revision``, compiled as its own module."""
+    source = subprocess.run(["git", "-C", str(ROOT), "show", f"{revision}:mimics/engine/ranger.py"],
+                            capture_output=True, text=True, check=True).stdout
+    path = Path(tempfile.mkdtemp(prefix="mimics-ranger-")) / "ranger_then.py"
+    path.write_text(source.replace("cache=True", "cache=False"))
+    spec = importlib.util.spec_from_file_location("ranger_then", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def timed(module: ModuleType, query: RangerQuery, sim: Simulation, index: Any,
+          out: tuple[np.ndarray, np.ndarray]) -> float:
+    """Seconds for one call of ``module``'s kernel (the engine's unchecked call)."""
+    walls = sim.walls
+    start = time.perf_counter()
+    with ranger.parallel_chunksize(getattr(module, "CHUNK_ROBOTS", 10)):
+        module._cast_kernel(query, walls.grid, walls.near, walls.reach, index, *out)
+    return time.perf_counter() - start
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--against", help="a git revision whose ranger to time alongside")
+    parser.add_argument("--repeats", type=int, default=40)
+    parser.add_argument("--no-hospital", action="store_true")
+    args = parser.parse_args()
+    kernels = {"now": ranger}
+    if args.against:
+        kernels[args.against] = ranger_at(args.against)
+    names = ["cave"] + ([] if args.no_hospital else ["hospital"])
+    print(f"ray kernel, min of {args.repeats} calls, {numba.get_num_threads()} thread(s)")
+    for name, when, sim, query, index in states(names):
+        k, beams = query.offsets.shape
+        results, best = {}, {}
+        for label, module in kernels.items():
+            out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
+            timed(module, query, sim, index, out)  # compiles on first use
+            results[label] = out[0].tobytes() + out[1].tobytes()
+            best[label] = np.inf
+        for _ in range(args.repeats):
+            for label, module in kernels.items():
+                out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
+                best[label] = min(best[label], timed(module, query, sim, index, out))
+        row = "  ".join(f"{label} {seconds / k * 1e6:6.2f} us/robot"
+                        for label, seconds in best.items())
+        if args.against:
+            speedup = best[args.against] / best["now"]
+            same = results["now"] == results[args.against]
+            row += f"  ({speedup:.2f}x, same bits: {'yes' if same else 'NO'})"
+        print(f"{name:9s} t = {when:4g} s, {k} robots: {row}")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
