@@ -15,18 +15,16 @@ Merges the figures into benchmarks/results.json under ``beam_scaling``.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 from typing import Any
 
 import numpy as np
 from common import (
-    add_common_arguments,
     base_spec,
-    child_main,
+    benchmark_parser,
     meta,
+    parse_or_serve_child,
     print_table,
-    resolve,
     row_from,
     run_child,
     save,
@@ -61,14 +59,11 @@ def line_fit(x: list[float], y: list[float]) -> dict[str, float]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=20.0, quick_time=2.0)
+    parser = benchmark_parser(__doc__, time=20.0, quick_time=2.0)
     parser.add_argument("--beams", type=int, nargs="+", default=[45, 90, 180, 360, 720])
     parser.add_argument("--form", choices=list(FORMS), default="team")
-    args = resolve(parser.parse_args())
-    if args.child:
-        child_main(args.child, build)
+    args = parse_or_serve_child(parser, build)
+    if args is None:
         return
     algorithm = FORMS[args.form]
     print(f"cave, 100 Pioneer2DX, {algorithm}, beams {args.beams}, {args.time:g} s simulated "

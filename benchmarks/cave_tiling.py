@@ -17,18 +17,16 @@ benchmarks/results.json under ``cave_tiling``.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 from typing import Any
 
 import numpy as np
 from common import (
-    add_common_arguments,
     base_spec,
-    child_main,
+    benchmark_parser,
     meta,
+    parse_or_serve_child,
     print_table,
-    resolve,
     row_from,
     run_child,
     save,
@@ -66,15 +64,12 @@ def build(spec: dict[str, Any]) -> Any:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=20.0, quick_time=2.0)
+    parser = benchmark_parser(__doc__, time=20.0, quick_time=2.0)
     parser.add_argument("--tiles", type=int, nargs="+", default=[1, 2, 4],
                         help="tiles per side (1, 2, 4: 1x, 4x, 16x the Cave)")
     parser.add_argument("--forms", nargs="+", choices=list(FORMS), default=list(FORMS))
-    args = resolve(parser.parse_args())
-    if args.child:
-        child_main(args.child, build)
+    args = parse_or_serve_child(parser, build)
+    if args is None:
         return
     print(f"cave tiled {', '.join(f'{k * k}x' for k in args.tiles)} (shared walls kept), "
           f"{args.time:g} s simulated per run, median of {args.repeats}, logging "

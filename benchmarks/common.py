@@ -279,6 +279,25 @@ def add_common_arguments(parser: argparse.ArgumentParser, time: float, quick_tim
     parser.set_defaults(default_time=time, quick_time=quick_time)
 
 
+def benchmark_parser(doc: str | None, time: float, quick_time: float
+                     ) -> argparse.ArgumentParser:
+    """A parser for a benchmark script: its docstring as help, the shared options."""
+    parser = argparse.ArgumentParser(description=doc,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_common_arguments(parser, time=time, quick_time=quick_time)
+    return parser
+
+
+def parse_or_serve_child(parser: argparse.ArgumentParser, build: Build | None = None
+                         ) -> argparse.Namespace | None:
+    """The parsed options; None in a ``--child`` process, once it has measured its spec."""
+    args = resolve(parser.parse_args())
+    if args.child:
+        child_main(args.child, build or default_build)
+        return None
+    return args
+
+
 def resolve(args: argparse.Namespace) -> argparse.Namespace:
     """Fill the defaults that depend on ``--quick``."""
     if args.time is None:
@@ -347,12 +366,8 @@ def deployment_benchmark(script: str, name: str, label: str, targets: dict[str, 
                          time: float, quick_time: float, doc: str) -> None:
     """The Cave and Hospital scripts: both forms of ``deployment`` on scenario ``name``,
     against per-form speed targets (s_sim/s); rows saved under ``name``."""
-    parser = argparse.ArgumentParser(description=doc,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=time, quick_time=quick_time)
-    args = resolve(parser.parse_args())
-    if args.child:
-        child_main(args.child)
+    args = parse_or_serve_child(benchmark_parser(doc, time, quick_time))
+    if args is None:
         return
     print(f"{name}, {label}, {args.time:g} s simulated per run, median of "
           f"{args.repeats} after {args.warmup} warm-up of {args.warmup_time:g} s, "

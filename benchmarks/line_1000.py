@@ -13,17 +13,15 @@ to the smallest; merges them into benchmarks/results.json under ``line_1000``.
 
 from __future__ import annotations
 
-import argparse
 from typing import Any
 
 from common import (
     ROW_COLUMNS,
-    add_common_arguments,
     base_spec,
-    child_main,
+    benchmark_parser,
     meta,
+    parse_or_serve_child,
     print_table,
-    resolve,
     row_from,
     run_child,
     save,
@@ -34,13 +32,10 @@ TARGET_RATIO = 0.5  # robot-steps/s at 1,000 robots over that at 10: within 2x
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=21.8, quick_time=2.0)
+    parser = benchmark_parser(__doc__, time=21.8, quick_time=2.0)
     parser.add_argument("--robots", type=int, nargs="+", default=[10, 1000])
-    args = resolve(parser.parse_args())
-    if args.child:
-        child_main(args.child)
+    args = parse_or_serve_child(parser)
+    if args is None:
         return
     print(f"line, robots {args.robots}, {args.time:g} s simulated per run (all reach their goals "
           f"by 21.8 s), median of {args.repeats}, logging {'on' if args.logging else 'off'}")

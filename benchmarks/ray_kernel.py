@@ -27,6 +27,7 @@ from typing import Any
 
 import numba
 import numpy as np
+from numba import parallel_chunksize
 
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine import ranger
@@ -76,7 +77,7 @@ def timed(module: ModuleType, query: RangerQuery, sim: Simulation, index: Any,
     """Seconds for one call of ``module``'s kernel (the engine's unchecked call)."""
     walls = sim.walls
     start = time.perf_counter()
-    with ranger.parallel_chunksize(getattr(module, "CHUNK_ROBOTS", 10)):
+    with parallel_chunksize(getattr(module, "CHUNK_ROBOTS", 10)):
         module._cast_kernel(query, walls.grid, walls.near, walls.reach, index, *out)
     return time.perf_counter() - start
 

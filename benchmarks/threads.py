@@ -13,17 +13,15 @@ run. Merges the figures into benchmarks/results.json under ``threads``.
 
 from __future__ import annotations
 
-import argparse
 from typing import Any
 
 from common import (
     ROW_COLUMNS,
-    add_common_arguments,
     base_spec,
-    child_main,
+    benchmark_parser,
     meta,
+    parse_or_serve_child,
     print_table,
-    resolve,
     row_from,
     run_child,
     save,
@@ -31,15 +29,12 @@ from common import (
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=60.0, quick_time=5.0)
+    parser = benchmark_parser(__doc__, time=60.0, quick_time=5.0)
     parser.add_argument("--threads-list", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--algorithm", default="deployment_team")
     parser.add_argument("--scenario", default="cave")
-    args = resolve(parser.parse_args())
-    if args.child:
-        child_main(args.child)
+    args = parse_or_serve_child(parser)
+    if args is None:
         return
     print(f"{args.scenario} / {args.algorithm}, {args.time:g} s simulated per run, median of "
           f"{args.repeats}, logging {'on' if args.logging else 'off'}, NUMBA_NUM_THREADS "

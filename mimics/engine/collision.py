@@ -165,7 +165,8 @@ def _lowest_robot(b: Bodies, i: int, robots: RobotIndex) -> int:
     h = b.headings[i]
     hl, hw = b.half_length[i], b.half_width[i]
     # bounding circles that touch: centres at most the two radii apart
-    reach = math.hypot(hl, hw) + robots.max_radius + TOUCH_EPS
+    own = math.hypot(hl, hw)
+    reach = own + robots.max_radius + TOUCH_EPS
     nx = robots.shape[0]
     ix0, ix1 = cell_span(cx - reach, cx + reach, robots.origin[0], robots.cell, nx)
     iy0, iy1 = cell_span(cy - reach, cy + reach, robots.origin[1], robots.cell, robots.shape[1])
@@ -178,7 +179,7 @@ def _lowest_robot(b: Bodies, i: int, robots: RobotIndex) -> int:
                 if j == i or (best >= 0 and j >= best):
                     continue
                 gap = math.hypot(robots.centers[j, 0] - cx, robots.centers[j, 1] - cy)
-                if gap > math.hypot(hl, hw) + robots.radius[j] + TOUCH_EPS:
+                if gap > own + robots.radius[j] + TOUCH_EPS:
                     continue
                 if boxes_touch(cx, cy, h, hl, hw, b.centers[j, 0], b.centers[j, 1],
                                b.headings[j], b.half_length[j], b.half_width[j], TOUCH_EPS):

@@ -81,18 +81,6 @@ def _not_finite(robot: int, now: float, speed: float, heading: float) -> UserFai
                                 f"(speed_ref={speed}, heading_ref={heading})")
 
 
-def _as_references(output: Any, robot: int, now: float) -> tuple[float, float] | UserFailure:
-    """Check a per-robot return value: two finite numbers."""
-    try:
-        speed, heading = output
-        speed, heading = float(speed), float(heading)
-    except (TypeError, ValueError):
-        return _not_two_numbers(robot, now, output)
-    if not (math.isfinite(speed) and math.isfinite(heading)):
-        return _not_finite(robot, now, speed, heading)
-    return speed, heading
-
-
 class PerRobotController(Controller):
     """Calls ``step(robot)`` for each robot in turn, each call timed on its own."""
 
@@ -145,7 +133,7 @@ class PerRobotController(Controller):
                 failures.append(_failure_from_exception(i, now, exc))
                 continue
             times.append(clock() - start)
-            # _as_references, inlined: this runs once per robot and step
+            # two finite numbers, checked inline: this runs once per robot and step
             try:
                 speed, heading = output
                 speed, heading = float(speed), float(heading)

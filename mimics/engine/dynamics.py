@@ -173,12 +173,12 @@ def move_robots(rows: np.ndarray, pose: np.ndarray, velocity: np.ndarray,
     """
     for i in rows:
         v, w = velocity[i, 0], velocity[i, 1]
-        g = speed_gains[i]
+        # elements, not row views: a view per robot would be reference-counted
         u_v, integral_v = _pid(reference[i, 0] - v, acceleration[i, 0], pid_integral[i, 0],
-                               g[0], g[1], g[2], dt)
-        g = heading_gains[i]
+                               speed_gains[i, 0], speed_gains[i, 1], speed_gains[i, 2], dt)
         u_w, integral_w = _pid(_wrap(reference[i, 1] - pose[i, 2]), w, pid_integral[i, 1],
-                               g[0], g[1], g[2], dt)
+                               heading_gains[i, 0], heading_gains[i, 1], heading_gains[i, 2],
+                               dt)
         new_v, distance[i] = _lag(v, kv[i] * u_v, tau_v[i], dt)
         new_w, turn[i] = _lag(w, kw[i] * u_w, tau_w[i], dt)
         actuation[i, 0], actuation[i, 1] = u_v, u_w

@@ -45,12 +45,12 @@ class MessageBus:
                 for target in targets.tolist():
                     self._inboxes.setdefault(target, []).append((sender, message))
                 continue
-            for target in np.array([to]).tolist():
-                if target == sender or not (0 <= target < len(active)) or not active[target]:
+            (target,) = np.array([to]).tolist()  # a plain Python number, whatever ``to`` is
+            if target == sender or not (0 <= target < len(active)) or not active[target]:
+                continue
+            if in_range:
+                gap = np.hypot(*(positions[target] - positions[sender]))
+                if gap > self.comm_range:
                     continue
-                if in_range:
-                    gap = np.hypot(*(positions[target] - positions[sender]))
-                    if gap > self.comm_range:
-                        continue
-                self._inboxes.setdefault(target, []).append((sender, message))
+            self._inboxes.setdefault(target, []).append((sender, message))
         self._outgoing = []

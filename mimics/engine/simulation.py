@@ -274,11 +274,9 @@ class Simulation:
             state.collided_with[i] = other
             self._mark(i, Status.COLLIDED, f"Collision with {what}", "collision", other=other)
 
-    def _check_goals_and_bounds(self, ids: np.ndarray,
-                                distance: np.ndarray | None = None) -> None:
+    def _check_goals_and_bounds(self, ids: np.ndarray, distance: np.ndarray) -> None:
+        """Mark robots ``ids`` that left the map or are ``distance`` from their goal."""
         state = self.state
-        if distance is None:
-            distance = state.goal_distance()
         xmin, ymin, xmax, ymax = self.scenario.map.bounds
         x, y = state.pose[ids, 0], state.pose[ids, 1]
         outside = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
@@ -289,8 +287,7 @@ class Simulation:
             state.goal_time[i] = state.time
             self._mark(i, Status.REACHED_GOAL, "Reached goal", "reached_goal")
 
-    def _check_stalls(self, distance: np.ndarray | None = None,
-                      active: np.ndarray | None = None) -> None:
+    def _check_stalls(self, distance: np.ndarray, active: np.ndarray) -> None:
         state = self.state
         flags = self._stalls.update(state, distance, active)
         if not flags.changes:

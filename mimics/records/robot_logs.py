@@ -147,40 +147,48 @@ def write_robot_logs(folder: Path, scenario: Scenario, run: dict[str, Any],
     out.mkdir(parents=True, exist_ok=True)
     per_robot = max(1, _trajectory_rows(Path(folder)) // n)
     size = max(1, batch_rows // per_robot)
-    written = []
-    for first in range(0, len(wanted), size):
-        batch = wanted[first:first + size]
-        table = read_table(Path(folder) / TRAJECTORY, Path(folder) / TRAJECTORY_PARTS,
-                           TRAJECTORY_SCHEMA, columns=("robot", "step", "status", *SOURCE_COLUMNS),
-                           filters=pc.field("robot").isin(batch))
-        table = table.sort_by([("robot", "ascending"), ("step", "ascending")])
-        messages, deactivations = _event_texts(Path(folder), batch)
-        block, starts = _numeric_block(table)
-        ids = table["robot"].to_numpy()
-        steps = table["step"].to_numpy()
-        status = table["status"].to_numpy()
-        files: list[tuple[Path, bytes]] = []
-        for robot in batch:
-            a, b = np.searchsorted(ids, robot, "left"), np.searchsorted(ids, robot, "right")
-            rows = block[starts[a]:starts[b]]  # one line per row, each ending in ";;\n"
-            if robot in messages:
-                lines = rows.decode().split("\n")[:-1]
-                for step, user, system in messages[robot]:
-                    k = int(np.searchsorted(steps[a:b], step))
-                    if k < len(lines) and steps[a + k] == step:
-                        lines[k] = f"{lines[k][:-2]};{_quoted(user)};{_quoted(system)}"
-                rows = "".join(line + "\n" for line in lines).encode()
-            final = Status(int(status[b - 1])) if b > a else Status.ACTIVE
-            ending = (deactivations.get((robot, STATUS_KIND[final]), final.label)
-                      if final != Status.ACTIVE else "None (active when the run ended)")
-            head = "\n".join([*header_lines(scenario, run, robot), "", ";".join(LOG_COLUMNS),
-                              ";".join(LOG_UNITS)]) + "\n"
-            tail = "\n" + DEACTIVATION + " ".join(ending.split()) + "\n"
-            files.append((out / robot_log_name(robot, n), head.encode() + rows + tail.encode()))
-        with ThreadPoolExecutor(WRITERS) as pool:  # file writes release the GIL
-            list(pool.map(lambda item: item[0].write_bytes(item[1]), files))
-        written.extend(path for path, _ in files)
+    written: list[Path] = []
+    with ThreadPoolExecutor(WRITERS) as pool:  # Arrow's CSV writer and file writes free the GIL
+        for first in range(0, len(wanted), size):
+            written.extend(_write_batch(pool, folder, out, scenario, run,
+                                        wanted[first:first + size]))
     return written
+
+
+def _write_batch(pool: ThreadPoolExecutor, folder: Path, out: Path, scenario: Scenario,
+                 run: dict[str, Any], batch: list[int]) -> list[Path]:
+    """The logs of the robots in ``batch``, formatted and written with ``pool``'s threads."""
+    n = scenario.robot_count
+    folder = Path(folder)
+    table = read_table(folder / TRAJECTORY, folder / TRAJECTORY_PARTS,
+                       TRAJECTORY_SCHEMA, columns=("robot", "step", "status", *SOURCE_COLUMNS),
+                       filters=pc.field("robot").isin(batch))
+    table = table.sort_by([("robot", "ascending"), ("step", "ascending")])
+    messages, deactivations = _event_texts(folder, batch)
+    block, starts = _numeric_block(table, pool)
+    ids = table["robot"].to_numpy()
+    steps = table["step"].to_numpy()
+    status = table["status"].to_numpy()
+    files: list[tuple[Path, bytes]] = []
+    for robot in batch:
+        a, b = np.searchsorted(ids, robot, "left"), np.searchsorted(ids, robot, "right")
+        rows = block[starts[a]:starts[b]]  # one line per row, each ending in ";;\n"
+        if robot in messages:
+            lines = rows.decode().split("\n")[:-1]
+            for step, user, system in messages[robot]:
+                k = int(np.searchsorted(steps[a:b], step))
+                if k < len(lines) and steps[a + k] == step:
+                    lines[k] = f"{lines[k][:-2]};{_quoted(user)};{_quoted(system)}"
+            rows = "".join(line + "\n" for line in lines).encode()
+        final = Status(int(status[b - 1])) if b > a else Status.ACTIVE
+        ending = (deactivations.get((robot, STATUS_KIND[final]), final.label)
+                  if final != Status.ACTIVE else "None (active when the run ended)")
+        head = "\n".join([*header_lines(scenario, run, robot), "", ";".join(LOG_COLUMNS),
+                          ";".join(LOG_UNITS)]) + "\n"
+        tail = "\n" + DEACTIVATION + " ".join(ending.split()) + "\n"
+        files.append((out / robot_log_name(robot, n), head.encode() + rows + tail.encode()))
+    list(pool.map(lambda item: item[0].write_bytes(item[1]), files))
+    return [path for path, _ in files]
 
 
 def _trajectory_rows(folder: Path) -> int:
@@ -195,21 +203,20 @@ def _csv_bytes(table: pa.Table) -> bytes:
     return sink.getvalue()
 
 
-def _numeric_block(table: pa.Table) -> tuple[bytes, np.ndarray]:
+def _numeric_block(table: pa.Table, pool: ThreadPoolExecutor) -> tuple[bytes, np.ndarray]:
     """The numeric columns as ``;``-separated lines ending with two empty message fields.
 
     Returns the lines as one UTF-8 block and the offset where each line starts
-    (one more for the end). Slices of the table are formatted in parallel:
-    Arrow writes CSV outside the GIL, and writing the numbers is most of the
-    cost of the logs.
+    (one more for the end). Slices of the table are formatted by ``pool``'s
+    threads: Arrow writes CSV outside the GIL, and writing the numbers is most
+    of the cost of the logs.
     """
     numeric = table.select(list(SOURCE_COLUMNS))
     empty = pa.nulls(table.num_rows, pa.string())
     numeric = numeric.append_column("user_msg", empty).append_column("sys_msg", empty)
     size = max(1, -(-numeric.num_rows // WRITERS))
     slices = [numeric.slice(first, size) for first in range(0, numeric.num_rows, size)]
-    with ThreadPoolExecutor(WRITERS) as pool:
-        block = b"".join(pool.map(_csv_bytes, slices))
+    block = b"".join(pool.map(_csv_bytes, slices))
     ends = np.flatnonzero(np.frombuffer(block, dtype=np.uint8) == ord("\n")) + 1
     return block, np.concatenate([[0], ends])
 

@@ -12,6 +12,7 @@ from mimics.records.scenario_record import read_scenario_record, write_scenario_
 from mimics.world.errors import MimicsError
 from mimics.world.maps import Map
 from mimics.world.scenario import Scenario, Settings
+from mimics.world.scenario_files import scenario_from_toml_text
 
 from .helpers import PROBE, SMALL
 
@@ -63,13 +64,12 @@ def test_types_with_the_same_name_stay_apart(tmp_path: Path) -> None:
 
 
 def test_it_reads_as_a_declarative_scenario(tmp_path: Path) -> None:
-    files = pytest.importorskip("mimics.world.scenario_files")
     original = mixed_scenario()
     path = tmp_path / "scenario.toml"
     write_scenario_record(path, original, {"seed": 1})
     text = path.read_text()
     without_run = text[:text.index("[run]")] + text[text.index("[settings]"):]
-    loaded = files.scenario_from_toml_text(without_run, path)
+    loaded = scenario_from_toml_text(without_run, path)
     np.testing.assert_array_equal(loaded.stages, original.stages)
     np.testing.assert_array_equal(loaded.goals, original.goals)
     assert loaded.map == original.map and loaded.settings == original.settings
