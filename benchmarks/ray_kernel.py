@@ -9,7 +9,8 @@ Hospital to 0.5 s), and times the ray kernel on each state: the minimum of
 revision REV (``mimics/engine/ranger.py`` as it was there) is compiled beside
 this one and the two are called in turn on the same states, so that a busy
 or drifting machine slows both alike; the script says whether their results
-are the same bits. Like ``phases.py`` it reaches into the engine (the state,
+are the same bits, and if not, how far apart the ranges are and how many hit
+owners differ. Like ``phases.py`` it reaches into the engine (the state,
 the wall and robot indexes), so it may need changes when those do.
 """
 
@@ -51,7 +52,8 @@ def states(names: list[str]) -> list[tuple[str, float, Simulation, RangerQuery, 
             state, types = sim.state, sim.types
             query = RangerQuery(np.ascontiguousarray(state.pose[:, :2]),
                                 np.ascontiguousarray(state.pose[:, 2]), types.beam_offsets,
-                                types.max_range, np.arange(state.n, dtype=np.int64))
+                                types.max_range, np.arange(state.n, dtype=np.int64),
+                                types.beam_units, types.beam_fans)
             # a copy: later steps must not change the index this state is timed on
             index = type(sim._robot_index())(*(np.copy(a) if isinstance(a, np.ndarray) else a
                                                 for a in sim._robot_index()))
@@ -77,9 +79,19 @@ def timed(module: ModuleType, query: RangerQuery, sim: Simulation, index: Any,
     """Seconds for one call of ``module``'s kernel (the engine's unchecked call)."""
     walls = sim.walls
     start = time.perf_counter()
-    with parallel_chunksize(getattr(module, "CHUNK_ROBOTS", 10)):
+    # this revision's kernel chunks robots itself; older ones took the chunk size from here
+    with parallel_chunksize(1 if hasattr(module, "FAN_COLUMNS") else 10):
         module._cast_kernel(query, walls.grid, walls.near, walls.reach, index, *out)
     return time.perf_counter() - start
+
+
+def agreement(now: tuple[np.ndarray, np.ndarray], then: tuple[np.ndarray, np.ndarray]) -> str:
+    """Whether two kernels' ranges and owners are the same bits, and how far apart if not."""
+    if now[0].tobytes() == then[0].tobytes() and np.array_equal(now[1], then[1]):
+        return "same bits"
+    gap = np.nanmax(np.abs(now[0] - then[0]), initial=0.0)
+    owners = int(np.count_nonzero(now[1] != then[1]))
+    return f"not the same bits: ranges within {gap:.1e} m, {owners} owners differ"
 
 
 def main() -> None:
@@ -100,7 +112,7 @@ def main() -> None:
         for label, module in kernels.items():
             out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
             timed(module, query, sim, index, out)  # compiles on first use
-            results[label] = out[0].tobytes() + out[1].tobytes()
+            results[label] = out
             best[label] = np.inf
         for _ in range(args.repeats):
             for label, module in kernels.items():
@@ -110,8 +122,7 @@ def main() -> None:
                         for label, seconds in best.items())
         if args.against:
             speedup = best[args.against] / best["now"]
-            same = results["now"] == results[args.against]
-            row += f"  ({speedup:.2f}x, same bits: {'yes' if same else 'NO'})"
+            row += f"  ({speedup:.2f}x, {agreement(results['now'], results[args.against])})"
         print(f"{name:9s} t = {when:4g} s, {k} robots: {row}")
     sys.stdout.flush()
 

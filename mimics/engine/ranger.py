@@ -72,13 +72,15 @@ ANGLE_SLACK = 1e-6  # rad added around every swept span: covers fast_atan2's err
 MIN_SPACING = 1e-9  # rad: beams closer than this are tested one by one
 TAU = 2.0 * math.pi
 RINGS = 16  # distance classes in which walls and robots are swept, nearest first
-CHUNK_ROBOTS = 10  # robots per work item of the parallel loop: 2.0x on 2 threads (halves: 1.75x)
+# robots per work item of the parallel loop, taken in turn: 2.0x on 2 threads (halves: 1.75x)
+CHUNK_ROBOTS = 10
 # beams per block whose farthest hit so far lets a segment skip them all; on the Cave,
 # blocks of 2, 8 and 16 are 7%, 9% and 25% slower
 BLOCK = 4
 # rows of a scan's work array (one array: every array an inlined helper takes is
 # reference-counted at each call); FAR holds one entry per block of beams
 DX, DY, NEAR, FAR = 0, 1, 2, 3
+FAN_COLUMNS = 10  # a row of ``beam_fans``
 
 
 #: ``(base angle, spacing, count, margin, 1 / spacing)`` of evenly spaced beams (``_layout``)
@@ -98,6 +100,14 @@ class RangerQuery(NamedTuple):
         max_range: ``(k,)`` ranges (m).
         robot: ``(k,)`` int64 index of each scanning robot, whose own edges
             are skipped (-1 for a sensor that is not a robot).
+        offset_units: ``(k, B, 2)`` cosines and sines of ``offsets``, or None to
+            have them computed (a simulation keeps them per robot type: beam
+            directions are then a rotation, not a sine and cosine per beam).
+        fans: ``(k, FAN_COLUMNS)`` each row's fan relative to its heading (see
+            :func:`beam_fans`), or None to have them computed.
+
+    A beam's direction is ``(cos h, sin h)`` rotated by its offset's unit vector:
+    ``(cos h cos o - sin h sin o, sin h cos o + cos h sin o)``.
     """
 
     origins: np.ndarray
@@ -105,6 +115,8 @@ class RangerQuery(NamedTuple):
     offsets: np.ndarray
     max_range: np.ndarray
     robot: np.ndarray
+    offset_units: np.ndarray | None = None
+    fans: np.ndarray | None = None
 
 
 @njit(cache=True)
@@ -505,30 +517,36 @@ def _by_distance(distance: np.ndarray, limit: float) -> np.ndarray:
 @njit(cache=True)
 def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
               near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
-              owners: np.ndarray) -> None:
+              owners: np.ndarray, work: np.ndarray, best_o: np.ndarray) -> None:
     """Fill one scanning robot's ``ranges`` and hit ``owners``.
 
     The walls come as the fields of a ``WallIndex`` (``grid``, ``near``,
-    ``reach``): parallel kernels take no nested tuples.
+    ``reach``): parallel kernels take no nested tuples. ``work`` and ``best_o``
+    are scratch space of whole blocks of beams, reused from one robot to the next.
     """
     beams = query.offsets.shape[1]
     segs = near.segments
     ox, oy = query.origins[i, 0], query.origins[i, 1]
     limit = query.max_range[i]
     me = query.robot[i]
-    layout = _layout(query.offsets[i], query.headings[i])
+    heading = query.headings[i]
+    fan = query.fans[i]
+    layout = (heading + fan[0], fan[1], fan[2], fan[3], fan[4])
+    ch, sh = math.cos(heading), math.sin(heading)  # the rotation to the heading
     # whole blocks of beams; the padding's NaN directions never hit, -inf: never tested
-    blocks = (beams + BLOCK - 1) // BLOCK
-    work = np.empty((4, blocks * BLOCK))
-    work[DX, :], work[DY, :], work[NEAR, :], work[FAR, :] = math.nan, math.nan, -math.inf, math.inf
-    best_o = np.full(blocks * BLOCK, NO_HIT)
+    for j in range(best_o.shape[0]):
+        work[DX, j], work[DY, j], work[NEAR, j], work[FAR, j] = (math.nan, math.nan, -math.inf,
+                                                                 math.inf)
+        best_o[j] = NO_HIT
+    units = query.offset_units
     for j in range(beams):
-        offset = query.offsets[i, j]
-        if not math.isnan(offset):
-            angle = query.headings[i] + offset
-            work[DX, j], work[DY, j] = math.cos(angle), math.sin(angle)
+        if not math.isnan(query.offsets[i, j]):
+            co, so = units[i, j, 0], units[i, j, 1]
+            work[DX, j], work[DY, j] = ch * co - sh * so, sh * co + ch * so
             work[NEAR, j] = math.inf
-    cone = _field_of_view(query.offsets[i], query.headings[i])
+    # the field of view's edges rotated like the beams: every beam lies between them
+    cone = (ch * fan[5] - sh * fan[6], sh * fan[5] + ch * fan[6],
+            ch * fan[7] - sh * fan[8], sh * fan[7] + ch * fan[8], fan[9])
     # the walls listed for the sensor's cell (none outside the near grid)
     cell = near_cell_of(near, ox, oy)
     certain = reach if cell >= 0 else 0.0
@@ -596,20 +614,35 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
 def _cast_kernel(query: RangerQuery, grid: SegmentGrid,
                  near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
                  hit_owner: np.ndarray) -> None:
-    """Fill ``ranges`` and ``hit_owner`` row by row (one scanning robot per row)."""
-    for i in prange(query.offsets.shape[0]):
-        _scan_row(query, i, grid, near, reach, robots, ranges[i], hit_owner[i])
+    """Fill ``ranges`` and ``hit_owner`` row by row (one scanning robot per row).
+
+    Work items are chunks of ``CHUNK_ROBOTS`` rows sharing one scratch space.
+    """
+    k, beams = query.offsets.shape
+    padded = (beams + BLOCK - 1) // BLOCK * BLOCK
+    for chunk in prange((k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS):
+        work = np.empty((4, padded))
+        best_o = np.empty(padded, dtype=np.int64)
+        for i in range(chunk * CHUNK_ROBOTS, min(k, (chunk + 1) * CHUNK_ROBOTS)):
+            _scan_row(query, i, grid, near, reach, robots, ranges[i], hit_owner[i], work, best_o)
 
 
 def _as_query(query: RangerQuery) -> RangerQuery:
     offsets = coerce_array(query.offsets, np.float64, 2, "offsets")
     k = offsets.shape[0]
+    units = None if query.offset_units is None else coerce_array(
+        query.offset_units, np.float64, 3, "offset_units")
+    fans = None if query.fans is None else coerce_array(query.fans, np.float64, 2, "fans")
     q = RangerQuery(coerce_array(query.origins, np.float64, 2, "origins"),
                     coerce_array(query.headings, np.float64, 1, "headings"), offsets,
                     coerce_array(query.max_range, np.float64, 1, "max_range"),
-                    coerce_array(query.robot, np.int64, 1, "robot"))
+                    coerce_array(query.robot, np.int64, 1, "robot"), units, fans)
     if q.origins.shape != (k, 2) or any(len(a) != k for a in (q.headings, q.max_range, q.robot)):
         raise ValueError(f"query arrays disagree on the number of scanning robots ({k})")
+    if units is not None and units.shape != (*offsets.shape, 2):
+        raise ValueError(f"offset_units must have shape {(*offsets.shape, 2)}, got {units.shape}")
+    if fans is not None and fans.shape != (k, FAN_COLUMNS):
+        raise ValueError(f"fans must have shape {(k, FAN_COLUMNS)}, got {fans.shape}")
     if not (np.all(np.isfinite(q.origins)) and np.all(np.isfinite(q.headings))):
         raise ValueError("beam origins and headings must be finite")
     if np.isinf(q.offsets).any():
@@ -648,13 +681,40 @@ def trace_beams(query: RangerQuery, walls: WallIndex,
     :class:`RangerQuery` gives, with finite origins and headings.
     """
     k, beams = query.offsets.shape
+    if query.offset_units is None:
+        query = query._replace(offset_units=offset_units(query.offsets))
+    if query.fans is None:
+        query = query._replace(fans=beam_fans(query.offsets))
     ranges = np.empty((k, beams))
     hit_owner = np.empty((k, beams), dtype=np.int64)
     if k and beams:
         # small chunks, taken in turn: robots' costs differ, equal halves would idle a thread
-        with parallel_chunksize(CHUNK_ROBOTS):
+        with parallel_chunksize(1):
             _cast_kernel(query, walls.grid, walls.near, walls.reach, robots, ranges, hit_owner)
     return ranges, hit_owner
+
+
+def offset_units(offsets: np.ndarray) -> np.ndarray:
+    """``(..., 2)``: the cosine and sine of each beam offset (NaN for unused slots)."""
+    return np.ascontiguousarray(np.stack([np.cos(offsets), np.sin(offsets)], axis=-1))
+
+
+@njit(cache=True)
+def beam_fans(offsets: np.ndarray) -> np.ndarray:
+    """``(k, FAN_COLUMNS)``: each row of beam offsets' fan, for a heading of zero.
+
+    Columns 0-4 are its ``_layout`` (the first offset, spacing, count, margin,
+    1 / spacing), 5-9 its ``_field_of_view`` (the unit vectors of the lowest
+    and highest offsets, and the cone's kind). A scan adds its heading to the
+    first and rotates the second: rows repeat per robot type, so a simulation
+    computes them once.
+    """
+    fans = np.empty((offsets.shape[0], FAN_COLUMNS))
+    for i in range(offsets.shape[0]):
+        layout, cone = _layout(offsets[i], 0.0), _field_of_view(offsets[i], 0.0)
+        for c in range(5):
+            fans[i, c], fans[i, 5 + c] = layout[c], cone[c]
+    return fans
 
 
 def kernels_cached() -> bool:

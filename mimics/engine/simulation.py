@@ -226,7 +226,8 @@ class Simulation:
                 origins=np.ascontiguousarray(state.pose[rows, :2]),
                 headings=np.ascontiguousarray(state.pose[rows, 2]),
                 offsets=types.beam_offsets[rows], max_range=types.max_range[rows],
-                robot=ids.astype(np.int64, copy=False))
+                robot=ids.astype(np.int64, copy=False), offset_units=types.beam_units[rows],
+                fans=types.beam_fans[rows])
             ranges, owner = trace_beams(query, self.walls, self._robot_index())
             ranges = add_ranger_noise(ranges, query.max_range, types.sigma_range[rows], self.rng)
             state.scan[rows] = ranges

@@ -14,6 +14,7 @@ from functools import cached_property
 import numpy as np
 
 from mimics.engine.dynamics import PidArrays, Plant
+from mimics.engine.ranger import beam_fans, offset_units
 from mimics.world.scenario import Scenario
 
 
@@ -47,6 +48,8 @@ class TypeArrays:
     plant: Plant
     pid: PidArrays
     beam_offsets: np.ndarray  # (n, B), NaN where a robot's type has fewer beams
+    beam_units: np.ndarray  # (n, B, 2): cosine and sine of each offset (the ranger rotates them)
+    beam_fans: np.ndarray  # (n, FAN_COLUMNS): each row's fan, for the ranger (beam_fans)
     beam_count: np.ndarray  # (n,)
     max_range: np.ndarray
     sigma_range: np.ndarray
@@ -90,6 +93,8 @@ class TypeArrays:
             pid=PidArrays(np.ascontiguousarray(gains("speed_pid")),
                           np.ascontiguousarray(gains("heading_pid"))),
             beam_offsets=np.ascontiguousarray(offsets_by_type[idx]),
+            beam_units=offset_units(offsets_by_type)[idx],
+            beam_fans=beam_fans(offsets_by_type)[idx],
             beam_count=np.array([t.ranger.beams for t in types], dtype=np.int64)[idx],
             max_range=per_robot(lambda t: t.ranger.range),
             sigma_range=per_robot(lambda t: t.ranger.sigma),
