@@ -673,20 +673,24 @@ def cast_rays(query: RangerQuery, walls: WallIndex,
     return trace_beams(_as_query(query), coerce_wall_index(walls), coerce_robot_index(robots))
 
 
-def trace_beams(query: RangerQuery, walls: WallIndex,
-                robots: RobotIndex) -> tuple[np.ndarray, np.ndarray]:
+def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
+                out: tuple[np.ndarray, np.ndarray] | None = None
+                ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`cast_rays` without the checks, for the engine's own arrays.
 
     The query's arrays must be C-contiguous, of the dtypes and shapes
-    :class:`RangerQuery` gives, with finite origins and headings.
+    :class:`RangerQuery` gives, with finite origins and headings. ``out``:
+    C-contiguous ``(k, B)`` float64 and int64 arrays to fill (and return)
+    instead of new ones.
     """
     k, beams = query.offsets.shape
     if query.offset_units is None:
         query = query._replace(offset_units=offset_units(query.offsets))
     if query.fans is None:
         query = query._replace(fans=beam_fans(query.offsets))
-    ranges = np.empty((k, beams))
-    hit_owner = np.empty((k, beams), dtype=np.int64)
+    if out is None:
+        out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
+    ranges, hit_owner = out
     if k and beams:
         # small chunks, taken in turn: robots' costs differ, equal halves would idle a thread
         with parallel_chunksize(1):

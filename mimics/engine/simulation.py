@@ -228,10 +228,16 @@ class Simulation:
                 offsets=types.beam_offsets[rows], max_range=types.max_range[rows],
                 robot=ids.astype(np.int64, copy=False), offset_units=types.beam_units[rows],
                 fans=types.beam_fans[rows])
-            ranges, owner = trace_beams(query, self.walls, self._robot_index())
-            ranges = add_ranger_noise(ranges, query.max_range, types.sigma_range[rows], self.rng)
-            state.scan[rows] = ranges
-            state.scan_hit[rows] = owner
+            if ids.size == state.n:  # the kernel writes straight into the state
+                trace_beams(query, self.walls, self._robot_index(), (state.scan, state.scan_hit))
+                noisy = add_ranger_noise(state.scan, query.max_range, types.sigma_range, self.rng)
+                if noisy is not state.scan:
+                    state.scan[:] = noisy
+            else:
+                ranges, owner = trace_beams(query, self.walls, self._robot_index())
+                state.scan[rows] = add_ranger_noise(ranges, query.max_range,
+                                                    types.sigma_range[rows], self.rng)
+                state.scan_hit[rows] = owner
         measure_positioning(state, self.types, self.rng)
         self.messages.deliver(state.pose[:, :2], state.active)
 
