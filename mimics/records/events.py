@@ -88,15 +88,26 @@ class EventBuffer:
         self.rows.append((time, step, robot, kind, detail, other, start, traceback))
         self.counts[kind] = self.counts.get(kind, 0) + 1
 
-    def flush(self) -> None:
-        """Write the buffered rows as one part and empty the buffer."""
-        if not self.rows:
+    def flush(self, table: pa.Table | None = None) -> None:
+        """Write the buffered rows as one part and empty the buffer.
+
+        Args:
+            table: the buffered rows when the caller already has them from :meth:`table`.
+        """
+        table = table if table is not None else self.table()
+        if table is None:
             return
+        self.writer.write(table)
+        self.rows.clear()
+
+    def table(self) -> pa.Table | None:
+        """The buffered rows as a table (None when there are none)."""
+        if not self.rows:
+            return None
         columns = list(zip(*self.rows, strict=True))
         arrays = [pa.array(values, type=f.type)
                   for values, f in zip(columns, EVENTS_SCHEMA, strict=True)]
-        self.writer.write(pa.Table.from_arrays(arrays, schema=EVENTS_SCHEMA))
-        self.rows.clear()
+        return pa.Table.from_arrays(arrays, schema=EVENTS_SCHEMA)
 
 
 def _messages(messages: list[str], ids: np.ndarray) -> list[int]:

@@ -7,7 +7,9 @@ messages (:mod:`mimics.records.events`), writing a part file every
 ``flush_rows`` rows or ``flush_seconds`` of wall time. At the end it merges
 the parts into trajectory.parquet and events.parquet, writes the per-robot
 logs from them (``robot_logs``: ``"auto"`` up to :data:`AUTO_ROBOT_LOGS`
-robots, ``"on"``, ``"off"``), summary.txt, and summary.json last.
+robots, ``"on"``, ``"off"``), summary.txt, and summary.json last. A run that
+fits in one part (most) still has its tables in memory at the end: the logs
+are then made from those while another thread writes them as Parquet.
 
 >>> import tempfile
 >>> from mimics.engine.simulation import Simulation
@@ -27,11 +29,13 @@ import importlib.metadata
 import shutil
 import time
 import uuid
+from concurrent.futures import ThreadPoolExecutor
 from datetime import datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
+import pyarrow as pa
 
 import mimics
 from mimics.engine.outcome import RunResult
@@ -54,6 +58,7 @@ from mimics.world.errors import MimicsError
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
+    from mimics.world.scenario import Scenario
 
 RobotLogs = Literal["auto", "on", "off"]
 ROBOT_LOG_CHOICES = ("auto", "on", "off")
@@ -187,11 +192,14 @@ class RunRecorder:
         began = time.perf_counter()
         if self._full_step != sim.state.step:  # the last step, when ``every`` skipped it
             self._trajectory.add(sim.state, np.flatnonzero(sim.state.active))
-        self.close()
         logs = self.robot_logs == "on" or (self.robot_logs == "auto"
                                            and sim.state.n <= AUTO_ROBOT_LOGS)
-        if logs:
-            write_robot_logs(self.folder, sim.scenario, self.run_info)
+        if logs and self._trajectory.writer.parts == 0 and self._events.writer.parts == 0:
+            self._close_with_logs(sim.scenario)
+        else:
+            self.close()
+            if logs:
+                write_robot_logs(self.folder, sim.scenario, self.run_info)
         counts = self._events.counts
         extra = {
             "run_uuid": self.run_info["uuid"], "created": self.run_info["created"],
@@ -227,6 +235,34 @@ class RunRecorder:
             return
         self._closed = True
         self.flush()
+        self._merge()
+
+    def _close_with_logs(self, scenario: Scenario) -> None:
+        """``close()`` and the robot logs, for a run still all in memory (one part).
+
+        The logs are made from the buffered tables while another thread writes
+        them as Parquet (whose encoding frees the GIL), rather than after it,
+        from the files read back.
+        """
+        self._closed = True
+        trajectory = self._trajectory.table()
+        events = self._events.table()
+        with ThreadPoolExecutor(1) as parquet:
+            merged = parquet.submit(self._flush_and_merge, trajectory, events)
+            write_robot_logs(
+                self.folder, scenario, self.run_info,
+                trajectory=TRAJECTORY_SCHEMA.empty_table() if trajectory is None else trajectory,
+                events=EVENTS_SCHEMA.empty_table() if events is None else events)
+            merged.result()
+
+    def _flush_and_merge(self, trajectory: pa.Table | None, events: pa.Table | None) -> None:
+        """Write the buffers' last parts (already built as these tables), then merge."""
+        self._trajectory.flush(trajectory)
+        self._events.flush(events)
+        self._merge()
+
+    def _merge(self) -> None:
+        """Merge the parts into trajectory.parquet and events.parquet."""
         self._trajectory_rows = self._trajectory.writer.merge(self.folder / TRAJECTORY)
         self._event_rows = self._events.writer.merge(self.folder / EVENTS)
 

@@ -22,15 +22,17 @@ the ``robot id`` of the header). Each log is::
 
     Deactivation: Reached goal
 
-The logs are written from trajectory.parquet and events.parquet once the run
-has ended (never in the step loop), so ``mimics logs export RUN`` writes the
-very same files later. Numbers are written in their shortest exact form (what
-``repr`` gives): parsing a log gives back the values of trajectory.parquet
-exactly. ``x``, ``y``, ``phi`` are the positioning sensor's pose; the ``_gt``
-columns are the ground truth. A message holding ``;``, a quote or a line break
-is quoted as in CSV (RFC 4180). ``sys_msg`` is the engine's events of that
-step joined by `` | ``. The creation time and the uuid are the run's, so the
-log uuid of robot i is the same whenever its log is written.
+The logs are written from the trajectory and events tables once the run has
+ended (never in the step loop): by the recorder from the tables it holds,
+while it writes them as trajectory.parquet and events.parquet, or from those
+files, so ``mimics logs export RUN`` writes the very same files later. Numbers
+are written in their shortest exact form (what ``repr`` gives): parsing a log
+gives back the values of trajectory.parquet exactly. ``x``, ``y``, ``phi`` are
+the positioning sensor's pose; the ``_gt`` columns are the ground truth. A
+message holding ``;``, a quote or a line break is quoted as in CSV (RFC 4180).
+``sys_msg`` is the engine's events of that step joined by `` | ``. The
+creation time and the uuid are the run's, so the log uuid of robot i is the
+same whenever its log is written.
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ import uuid
 from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -48,7 +51,6 @@ import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.compute as pc
-import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
 from mimics.engine.state import Status
@@ -77,9 +79,16 @@ DEACTIVATION = "Deactivation: "
 STATUS_KIND = {Status.REACHED_GOAL: "reached_goal", Status.COLLIDED: "collision",
                Status.ESCAPED: "escaped", Status.DEADLOCK: "deadlock",
                Status.ERROR: "exception"}
-_CSV_OPTIONS = pacsv.WriteOptions(include_header=False, delimiter=";", quoting_style="none")
 _SPECIAL = (";", '"', "\n", "\r")
 WRITERS = 2  # threads that format and write the logs
+GROUPS = 4  # groups of robots per batch: more than the threads, so writing overlaps formatting
+_TRAJECTORY_SOURCE = ("robot", "step", "status", *SOURCE_COLUMNS)
+_EVENTS_SOURCE = ("step", "robot", "kind", "detail")
+#: Measured pose columns that usually repeat the true pose bit for bit (the heading always,
+#: the position when the positioning sensor has no noise): then formatted once.
+_COPIES = {"x_meas": "x", "y_meas": "y", "theta_meas": "theta"}
+#: A column is formatted run by run when it has at most this share of runs of equal values.
+_RUN_SHARE = 0.5
 
 
 @dataclass(frozen=True)
@@ -118,8 +127,9 @@ def header_lines(scenario: Scenario, run: dict[str, Any], robot: int) -> list[st
 
 def write_robot_logs(folder: Path, scenario: Scenario, run: dict[str, Any],
                      robots: Iterable[int] | None = None, out: Path | None = None,
-                     batch_rows: int = 500_000) -> list[Path]:
-    """Write the per-robot logs of the run in ``folder`` from its Parquet files.
+                     batch_rows: int = 500_000, *, trajectory: pa.Table | None = None,
+                     events: pa.Table | None = None) -> list[Path]:
+    """Write the per-robot logs of the run in ``folder`` from its Parquet files (or tables).
 
     Robots are done in batches of about ``batch_rows`` trajectory rows, so memory
     stays bounded whatever the team size.
@@ -131,6 +141,10 @@ def write_robot_logs(folder: Path, scenario: Scenario, run: dict[str, Any],
         robots: robot indices to write (all by default).
         out: the folder for the logs (default: ``folder/robots``).
         batch_rows: trajectory rows read at once.
+        trajectory: the run's whole trajectory table, when the caller holds it in
+            memory (the recorder, for a run written as one part): used instead of
+            reading it back from ``folder``.
+        events: likewise, the run's whole events table.
 
     Returns:
         The paths written, in robot order.
@@ -143,52 +157,19 @@ def write_robot_logs(folder: Path, scenario: Scenario, run: dict[str, Any],
     bad = [r for r in wanted if not 0 <= r < n]
     if bad:
         raise MimicsError(f"robot {bad[0]}: no such robot (the run has robots 0..{n - 1})")
-    out = Path(out) if out is not None else Path(folder) / ROBOTS_DIR
-    out.mkdir(parents=True, exist_ok=True)
-    per_robot = max(1, _trajectory_rows(Path(folder)) // n)
-    size = max(1, batch_rows // per_robot)
-    written: list[Path] = []
-    with ThreadPoolExecutor(WRITERS) as pool:  # Arrow's CSV writer and file writes free the GIL
-        for first in range(0, len(wanted), size):
-            written.extend(_write_batch(pool, folder, out, scenario, run,
-                                        wanted[first:first + size]))
-    return written
-
-
-def _write_batch(pool: ThreadPoolExecutor, folder: Path, out: Path, scenario: Scenario,
-                 run: dict[str, Any], batch: list[int]) -> list[Path]:
-    """The logs of the robots in ``batch``, formatted and written with ``pool``'s threads."""
-    n = scenario.robot_count
     folder = Path(folder)
-    table = read_table(folder / TRAJECTORY, folder / TRAJECTORY_PARTS,
-                       TRAJECTORY_SCHEMA, columns=("robot", "step", "status", *SOURCE_COLUMNS),
-                       filters=pc.field("robot").isin(batch))
-    table = table.sort_by([("robot", "ascending"), ("step", "ascending")])
-    messages, deactivations = _event_texts(folder, batch)
-    block, starts = _numeric_block(table, pool)
-    ids = table["robot"].to_numpy()
-    steps = table["step"].to_numpy()
-    status = table["status"].to_numpy()
-    files: list[tuple[Path, bytes]] = []
-    for robot in batch:
-        a, b = np.searchsorted(ids, robot, "left"), np.searchsorted(ids, robot, "right")
-        rows = block[starts[a]:starts[b]]  # one line per row, each ending in ";;\n"
-        if robot in messages:
-            lines = rows.decode().split("\n")[:-1]
-            for step, user, system in messages[robot]:
-                k = int(np.searchsorted(steps[a:b], step))
-                if k < len(lines) and steps[a + k] == step:
-                    lines[k] = f"{lines[k][:-2]};{_quoted(user)};{_quoted(system)}"
-            rows = "".join(line + "\n" for line in lines).encode()
-        final = Status(int(status[b - 1])) if b > a else Status.ACTIVE
-        ending = (deactivations.get((robot, STATUS_KIND[final]), final.label)
-                  if final != Status.ACTIVE else "None (active when the run ended)")
-        head = "\n".join([*header_lines(scenario, run, robot), "", ";".join(LOG_COLUMNS),
-                          ";".join(LOG_UNITS)]) + "\n"
-        tail = "\n" + DEACTIVATION + " ".join(ending.split()) + "\n"
-        files.append((out / robot_log_name(robot, n), head.encode() + rows + tail.encode()))
-    list(pool.map(lambda item: item[0].write_bytes(item[1]), files))
-    return [path for path, _ in files]
+    out = Path(out) if out is not None else folder / ROBOTS_DIR
+    out.mkdir(parents=True, exist_ok=True)
+    rows = trajectory.num_rows if trajectory is not None else _trajectory_rows(folder)
+    size = max(1, batch_rows // max(1, rows // n))
+    written: list[Path] = []
+    with ThreadPoolExecutor(WRITERS) as pool:  # Arrow's casts and file writes free the GIL
+        for first in range(0, len(wanted), size):
+            batch = wanted[first:first + size]
+            batch_trajectory, batch_events = _batch_tables(folder, batch, n, trajectory, events)
+            written.extend(_write_batch(pool, _BatchLogs.of(batch_trajectory, batch_events, batch,
+                                                            out, scenario, run)))
+    return written
 
 
 def _trajectory_rows(folder: Path) -> int:
@@ -197,42 +178,178 @@ def _trajectory_rows(folder: Path) -> int:
     return sum(pq.read_metadata(f).num_rows for f in files)
 
 
-def _csv_bytes(table: pa.Table) -> bytes:
-    sink = io.BytesIO()
-    pacsv.write_csv(table, sink, _CSV_OPTIONS)
-    return sink.getvalue()
+def _batch_tables(folder: Path, batch: list[int], robot_count: int,
+                  trajectory: pa.Table | None, events: pa.Table | None
+                  ) -> tuple[pa.Table, pa.Table]:
+    """The trajectory and events rows of the robots in ``batch``: from the tables given,
+    else read from ``folder`` (no filter when the batch is every robot of the run)."""
+    wanted = pc.field("robot").isin(batch) if len(batch) < robot_count else None
+    if trajectory is None:
+        trajectory = read_table(folder / TRAJECTORY, folder / TRAJECTORY_PARTS,
+                                TRAJECTORY_SCHEMA, columns=_TRAJECTORY_SOURCE, filters=wanted)
+    else:
+        trajectory = trajectory.select(list(_TRAJECTORY_SOURCE))
+        trajectory = trajectory if wanted is None else trajectory.filter(wanted)
+    if events is None:
+        events = read_table(folder / EVENTS, folder / EVENTS_PARTS, EVENTS_SCHEMA,
+                            columns=_EVENTS_SOURCE, filters=wanted)
+    else:
+        events = events.select(list(_EVENTS_SOURCE))
+        events = events if wanted is None else events.filter(wanted)
+    return trajectory, events
 
 
-def _numeric_block(table: pa.Table, pool: ThreadPoolExecutor) -> tuple[bytes, np.ndarray]:
-    """The numeric columns as ``;``-separated lines ending with two empty message fields.
+@dataclass(frozen=True)
+class _BatchLogs:
+    """What the logs of a batch of robots are made of, rows sorted by robot then step.
+
+    Attributes:
+        robots: the robots of the batch, ascending.
+        first: for each of ``robots``, the index of its first row.
+        end: for each of ``robots``, one past the index of its last row.
+        order: the trajectory rows in that order (row ``i`` is ``numbers[...][order[i]]``).
+        steps: the ``step`` column, sorted.
+        status: the ``status`` column, sorted.
+        numbers: the numeric log columns as they were, by trajectory column name
+            (gathered in order by each group's thread, as the work is shared out).
+        messages: per robot, ``(step, user_msg, sys_msg)`` of its steps with messages.
+        deactivations: the detail of each robot's last event of each kind.
+        out: the folder for the logs.
+        scenario: the run's scenario.
+        run: the run's facts.
+    """
+
+    robots: list[int]
+    first: np.ndarray
+    end: np.ndarray
+    order: np.ndarray
+    steps: np.ndarray
+    status: np.ndarray
+    numbers: dict[str, np.ndarray]
+    messages: dict[int, list[tuple[int, str, str]]]
+    deactivations: dict[tuple[int, str], str]
+    out: Path
+    scenario: Scenario
+    run: dict[str, Any]
+
+    @classmethod
+    def of(cls, table: pa.Table, events: pa.Table, robots: list[int], out: Path,
+           scenario: Scenario, run: dict[str, Any]) -> _BatchLogs:
+        """Sort ``table`` (the trajectory rows of ``robots``) and gather their ``events``."""
+        ids = table["robot"].to_numpy()
+        steps = table["step"].to_numpy()
+        order = np.lexsort((steps, ids))
+        ids, steps = ids[order], steps[order]
+        messages, deactivations = _event_texts(events)
+        return cls(robots=robots, first=np.searchsorted(ids, robots, "left"),
+                   end=np.searchsorted(ids, robots, "right"), order=order, steps=steps,
+                   status=table["status"].to_numpy()[order],
+                   numbers={name: table[name].to_numpy() for name in SOURCE_COLUMNS},
+                   messages=messages, deactivations=deactivations, out=out, scenario=scenario,
+                   run=run)
+
+
+def _write_batch(pool: ThreadPoolExecutor, batch: _BatchLogs) -> list[Path]:
+    """The logs of ``batch``, in groups of robots of about equal rows, formatted and
+    written by ``pool``'s threads: while one thread writes files, another formats."""
+    cuts = np.searchsorted(batch.first, np.linspace(0, batch.end[-1], GROUPS + 1)[1:-1])
+    groups = [group for group in np.split(np.arange(len(batch.robots)), cuts) if group.size]
+    return [path for paths in pool.map(partial(_write_group, batch), groups) for path in paths]
+
+
+def _write_group(batch: _BatchLogs, group: np.ndarray) -> list[Path]:
+    """Write the logs of the robots ``batch.robots[group]`` (consecutive); returns their paths."""
+    start, stop = int(batch.first[group[0]]), int(batch.end[group[-1]])
+    block, offsets = _lines(batch, start, stop)
+    n = batch.scenario.robot_count
+    paths = []
+    for k in group:
+        robot, a, b = batch.robots[k], int(batch.first[k]), int(batch.end[k])
+        rows: bytes | memoryview = block[offsets[a - start]:offsets[b - start]]
+        if robot in batch.messages:
+            lines = str(rows, "utf-8").split("\n")[:-1]
+            steps = batch.steps[a:b]
+            for step, user, system in batch.messages[robot]:
+                i = int(np.searchsorted(steps, step))
+                if i < len(lines) and steps[i] == step:
+                    lines[i] = f"{lines[i][:-2]};{_quoted(user)};{_quoted(system)}"
+            rows = "".join(line + "\n" for line in lines).encode()
+        final = Status(int(batch.status[b - 1])) if b > a else Status.ACTIVE
+        ending = (batch.deactivations.get((robot, STATUS_KIND[final]), final.label)
+                  if final != Status.ACTIVE else "None (active when the run ended)")
+        head = "\n".join([*header_lines(batch.scenario, batch.run, robot), "",
+                          ";".join(LOG_COLUMNS), ";".join(LOG_UNITS)]) + "\n"
+        tail = "\n" + DEACTIVATION + " ".join(ending.split()) + "\n"
+        path = batch.out / robot_log_name(robot, n)
+        path.write_bytes(b"".join((head.encode(), rows, tail.encode())))
+        paths.append(path)
+    return paths
+
+
+def _lines(batch: _BatchLogs, start: int, stop: int) -> tuple[memoryview, np.ndarray]:
+    """Rows ``start:stop`` as ``;``-separated lines ending with two empty message fields.
 
     Returns the lines as one UTF-8 block and the offset where each line starts
-    (one more for the end). Slices of the table are formatted by ``pool``'s
-    threads: Arrow writes CSV outside the GIL, and writing the numbers is most
-    of the cost of the logs.
+    (one more for the end), both counted from row ``start``.
     """
-    numeric = table.select(list(SOURCE_COLUMNS))
-    empty = pa.nulls(table.num_rows, pa.string())
-    numeric = numeric.append_column("user_msg", empty).append_column("sys_msg", empty)
-    size = max(1, -(-numeric.num_rows // WRITERS))
-    slices = [numeric.slice(first, size) for first in range(0, numeric.num_rows, size)]
-    block = b"".join(pool.map(_csv_bytes, slices))
-    ends = np.flatnonzero(np.frombuffer(block, dtype=np.uint8) == ord("\n")) + 1
-    return block, np.concatenate([[0], ends])
+    if stop == start:
+        return memoryview(b""), np.zeros(1, dtype=np.int32)
+    rows = batch.order[start:stop]
+    numbers = {name: values[rows] for name, values in batch.numbers.items()}
+    texts = {"time": _time_texts(numbers["time"], batch.steps[start:stop])}
+    for name in SOURCE_COLUMNS[1:]:
+        source = _COPIES.get(name)
+        texts[name] = (texts[source] if source and _same_bits(numbers[name], numbers[source])
+                       else _texts(numbers[name]))
+    lines = pc.binary_join_element_wise(*texts.values(), "", "\n", ";")
+    _, offsets, data = lines.buffers()
+    return memoryview(data), np.frombuffer(offsets, np.int32, len(lines) + 1, lines.offset * 4)
 
 
-def _event_texts(folder: Path, robots: list[int]
+def _texts(values: np.ndarray) -> pa.Array:
+    """``values`` as text in their shortest exact form (Arrow's: ``1``, ``0.1``, ``1e-7``).
+
+    Formatting is most of the cost of the logs, so a value repeated in
+    consecutive rows (a robot standing still) is formatted once when that
+    saves work. Values are compared bit for bit: ``-0.0`` prints apart from ``0.0``.
+    """
+    bits = values.view(np.int64)
+    new = np.empty(values.size, dtype=bool)
+    new[:1] = True
+    np.not_equal(bits[1:], bits[:-1], out=new[1:])
+    if np.count_nonzero(new) > _RUN_SHARE * values.size:
+        return pc.cast(pa.array(values), pa.string())
+    return pc.cast(pa.array(values[new]), pa.string()).take(pa.array(np.cumsum(new) - 1))
+
+
+def _time_texts(time: np.ndarray, steps: np.ndarray) -> pa.Array:
+    """The time column as text, each step's time formatted once (all its robots share it)."""
+    if time.size == 0 or steps.min() < 0:
+        return _texts(time)
+    present = np.zeros(int(steps.max()) + 1, dtype=bool)
+    present[steps] = True
+    place = (np.cumsum(present) - 1)[steps]  # each row's step among the steps present
+    step_time = np.empty(int(np.count_nonzero(present)))
+    step_time[place] = time
+    if not _same_bits(step_time[place], time):  # not one time per step: format every row
+        return _texts(time)
+    return pc.cast(pa.array(step_time), pa.string()).take(pa.array(place))
+
+
+def _same_bits(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two float64 arrays hold the same bits (so the same text, ``nan`` included)."""
+    return a.shape == b.shape and bool(np.array_equal(a.view(np.int64), b.view(np.int64)))
+
+
+def _event_texts(events: pa.Table
                  ) -> tuple[dict[int, list[tuple[int, str, str]]], dict[tuple[int, str], str]]:
-    """For ``robots``: per robot, ``(step, user_msg, sys_msg)`` of the steps with messages;
+    """From ``events``: per robot, ``(step, user_msg, sys_msg)`` of the steps with messages;
     and the detail of each robot's last event of each kind."""
-    events = read_table(folder / EVENTS, folder / EVENTS_PARTS, EVENTS_SCHEMA,
-                        columns=("step", "robot", "kind", "detail"),
-                        filters=pc.field("robot").isin(robots)).to_pylist()
     user: dict[tuple[int, int], str] = {}
     system: dict[tuple[int, int], list[str]] = {}
     override: dict[tuple[int, int], str] = {}
     last: dict[tuple[int, str], str] = {}
-    for row in events:
+    for row in events.to_pylist():
         key = (row["robot"], row["step"])
         if row["kind"] == "user_message":
             user[key] = row["detail"]

@@ -74,10 +74,12 @@ class TrajectoryBuffer:
         """Buffer the current rows of robots ``ids`` (sorted indices)."""
         if ids.size == 0:
             return
+        # Kept transposed, one row per column (pose as x, y, theta rows): the table's
+        # columns are then contiguous rows of the concatenation, not strided copies.
         if ids.size == state.n:
-            block = tuple(getattr(state, name).copy() for name in _BLOCK_ARRAYS)
+            block = tuple(getattr(state, name).T.copy() for name in _BLOCK_ARRAYS)
         else:
-            block = tuple(getattr(state, name)[ids] for name in _BLOCK_ARRAYS)
+            block = tuple(np.take(getattr(state, name).T, ids, axis=-1) for name in _BLOCK_ARRAYS)
         if state.step != self._last_step:
             self.steps += 1
             self._last_step = state.step
@@ -87,28 +89,38 @@ class TrajectoryBuffer:
         self._blocks.append(block)
         self.rows += ids.size
 
-    def flush(self) -> None:
-        """Write the buffered rows as one part and empty the buffer."""
-        if not self.rows:
+    def flush(self, table: pa.Table | None = None) -> None:
+        """Write the buffered rows as one part and empty the buffer.
+
+        Args:
+            table: the buffered rows when the caller already has them from :meth:`table`.
+        """
+        table = table if table is not None else self.table()
+        if table is None:
             return
-        counts = [ids.size for ids in self._ids]
-        pose, velocity, measured, reference, status, user_time = (
-            np.concatenate(column) for column in zip(*self._blocks, strict=True))
-        columns = {
-            "time": np.repeat(np.array(self._times), counts),
-            "step": np.repeat(np.array(self._steps, dtype=np.int32), counts),
-            "robot": np.concatenate(self._ids).astype(np.int32),
-            "x": pose[:, 0], "y": pose[:, 1], "theta": pose[:, 2],
-            "v": velocity[:, 0], "w": velocity[:, 1],
-            "x_meas": measured[:, 0], "y_meas": measured[:, 1], "theta_meas": measured[:, 2],
-            "v_ref": reference[:, 0], "heading_ref": reference[:, 1],
-            "status": status.astype(np.int8), "user_time": user_time.astype(np.float32),
-        }
-        arrays = [pa.array(np.ascontiguousarray(columns[f.name]), type=f.type)
-                  for f in TRAJECTORY_SCHEMA]
-        self.writer.write(pa.Table.from_arrays(arrays, schema=TRAJECTORY_SCHEMA))
+        self.writer.write(table)
         self._times.clear()
         self._steps.clear()
         self._ids.clear()
         self._blocks.clear()
         self.rows = 0
+
+    def table(self) -> pa.Table | None:
+        """The buffered rows as a table (None when there are none)."""
+        if not self.rows:
+            return None
+        counts = [ids.size for ids in self._ids]
+        pose, velocity, measured, reference, status, user_time = (
+            np.concatenate(column, axis=-1) for column in zip(*self._blocks, strict=True))
+        columns = {
+            "time": np.repeat(np.array(self._times), counts),
+            "step": np.repeat(np.array(self._steps, dtype=np.int32), counts),
+            "robot": np.concatenate(self._ids).astype(np.int32),
+            "x": pose[0], "y": pose[1], "theta": pose[2], "v": velocity[0], "w": velocity[1],
+            "x_meas": measured[0], "y_meas": measured[1], "theta_meas": measured[2],
+            "v_ref": reference[0], "heading_ref": reference[1],
+            "status": status.astype(np.int8, copy=False), "user_time": user_time.astype(np.float32),
+        }
+        arrays = [pa.array(np.ascontiguousarray(columns[f.name]), type=f.type)
+                  for f in TRAJECTORY_SCHEMA]
+        return pa.Table.from_arrays(arrays, schema=TRAJECTORY_SCHEMA)
