@@ -396,7 +396,18 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
             _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, work, best_o)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def _all_nearer(first: int, last: int, distance: float, work: np.ndarray) -> bool:
+    """Whether every beam of the blocks holding beams ``first..last`` hits nearer than
+    ``distance`` already (the first block that does not ends the search)."""
+    for b in range(first // BLOCK, last // BLOCK + 1):  # noqa: SIM110 (no generators in Numba)
+        if work[FAR, b] >= distance:
+            return False
+    return True
+
+
+# inlined: called for every robot in view, its call would cost more than a hidden check
+@njit(cache=True, inline="always")
 def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray, r: int,
                  gap: float, radius: float, limit: float, layout: Layout, work: np.ndarray,
                  best_o: np.ndarray) -> None:
@@ -417,14 +428,14 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
     x = radius / distance  # below 1 here
     half = x / math.sqrt(1.0 - x * x) * (1.0 + 1e-9) + 1e-12  # asin(x) <= tan(asin(x))
     rel = _relative(fast_atan2(cy, cx) - half, layout)
-    hidden = True
+    visible = False
     back, on = _turns(rel, 2.0 * half, layout)
     for k in range(1 + back + on):
         first, last = _beam_range(rel + _turn(k, back), 2.0 * half, layout)
-        if first <= last:
-            for b in range(first // BLOCK, last // BLOCK + 1):
-                hidden &= work[FAR, b] < gap
-    if hidden:
+        if first <= last and not _all_nearer(first, last, gap, work):
+            visible = True
+            break
+    if not visible:
         return
     # from outside, a beam meets a convex body first on a side facing the sensor: skip
     # the sides facing away (a ray through a shared corner still meets the facing one)
@@ -556,16 +567,16 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     layout = (heading + fan[0], fan[1], fan[2], fan[3], fan[4])
     ch, sh = math.cos(heading), math.sin(heading)  # the rotation to the heading
     # whole blocks of beams; the padding's NaN directions never hit, -inf: never tested
-    for j in range(best_o.shape[0]):
-        work[DX, j], work[DY, j], work[NEAR, j], work[FAR, j] = (math.nan, math.nan, -math.inf,
-                                                                 math.inf)
-        best_o[j] = NO_HIT
     units = query.offset_units
-    for j in range(beams):
-        if not math.isnan(query.offsets[i, j]):
+    for j in range(best_o.shape[0]):
+        work[FAR, j] = math.inf  # (one entry per block is used)
+        best_o[j] = NO_HIT
+        if j < beams and not math.isnan(query.offsets[i, j]):
             co, so = units[i, j, 0], units[i, j, 1]
             work[DX, j], work[DY, j] = ch * co - sh * so, sh * co + ch * so
             work[NEAR, j] = math.inf
+        else:
+            work[DX, j], work[DY, j], work[NEAR, j] = math.nan, math.nan, -math.inf
     # the field of view's edges rotated like the beams: every beam lies between them
     cone = (ch * fan[5] - sh * fan[6], sh * fan[5] + ch * fan[6],
             ch * fan[7] - sh * fan[8], sh * fan[7] + ch * fan[8], fan[9])
