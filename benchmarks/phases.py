@@ -66,15 +66,16 @@ def main() -> None:
     algorithm = find_algorithm(args.algorithm)[1]
     for _run in ("warm-up", "timed"):  # the last one is reported
         sim = Simulation(load_scenario(args.scenario), algorithm, seed=1, time_limit=args.time)
-        if not args.no_logging:
-            sim.observers.append(RunRecorder(tempfile.mkdtemp(prefix="mimics-phases-")))
-        timed(sim.controller, "compute", "algorithm (controller.compute)")
-        sim.start()
-        totals.clear()
-        start = time.perf_counter()
-        while sim.step():
-            pass
-        wall = time.perf_counter() - start
+        with tempfile.TemporaryDirectory(prefix="mimics-phases-") as folder:
+            if not args.no_logging:
+                sim.observers.append(RunRecorder(folder))
+            timed(sim.controller, "compute", "algorithm (controller.compute)")
+            sim.start()
+            totals.clear()
+            start = time.perf_counter()
+            while sim.step():
+                pass
+            wall = time.perf_counter() - start
     steps = sim.state.step
     print(f"{args.scenario} / {args.algorithm}, {sim.state.n} robots, {sim.state.time:g} s "
           f"simulated, logging {'off' if args.no_logging else 'on'}: "
