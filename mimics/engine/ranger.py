@@ -746,7 +746,9 @@ def beam_fans(offsets: np.ndarray) -> np.ndarray:
     first and rotates the second: rows repeat per robot type, so a simulation
     computes them once.
     """
-    fans = np.empty((offsets.shape[0], FAN_COLUMNS))
+    fans = np.zeros((offsets.shape[0], FAN_COLUMNS))
+    if offsets.shape[1] == 0:
+        return fans  # no beams: no scan will read a fan
     for i in range(offsets.shape[0]):
         layout, cone = _layout(offsets[i], 0.0), _field_of_view(offsets[i], 0.0)
         for c in range(5):

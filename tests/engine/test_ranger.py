@@ -10,7 +10,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from mimics.engine.ranger import RangerQuery, cast_rays
+from mimics.engine.ranger import RangerQuery, beam_fans, cast_rays, offset_units
 from mimics.engine.robot_index import build_robot_index
 from mimics.engine.spatial_index import build_segment_grid
 from mimics.engine.wall_index import build_wall_index
@@ -346,3 +346,43 @@ def test_a_half_turn_fan_sees_along_its_edges_but_nothing_behind():
     assert owner[0, 180] == -1 and ranges[0, 180] == pytest.approx(0.01)  # the point
     assert owner[0, 179] == 2  # the robot straddling the last beam's line
     assert not np.any(owner == 1)  # the robot behind is never seen
+
+
+# -- beam fans: what a scan rotates to its heading instead of a sine and cosine per beam --
+
+
+@settings(max_examples=300, deadline=None)
+@given(heading=st.floats(-10.0, 10.0), fov=st.floats(0.01, 2 * math.pi),
+       beams=st.integers(2, 400))
+def test_a_fan_rotated_to_any_heading_holds_every_beam(heading, fov, beams):
+    offsets = np.linspace(-fov / 2, fov / 2, beams)[None]
+    fan = beam_fans(offsets)[0]
+    assert fan[0] == offsets[0, 0]  # the layout's base: a scan adds its heading
+    # evenly spaced, or (beams much finer than the arctangent's slack) tested one by one
+    assert fan[2] == beams and (fan[1] == 0.0 or fan[1] == pytest.approx(fov / (beams - 1)))
+    c, s = math.cos(heading), math.sin(heading)
+    units = offset_units(offsets)[0]
+    dx, dy = c * units[:, 0] - s * units[:, 1], s * units[:, 0] + c * units[:, 1]
+    # the rotation is the beam's direction to rounding
+    angles = heading + offsets[0]
+    assert np.max(np.hypot(dx - np.cos(angles), dy - np.sin(angles))) < 1e-12
+    # every beam lies inside the rotated field of view (kind 1: inside both edges,
+    # kind 2: not beyond both, kind 0: no cone)
+    e0 = (c * fan[5] - s * fan[6], s * fan[5] + c * fan[6])
+    e1 = (c * fan[7] - s * fan[8], s * fan[7] + c * fan[8])
+    after_first = e0[0] * dy - e0[1] * dx >= -1e-12
+    before_last = dx * e1[1] - dy * e1[0] >= -1e-12
+    if fan[9] == 1.0:
+        assert np.all(after_first & before_last)
+    elif fan[9] == 2.0:
+        assert np.all(after_first | before_last)
+    else:
+        assert fov >= 2 * math.pi - 1e-6
+
+
+def test_robots_without_beams_have_empty_fans():
+    assert beam_fans(np.zeros((3, 0))).tolist() == [[0.0] * 10] * 3
+    ranges, owner = cast_rays(RangerQuery(np.zeros((2, 2)), np.zeros(2), np.zeros((2, 0)),
+                                          np.ones(2), np.full(2, -1)),
+                              build_wall_index(np.zeros((0, 4)), BOUNDS, reach=1.0))
+    assert ranges.shape == owner.shape == (2, 0)
