@@ -28,7 +28,6 @@ from typing import Any
 
 import numba
 import numpy as np
-from numba import parallel_chunksize
 
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine import ranger
@@ -74,15 +73,15 @@ def ranger_at(revision: str) -> ModuleType:
     return module
 
 
-def timed(module: ModuleType, query: RangerQuery, sim: Simulation, index: Any,
-          out: tuple[np.ndarray, np.ndarray]) -> float:
-    """Seconds for one call of ``module``'s kernel (the engine's unchecked call)."""
-    walls = sim.walls
+def timed(module: ModuleType, query: RangerQuery, sim: Simulation,
+          index: Any) -> tuple[float, tuple[np.ndarray, np.ndarray]]:
+    """Seconds for one call of ``module``'s unchecked entry point, and its results.
+
+    ``trace_beams`` schedules its own kernel (chunk sizes differ between revisions).
+    """
     start = time.perf_counter()
-    # this revision's kernel chunks robots itself; older ones took the chunk size from here
-    with parallel_chunksize(1 if hasattr(module, "FAN_COLUMNS") else 10):
-        module._cast_kernel(query, walls.grid, walls.near, walls.reach, index, *out)
-    return time.perf_counter() - start
+    out = module.trace_beams(query, sim.walls, index)
+    return time.perf_counter() - start, out
 
 
 def agreement(now: tuple[np.ndarray, np.ndarray], then: tuple[np.ndarray, np.ndarray]) -> str:
@@ -107,17 +106,13 @@ def main() -> None:
     names = ["cave"] + ([] if args.no_hospital else ["hospital"])
     print(f"ray kernel, min of {args.repeats} calls, {numba.get_num_threads()} thread(s)")
     for name, when, sim, query, index in states(names):
-        k, beams = query.offsets.shape
-        results, best = {}, {}
-        for label, module in kernels.items():
-            out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
-            timed(module, query, sim, index, out)  # compiles on first use
-            results[label] = out
-            best[label] = np.inf
+        k = query.offsets.shape[0]
+        # the first call compiles; its results are compared
+        results = {label: timed(module, query, sim, index)[1] for label, module in kernels.items()}
+        best = dict.fromkeys(kernels, np.inf)
         for _ in range(args.repeats):
             for label, module in kernels.items():
-                out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
-                best[label] = min(best[label], timed(module, query, sim, index, out))
+                best[label] = min(best[label], timed(module, query, sim, index)[0])
         row = "  ".join(f"{label} {seconds / k * 1e6:6.2f} us/robot"
                         for label, seconds in best.items())
         if args.against:

@@ -449,8 +449,9 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
 
 
 @njit(cache=True)
-def _layout(offsets: np.ndarray, heading: float) -> Layout:
-    """``(base angle, spacing, count, margin, 1 / spacing)`` of a row of beams (spacing 0: none).
+def _layout(offsets: np.ndarray) -> Layout:
+    """``(first offset, spacing, count, margin, 1 / spacing)`` of a row of beams (spacing 0:
+    none); a scan adds its heading to the first.
 
     Rows whose used beams form a prefix of increasing, near-evenly spaced
     angles spanning at most a full turn get their spacing; the margin (in
@@ -458,7 +459,7 @@ def _layout(offsets: np.ndarray, heading: float) -> Layout:
     rounding.
     """
     beams = offsets.shape[0]
-    unordered = (heading + offsets[0], 0.0, float(beams), 0.0, 0.0)
+    unordered = (offsets[0], 0.0, float(beams), 0.0, 0.0)
     count = 0
     while count < beams and not math.isnan(offsets[count]):
         count += 1
@@ -476,14 +477,16 @@ def _layout(offsets: np.ndarray, heading: float) -> Layout:
     margin = 1.0 + math.ceil((deviation + ANGLE_SLACK) / spacing)
     if margin > 3.0:
         return unordered
-    return (heading + offsets[0], spacing, float(count), margin, 1.0 / spacing)
+    return (offsets[0], spacing, float(count), margin, 1.0 / spacing)
 
 
 @njit(cache=True)
-def _field_of_view(offsets: np.ndarray, heading: float) -> Cone:
+def _field_of_view(offsets: np.ndarray) -> Cone:
     """``(e0x, e0y, e1x, e1y, kind)``: the cone swept counterclockwise from ``e0`` to ``e1``.
 
-    The edges point along the lowest and highest beam angles; ``kind`` is 1
+    The edges point along the lowest and highest beam offsets (a scan rotates
+    them to its heading like its beams, so every beam lies between them up to
+    rounding, which the cull's slack covers); ``kind`` is 1
     for a cone narrower than a half turn (outside it: beyond either edge), 2
     for a wider one (outside it: beyond both) and 0 when there is no cone to
     cull by (beams in no order, or a near-full turn).
@@ -495,9 +498,7 @@ def _field_of_view(offsets: np.ndarray, heading: float) -> Cone:
     width = high - low
     if count == 0 or width >= TAU - 1e-6:
         return (1.0, 0.0, 1.0, 0.0, 0.0)
-    # rounding is monotonic: every beam angle heading + offset lies between these two
-    first, last = heading + low, heading + high
-    return (math.cos(first), math.sin(first), math.cos(last), math.sin(last),
+    return (math.cos(low), math.sin(low), math.cos(high), math.sin(high),
             1.0 if width < math.pi - 1e-6 else 2.0)
 
 
@@ -738,7 +739,7 @@ def offset_units(offsets: np.ndarray) -> np.ndarray:
 
 @njit(cache=True)
 def beam_fans(offsets: np.ndarray) -> np.ndarray:
-    """``(k, FAN_COLUMNS)``: each row of beam offsets' fan, for a heading of zero.
+    """``(k, FAN_COLUMNS)``: each row of beam offsets' fan, relative to its heading.
 
     Columns 0-4 are its ``_layout`` (the first offset, spacing, count, margin,
     1 / spacing), 5-9 its ``_field_of_view`` (the unit vectors of the lowest
@@ -750,7 +751,7 @@ def beam_fans(offsets: np.ndarray) -> np.ndarray:
     if offsets.shape[1] == 0:
         return fans  # no beams: no scan will read a fan
     for i in range(offsets.shape[0]):
-        layout, cone = _layout(offsets[i], 0.0), _field_of_view(offsets[i], 0.0)
+        layout, cone = _layout(offsets[i]), _field_of_view(offsets[i])
         for c in range(5):
             fans[i, c], fans[i, 5 + c] = layout[c], cone[c]
     return fans
