@@ -6,16 +6,12 @@ import pytest
 from mimics.algorithms import deployment, deployment_team, go_to_goal
 from mimics.engine.simulation import Simulation
 from mimics.scenarios import cave, obstacle_room
-from mimics.world.data_folder import find_stage_file
-from mimics.world.errors import MimicsError
+from tests.stage import stage_file
 
 
 @pytest.fixture(scope="module")
 def stage() -> None:
-    try:
-        find_stage_file("cave_filled.png")
-    except MimicsError as exc:
-        pytest.skip(str(exc))
+    stage_file("cave_filled.png")
 
 
 def test_both_forms_give_identical_trajectories(stage: None) -> None:

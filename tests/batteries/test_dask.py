@@ -4,14 +4,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import distributed
 import pytest
 
 from mimics.batteries import run_battery, runs_table
 from mimics.records.runner import prepare
 from mimics.world.errors import MimicsError
 from tests.batteries.helpers import fault, write_battery
-
-distributed = pytest.importorskip("distributed")
 
 
 def test_battery_on_a_local_dask_cluster(tmp_path: Path) -> None:

@@ -12,10 +12,9 @@ import pytest
 from typer.testing import CliRunner
 
 from mimics.interfaces.cli_maps import app, data_app
-from mimics.world.data_folder import find_stage_file
-from mimics.world.errors import MimicsError
 from mimics.world.map_files import load_map
 from mimics.world.stage_data import STAGE_FILES
+from tests.stage import stage_file
 
 runner = CliRunner()
 
@@ -47,10 +46,7 @@ def test_import_svg_and_show(tmp_path: Path) -> None:
 
 
 def test_import_stage_bitmap_with_size_and_center(tmp_path: Path) -> None:
-    try:
-        bitmap = find_stage_file("cave_filled.png")
-    except MimicsError as exc:
-        pytest.skip(str(exc))
+    bitmap = stage_file("cave_filled.png")
     out = tmp_path / "cave.toml"
     result = runner.invoke(app, ["import", str(bitmap), "--out", str(out), "--size", "16", "16",
                                  "--center", "1", "0"])
@@ -103,10 +99,7 @@ def serve(root: Path) -> Iterator[str]:
 
 
 def test_data_get_stage_from_a_local_server(tmp_path: Path) -> None:
-    try:
-        source = find_stage_file("cave.world").parent
-    except MimicsError as exc:
-        pytest.skip(str(exc))
+    source = stage_file("cave.world").parent
     repo = tmp_path / "repo"
     for name, spec in STAGE_FILES.items():
         (repo / spec.remote).parent.mkdir(parents=True, exist_ok=True)

@@ -8,20 +8,17 @@ from mimics.catalog import list_scenarios, load_scenario
 from mimics.engine.collision import Bodies, find_collisions
 from mimics.engine.robot_index import build_robot_index
 from mimics.engine.spatial_index import build_segment_grid
-from mimics.world.data_folder import find_stage_file
-from mimics.world.errors import MimicsError, ScenarioError
+from mimics.world.errors import ScenarioError
 from mimics.world.robot_types import PIONEER_2DX, SWARMBOT
 from mimics.world.scenario import Scenario
 from mimics.world.scenario_files import validate_scenario
+from tests.stage import stage_file
 
 NAMES = [name for name, _ in list_scenarios()]
 
 
 def needs_stage() -> None:
-    try:
-        find_stage_file("cave_filled.png")
-    except MimicsError as exc:
-        pytest.skip(str(exc))
+    stage_file("cave_filled.png")
 
 
 def engine_contacts(scenario: Scenario) -> np.ndarray:
@@ -61,7 +58,7 @@ def test_cave_has_100_pioneers_on_free_pixels() -> None:
     assert cave.map.bounds == (-8.0, -8.0, 8.0, 8.0)
     assert not cave.has_goal.any()
     assert cave.settings.time_limit == 600.0
-    image = iio.imread(find_stage_file("cave_filled.png"))
+    image = iio.imread(stage_file("cave_filled.png"))
     rows, cols = image.shape
     x, y = cave.stages[:, 0], cave.stages[:, 1]
     col = np.floor((x + 8.0) / 16.0 * cols).astype(int)

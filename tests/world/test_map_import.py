@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 import shapely
 
-from mimics.world.data_folder import find_stage_file
 from mimics.world.errors import MimicsError
 from mimics.world.map_files import load_map
 from mimics.world.map_import import import_raster, import_ros_map, import_svg, stage_bitmap
+from tests.stage import stage_file
 
 SVG_HEAD = '<svg xmlns="http://www.w3.org/2000/svg" '
 
@@ -27,13 +27,6 @@ def unordered(segments: np.ndarray) -> set[tuple[float, ...]]:
         a, b = sorted([(x1 + 0.0, y1 + 0.0), (x2 + 0.0, y2 + 0.0)])
         out.add((*a, *b))
     return out
-
-
-def stage_data(name: str) -> Path:
-    try:
-        return find_stage_file(name)
-    except MimicsError as exc:
-        pytest.skip(str(exc))
 
 
 # -- SVG ---------------------------------------------------------------------
@@ -171,7 +164,7 @@ def obstacle_area(segments: np.ndarray) -> float:
 
 
 def test_cave_free_area_matches_the_bitmap() -> None:
-    path = stage_data("cave_filled.png")
+    path = stage_file("cave_filled.png")
     cave = stage_bitmap(path, size=(16.0, 16.0), boundary=False)
     image = iio.imread(path)
     rows = np.flatnonzero((image <= 127).any(axis=1))
@@ -185,7 +178,7 @@ def test_cave_free_area_matches_the_bitmap() -> None:
 
 
 def test_builtin_stage_maps() -> None:
-    stage_data("cave_filled.png")
+    stage_file("cave_filled.png")
     cave = load_map("stage:cave")
     assert cave.bounds == (-8.0, -8.0, 8.0, 8.0)
     assert cave.source == "stage:cave"

@@ -12,17 +12,14 @@ from typing import ClassVar
 
 import pytest
 
-from mimics.world.data_folder import find_stage_file
 from mimics.world.errors import MimicsError
 from mimics.world.stage_data import STAGE_FILES, download_stage
+from tests.stage import stage_file
 
 
 def stage_repository(root: Path) -> Path:
     """Copy the shared Stage files into ``root`` at their paths in the repository."""
-    try:
-        source = find_stage_file("cave.world").parent
-    except MimicsError as exc:
-        pytest.skip(str(exc))
+    source = stage_file("cave.world").parent
     for name, spec in STAGE_FILES.items():
         target = root / spec.remote
         target.parent.mkdir(parents=True, exist_ok=True)

@@ -5,9 +5,9 @@ from pathlib import Path
 
 import pytest
 
-from mimics.world.data_folder import find_stage_file
 from mimics.world.errors import MimicsError
 from mimics.world.stage_worlds import read_stage_world, stage_robot_poses
+from tests.stage import stage_file
 
 SMALL = '''# a world
 include "map.inc"
@@ -54,10 +54,7 @@ def test_syntax_errors_name_file_and_line(tmp_path: Path, text: str, line: int,
 
 
 def test_benchmark_worlds() -> None:
-    try:
-        cave, hospital = find_stage_file("cave.world"), find_stage_file("hospital.world")
-    except MimicsError as exc:
-        pytest.skip(str(exc))
+    cave, hospital = stage_file("cave.world"), stage_file("hospital.world")
     poses = stage_robot_poses(cave)
     assert poses.shape == (100, 3)
     assert poses[0].tolist() == pytest.approx([-5.285, 4.915, math.radians(150.459)])
