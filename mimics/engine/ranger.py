@@ -396,22 +396,12 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
             _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, work, best_o)
 
 
-@njit(cache=True, inline="always")
-def _all_nearer(first: int, last: int, distance: float, work: np.ndarray) -> bool:
-    """Whether every beam of the blocks holding beams ``first..last`` hits nearer than
-    ``distance`` already (the first block that does not ends the search)."""
-    for b in range(first // BLOCK, last // BLOCK + 1):  # noqa: SIM110 (no generators in Numba)
-        if work[FAR, b] >= distance:
-            return False
-    return True
-
-
 # inlined: called for every robot in view, its call would cost more than a hidden check
 @njit(cache=True, inline="always")
 def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray, r: int,
                  gap: float, radius: float, limit: float, layout: Layout, work: np.ndarray,
                  best_o: np.ndarray) -> None:
-    """Test robot ``r``'s edges that face the sensor against the beams each one spans.
+    """Test robot ``r``'s edges that face the sensor against the beams its circle spans.
 
     ``corners`` and ``centers`` are all robots' (a ``RobotIndex``'s: whole arrays,
     as views of one robot's rows would cost reference counting); ``gap`` is a
@@ -424,28 +414,46 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
             _sweep_segment(ox, oy, corners[r, e, 0], corners[r, e, 1], corners[r, e + 1, 0],
                            corners[r, e + 1, 1], r, gap, limit, layout, work, best_o)
         return
-    # hidden when every beam its bounding circle spans already hits nearer
+    # the beams its bounding circle spans hold every beam that can meet it: those not
+    # yet hit nearer are tested against the sides at once (no span per side); a robot
+    # whose circle is hidden that way costs only the blocks' checks
     x = radius / distance  # below 1 here
     half = x / math.sqrt(1.0 - x * x) * (1.0 + 1e-9) + 1e-12  # asin(x) <= tan(asin(x))
     rel = _relative(fast_atan2(cy, cx) - half, layout)
-    visible = False
     back, on = _turns(rel, 2.0 * half, layout)
+    facing = -1  # bit e: side e faces the sensor (found once a block needs it)
     for k in range(1 + back + on):
         first, last = _beam_range(rel + _turn(k, back), 2.0 * half, layout)
-        if first <= last and not _all_nearer(first, last, gap, work):
-            visible = True
-            break
-    if not visible:
-        return
-    # from outside, a beam meets a convex body first on a side facing the sensor: skip
-    # the sides facing away (a ray through a shared corner still meets the facing one)
+        if first > last:
+            continue
+        for b in range(first // BLOCK, last // BLOCK + 1):
+            if work[FAR, b] < gap:
+                continue
+            if facing < 0:
+                facing = _facing_sides(ox, oy, corners, r)
+            for e in range(4):
+                if facing & (1 << e):
+                    work[FAR, b] = _sweep_block(
+                        b * BLOCK, ox, oy, corners[r, e, 0], corners[r, e, 1],
+                        corners[r, e + 1, 0], corners[r, e + 1, 1], r, limit, work, best_o)
+
+
+@njit(cache=True, inline="always")
+def _facing_sides(ox: float, oy: float, corners: np.ndarray, r: int) -> int:
+    """Bit ``e`` set: robot ``r``'s side ``e`` faces the sensor (or nearly: on its line).
+
+    From outside, a beam meets a convex body first on a side facing the
+    sensor, so the others are skipped (a ray through a shared corner still
+    meets the facing one).
+    """
+    facing = 0
     for e in range(4):
         ex, ey = corners[r, e + 1, 0] - corners[r, e, 0], corners[r, e + 1, 1] - corners[r, e, 1]
         wx, wy = ox - corners[r, e, 0], oy - corners[r, e, 1]
         cross = ex * wy - ey * wx  # > 0: the sensor is on the inner (left) side
         if cross <= 1e-9 * (abs(ex) + abs(ey)) * (abs(wx) + abs(wy) + 1.0):
-            _sweep_segment(ox, oy, corners[r, e, 0], corners[r, e, 1], corners[r, e + 1, 0],
-                           corners[r, e + 1, 1], r, gap, limit, layout, work, best_o)
+            facing |= 1 << e
+    return facing
 
 
 @njit(cache=True)
@@ -548,7 +556,8 @@ def _by_distance(distance: np.ndarray, limit: float) -> np.ndarray:
     return order
 
 
-@njit(cache=True)
+# numpy error model: the inlined block test of robots' sides divides in every lane
+@njit(cache=True, error_model="numpy")
 def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
               near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
               owners: np.ndarray, work: np.ndarray, best_o: np.ndarray) -> None:
