@@ -80,6 +80,8 @@ BLOCK = 4
 # rows of a scan's work array (one array: every array an inlined helper takes is
 # reference-counted at each call); FAR holds one entry per block of beams
 DX, DY, NEAR, FAR = 0, 1, 2, 3
+# rows of a scan's list array: the robots listed, each item's ring, the order of the sweep
+SEEN, RING, ORDER = 0, 1, 2
 FAN_COLUMNS = 10  # a row of ``beam_fans``
 
 
@@ -533,39 +535,44 @@ def _outside_view(a: int, b: int, kind: float) -> bool:
 
 
 @njit(cache=True)
-def _by_distance(distance: np.ndarray, limit: float) -> np.ndarray:
-    """Indices of the distances within ``limit``, roughly nearest first.
+def _by_distance(distance: np.ndarray, count: int, limit: float, lists: np.ndarray) -> int:
+    """Put the indices of ``distance[:count]`` within ``limit`` in ``lists[ORDER]``, roughly
+    nearest first; returns how many there are.
 
     A counting sort into ``RINGS`` rings: O(n), where a full sort of a few
-    hundred walls per robot would cost more than sweeping them.
+    hundred walls per robot would cost more than sweeping them. ``lists`` is the
+    scan's scratch space (its ``RING`` row is overwritten too).
     """
     counts = np.zeros(RINGS + 1, dtype=np.int64)
-    ring = np.empty(distance.shape[0], dtype=np.int64)
-    for p in range(distance.shape[0]):
+    for p in range(count):
         d = distance[p]
-        ring[p] = -1 if d > limit else (0 if d <= 0.0 else min(int(d / limit * RINGS), RINGS - 1))
-        if ring[p] >= 0:
-            counts[ring[p] + 1] += 1
+        ring = -1 if d > limit else (0 if d <= 0.0 else min(int(d / limit * RINGS), RINGS - 1))
+        lists[RING, p] = ring
+        if ring >= 0:
+            counts[ring + 1] += 1
     for k in range(RINGS):
         counts[k + 1] += counts[k]
-    order = np.empty(counts[RINGS], dtype=np.int64)
-    for p in range(distance.shape[0]):
-        if ring[p] >= 0:
-            order[counts[ring[p]]] = p
-            counts[ring[p]] += 1
-    return order
+    kept = counts[RINGS]
+    for p in range(count):
+        ring = lists[RING, p]
+        if ring >= 0:
+            lists[ORDER, counts[ring]] = p
+            counts[ring] += 1
+    return kept
 
 
 # numpy error model: the inlined block test of robots' sides divides in every lane
 @njit(cache=True, error_model="numpy")
 def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
               near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
-              owners: np.ndarray, work: np.ndarray, best_o: np.ndarray) -> None:
+              owners: np.ndarray, work: np.ndarray, best_o: np.ndarray, distance: np.ndarray,
+              lists: np.ndarray) -> None:
     """Fill one scanning robot's ``ranges`` and hit ``owners``.
 
     The walls come as the fields of a ``WallIndex`` (``grid``, ``near``,
     ``reach``): parallel kernels take no nested tuples. ``work`` and ``best_o``
-    are scratch space of whole blocks of beams, reused from one robot to the next.
+    are scratch space of whole blocks of beams, ``distance`` and ``lists`` of the
+    walls and robots listed (``_list_capacity``), reused from one robot to the next.
     """
     beams = query.offsets.shape[1]
     segs = near.segments
@@ -602,12 +609,7 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     nx = robots.shape[0]
     ix0, ix1 = cell_span(ox - span, ox + span, robots.origin[0], robots.cell, nx)
     iy0, iy1 = cell_span(oy - span, oy + span, robots.origin[1], robots.cell, robots.shape[1])
-    found = 0
-    for iy in range(iy0, iy1 + 1):
-        found += robots.grid_start[iy * nx + ix1 + 1] - robots.grid_start[iy * nx + ix0]
-    seen = np.empty(found, dtype=np.int64)
     # a lower bound of each one's distance; inf for those no beam can reach
-    distance = np.empty(walls + found)
     for p in range(walls):
         s = listed[p]
         x1, y1, x2, y2 = segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3]
@@ -622,7 +624,7 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     for iy in range(iy0, iy1 + 1):  # the cells of a row are contiguous in the CSR
         for p in range(grid_start[iy * nx + ix0], grid_start[iy * nx + ix1 + 1]):
             r = grid_items[p]
-            seen[found] = r
+            lists[SEEN, found] = r
             cx, cy = centers[r, 0] - ox, centers[r, 1] - oy
             bits = _beyond_edges(cx, cy, radius[r], cone)
             if r == me or _outside_view(bits, bits, cone[4]):
@@ -633,13 +635,14 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
             found += 1
     # walls and robots together, nearest first: farther ones then skip the beams already
     # hit (most beams of a crowded scan end on a neighbour, in front of the walls)
-    for p in _by_distance(distance, limit):
+    for q in range(_by_distance(distance, walls + found, limit, lists)):
+        p = lists[ORDER, q]
         if p < walls:
             s = listed[p]
             _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], WALL,
                            distance[p], limit, layout, work, best_o)
         else:
-            r = seen[p - walls]
+            r = lists[SEEN, p - walls]
             _sweep_robot(ox, oy, corners, centers, r, distance[p], radius[r], limit, layout,
                          work, best_o)
     if certain < limit:  # beyond the sweep's reach: walk the fine grid
@@ -663,11 +666,24 @@ def _cast_kernel(query: RangerQuery, grid: SegmentGrid,
     """
     k, beams = query.offsets.shape
     padded = (beams + BLOCK - 1) // BLOCK * BLOCK
+    capacity = _list_capacity(near, robots)
     for chunk in prange((k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS):
         work = np.empty((4, padded))
         best_o = np.empty(padded, dtype=np.int64)
+        distance = np.empty(capacity)
+        lists = np.empty((3, capacity), dtype=np.int64)
         for i in range(chunk * CHUNK_ROBOTS, min(k, (chunk + 1) * CHUNK_ROBOTS)):
-            _scan_row(query, i, grid, near, reach, robots, ranges[i], hit_owner[i], work, best_o)
+            _scan_row(query, i, grid, near, reach, robots, ranges[i], hit_owner[i], work, best_o,
+                      distance, lists)
+
+
+@njit(cache=True)
+def _list_capacity(near: SegmentGrid, robots: RobotIndex) -> int:
+    """The most walls and robots a scan can list: the longest near list and every robot."""
+    most = 0
+    for c in range(near.cell_start.shape[0] - 1):
+        most = max(most, near.cell_start[c + 1] - near.cell_start[c])
+    return most + robots.grid_items.shape[0]
 
 
 def _as_query(query: RangerQuery) -> RangerQuery:
