@@ -54,6 +54,8 @@ class PartWriter:
         self.compression = compression
         self.parts = 0
         self.rows = 0
+        #: after ``merge(..., keep=True)`` of several parts: the merged table, else None
+        self.merged: pa.Table | None = None
 
     def write(self, table: pa.Table) -> None:
         """Write ``table`` as the next part (nothing for an empty table)."""
@@ -67,21 +69,31 @@ class PartWriter:
         self.parts += 1
         self.rows += table.num_rows
 
-    def merge(self, target: Path) -> int:
-        """Merge every part into ``target`` (an empty table when none); returns its rows."""
+    def merge(self, target: Path, keep: bool = False) -> int:
+        """Merge every part into ``target`` (an empty table when none); returns its rows.
+
+        With ``keep``, the parts read while merging several are kept in
+        ``merged``, so that a caller needing the whole table does not read it back.
+        """
         parts = part_files(self.folder)
+        self.merged = None
         if len(parts) == 1:
             os.replace(parts[0], target)
             rows = pq.read_metadata(target).num_rows
         else:
             tmp = target.with_name(target.name + ".tmp")
             rows = 0
+            kept = []
             with pq.ParquetWriter(tmp, self.schema, **self._options()) as writer:
                 for part in parts:
                     table = pq.read_table(part)
                     writer.write_table(table, row_group_size=max(table.num_rows, 1))
                     rows += table.num_rows
+                    if keep:
+                        kept.append(table)
             os.replace(tmp, target)
+            if keep:
+                self.merged = pa.concat_tables(kept) if kept else self.schema.empty_table()
         shutil.rmtree(self.folder, ignore_errors=True)
         return rows
 

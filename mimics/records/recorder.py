@@ -63,6 +63,9 @@ if TYPE_CHECKING:
 RobotLogs = Literal["auto", "on", "off"]
 ROBOT_LOG_CHOICES = ("auto", "on", "off")
 AUTO_ROBOT_LOGS = 200  # "auto" writes per-robot logs up to this many robots
+# a run of several parts makes its logs from the merged tables up to this many rows
+# (about 200 MB); beyond, from the files read back a batch of robots at a time
+KEEP_ROWS = 2_000_000
 
 
 def mimics_version() -> str:
@@ -197,9 +200,14 @@ class RunRecorder:
         if logs and self._trajectory.writer.parts == 0 and self._events.writer.parts == 0:
             self._close_with_logs(sim.scenario)
         else:
-            self.close()
-            if logs:
-                write_robot_logs(self.folder, sim.scenario, self.run_info)
+            # the logs of a run of several parts are made from the tables read to merge
+            # them, when those fit in memory, rather than from the merged files read back
+            keep = logs and self._trajectory.writer.rows + self._trajectory.rows <= KEEP_ROWS
+            self.close(keep=keep)
+            if logs:  # a table not kept (a lone part, renamed) is read back
+                write_robot_logs(self.folder, sim.scenario, self.run_info,
+                                 trajectory=self._trajectory.writer.merged,
+                                 events=self._events.writer.merged)
         counts = self._events.counts
         extra = {
             "run_uuid": self.run_info["uuid"], "created": self.run_info["created"],
@@ -225,17 +233,18 @@ class RunRecorder:
         self._events.flush()
         self._last_flush = time.perf_counter()
 
-    def close(self) -> None:
+    def close(self, keep: bool = False) -> None:
         """Flush and merge the parts into trajectory.parquet and events.parquet.
 
         Called by ``on_end``; call it yourself when a run stops on an exception, to
-        keep what was recorded (no summary.json is written then).
+        keep what was recorded (no summary.json is written then). ``keep``: hold
+        the merged tables in the writers' ``merged`` (for the robot logs).
         """
         if self._closed or not self._started:
             return
         self._closed = True
         self.flush()
-        self._merge()
+        self._merge(keep)
 
     def _close_with_logs(self, scenario: Scenario) -> None:
         """``close()`` and the robot logs, for a run still all in memory (one part).
@@ -261,10 +270,10 @@ class RunRecorder:
         self._events.flush(events)
         self._merge()
 
-    def _merge(self) -> None:
+    def _merge(self, keep: bool = False) -> None:
         """Merge the parts into trajectory.parquet and events.parquet."""
-        self._trajectory_rows = self._trajectory.writer.merge(self.folder / TRAJECTORY)
-        self._event_rows = self._events.writer.merge(self.folder / EVENTS)
+        self._trajectory_rows = self._trajectory.writer.merge(self.folder / TRAJECTORY, keep)
+        self._event_rows = self._events.writer.merge(self.folder / EVENTS, keep)
 
     @property
     def buffered_rows(self) -> int:

@@ -10,6 +10,7 @@ import sys
 import textwrap
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -22,6 +23,7 @@ from mimics.algorithms import go_to_goal
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
 from mimics.interfaces.cli_records import logs_app, report_command
+from mimics.records import recorder as recorder_module
 from mimics.records.recorder import RunRecorder
 from mimics.records.robot_logs import read_robot_log
 from mimics.records.runner import run_to_folder
@@ -46,6 +48,30 @@ def test_parts_merge_into_the_same_table(tmp_path: Path) -> None:
         a = read_robot_log(tmp_path / "one" / "robots" / f"robot_{i:04d}.log")
         b = read_robot_log(tmp_path / "many" / "robots" / f"robot_{i:04d}.log")
         pd.testing.assert_frame_equal(a.table, b.table)
+
+
+def test_logs_of_many_parts_are_the_same_from_the_merged_tables_or_read_back(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    given: list[bool] = []  # whether each run's logs were made from tables in memory
+    write = recorder_module.write_robot_logs
+
+    def spy(*args: Any, **kwargs: Any) -> Any:
+        given.append(kwargs.get("trajectory") is not None)
+        return write(*args, **kwargs)
+
+    monkeypatch.setattr(recorder_module, "write_robot_logs", spy)
+    record(head_on(), circle, tmp_path / "kept", flush_rows=7, robot_logs="on")
+    monkeypatch.setattr(recorder_module, "KEEP_ROWS", 0)  # too many rows: read them back
+    record(head_on(), circle, tmp_path / "read", flush_rows=7, robot_logs="on")
+    assert given == [True, False]
+    kept = sorted((tmp_path / "kept" / "robots").iterdir())
+    read = sorted((tmp_path / "read" / "robots").iterdir())
+    assert [p.name for p in kept] == [p.name for p in read]
+    for ours, theirs in zip(kept, read, strict=True):
+        # the same bytes below the header (whose creation time and uuid are each run's)
+        body = ours.read_bytes().partition(b"\n\n")[2]
+        assert body.count(b"\n") > 5
+        assert body == theirs.read_bytes().partition(b"\n\n")[2]
 
 
 class BufferWatch:
