@@ -208,6 +208,8 @@ class RunRecorder:
                 write_robot_logs(self.folder, sim.scenario, self.run_info,
                                  trajectory=self._trajectory.writer.merged,
                                  events=self._events.writer.merged)
+            # the kept tables (up to about 200 MB) are not needed once the logs are written
+            self._trajectory.writer.merged = self._events.writer.merged = None
         counts = self._events.counts
         extra = {
             "run_uuid": self.run_info["uuid"], "created": self.run_info["created"],
