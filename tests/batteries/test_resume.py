@@ -61,7 +61,7 @@ def test_killed_battery_resumes_without_losing_or_repeating_runs(tmp_path: Path)
     path = write_battery(tmp_path / "b.toml", [fault("slow_go"), "go_to_goal"], seeds=8,
                          time=2.0, scenarios=[{"name": "line", "robots": [1, 2]}])
     killed = tmp_path / "killed"
-    code = ("import sys; from mimics.interfaces.cli_battery import app; "
+    code = ("import sys; from mimics.interfaces.cli.battery import app; "
             "app(sys.argv[1:], prog_name='mimics battery')")
     battery = subprocess.Popen(
         [sys.executable, "-c", code, "run", str(path), "--out", str(killed), "--workers", "2",

@@ -9,8 +9,8 @@ import pandas as pd
 import pytest
 from typer.testing import CliRunner
 
-from mimics.interfaces import cli_battery
-from mimics.interfaces.cli_battery import app
+from mimics.interfaces.cli import battery as cli_battery
+from mimics.interfaces.cli.battery import app
 
 GOOD = '''
 [battery]

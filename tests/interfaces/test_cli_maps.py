@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from mimics.interfaces.cli_maps import app, data_app
+from mimics.interfaces.cli.maps import app, data_app
 from mimics.world.map_files import load_map
 from mimics.world.stage_data import STAGE_FILES
 from tests.stage import stage_file

@@ -5,7 +5,7 @@ import json
 from typer.testing import CliRunner
 
 from mimics.engine import ranger
-from mimics.interfaces import cli
+from mimics.interfaces.cli import main as cli
 
 runner = CliRunner()
 

@@ -8,7 +8,7 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from mimics.interfaces.cli_view import battery_plot_command, plot_command
+from mimics.interfaces.cli.view import battery_plot_command, plot_command
 from mimics.interfaces.plots import battery_plots, battery_table, plot_run
 from mimics.records.runner import prepare, run_to_folder
 from mimics.world.errors import MimicsError

@@ -12,7 +12,7 @@ import typer
 from typer.testing import CliRunner
 
 from mimics.engine.state import Status
-from mimics.interfaces.cli_view import replay_command
+from mimics.interfaces.cli.view import replay_command
 from mimics.interfaces.render import figure_size
 from mimics.interfaces.replay import (
     Replayer,

@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 import mimics
 from mimics.algorithms import go_to_goal
 from mimics.engine.simulation import Simulation
-from mimics.interfaces.cli_records import logs_app, report_command
+from mimics.interfaces.cli.records import logs_app, report_command
 from mimics.records.recorder import RunRecorder
 from mimics.records.robot_logs import read_robot_log
 from mimics.records.runner import run_to_folder

@@ -20,7 +20,7 @@ from mimics.algorithms import go_to_goal
 from mimics.catalog import load_scenario
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
-from mimics.interfaces.cli_records import logs_app, report_command
+from mimics.interfaces.cli.records import logs_app, report_command
 from mimics.records import recorder as recorder_module
 from mimics.records.events import EVENTS_SCHEMA
 from mimics.records.robot_logs import (

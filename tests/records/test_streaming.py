@@ -22,7 +22,7 @@ import mimics
 from mimics.algorithms import go_to_goal
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
-from mimics.interfaces.cli_records import logs_app, report_command
+from mimics.interfaces.cli.records import logs_app, report_command
 from mimics.records import recorder as recorder_module
 from mimics.records.recorder import RunRecorder
 from mimics.records.robot_logs import read_robot_log

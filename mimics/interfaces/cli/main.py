@@ -15,7 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mimics.interfaces.cli_output import fail, note
+from mimics.interfaces.cli.output import fail, note
 from mimics.world.errors import MimicsError
 
 app = typer.Typer(
@@ -167,11 +167,11 @@ def _print_catalog(kind: str, entries: list[tuple[str, str]]) -> None:
 
 
 def _mount_subcommands() -> None:
-    from mimics.interfaces.cli_battery import app as battery_app
-    from mimics.interfaces.cli_maps import app as map_app
-    from mimics.interfaces.cli_maps import data_app
-    from mimics.interfaces.cli_records import logs_app, report_command
-    from mimics.interfaces.cli_view import battery_plot_command, plot_command, replay_command
+    from mimics.interfaces.cli.battery import app as battery_app
+    from mimics.interfaces.cli.maps import app as map_app
+    from mimics.interfaces.cli.maps import data_app
+    from mimics.interfaces.cli.records import logs_app, report_command
+    from mimics.interfaces.cli.view import battery_plot_command, plot_command, replay_command
 
     battery_app.command("plot")(battery_plot_command)
     app.add_typer(battery_app, name="battery")

@@ -18,8 +18,8 @@ from typing import Annotated
 
 import typer
 
-from mimics.interfaces.cli_output import fail as _fail
-from mimics.interfaces.cli_output import say as _say
+from mimics.interfaces.cli.output import fail as _fail
+from mimics.interfaces.cli.output import say as _say
 from mimics.world.errors import MimicsError
 
 

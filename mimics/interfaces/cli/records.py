@@ -19,7 +19,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mimics.interfaces.cli_output import fail as _fail
+from mimics.interfaces.cli.output import fail as _fail
 from mimics.world.errors import MimicsError
 
 logs_app = typer.Typer(help="Per-robot text logs of a run (the paper's form).",

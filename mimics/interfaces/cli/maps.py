@@ -2,8 +2,8 @@
 
 Two Typer sub-apps that the main CLI mounts::
 
-    app.add_typer(cli_maps.app, name="map")
-    app.add_typer(cli_maps.data_app, name="data")
+    app.add_typer(maps.app, name="map")
+    app.add_typer(maps.data_app, name="data")
 
 Every error a user can cause (an unreadable file, a bad option, no network)
 is printed as one line ``mimics: error: ...`` on stderr and exits with status 2.
@@ -16,8 +16,8 @@ from typing import Annotated, Any
 
 import typer
 
-from mimics.interfaces.cli_output import fail as _fail
-from mimics.interfaces.cli_output import say as _say
+from mimics.interfaces.cli.output import fail as _fail
+from mimics.interfaces.cli.output import say as _say
 from mimics.world.errors import MimicsError
 
 app = typer.Typer(help="Import maps from drawings and images, and draw them.",

@@ -28,7 +28,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mimics.interfaces.cli_output import fail as _fail
+from mimics.interfaces.cli.output import fail as _fail
 from mimics.world.errors import MimicsError
 
 app = typer.Typer(help="Batteries: algorithms x scenarios x seeds, unattended and resumable.",

@@ -1,0 +1,77 @@
+"""System (Debian) packages some tests need, installed before the suite when missing.
+
+The README's test command runs on a fresh machine: a test that needs a browser,
+ROS or a compiler must run there, not skip. ``tests/conftest.py`` calls
+:func:`install_missing` once, in the main pytest process; it runs ``apt-get``
+only when something is missing and the suite runs as root. Elsewhere a test
+that needs a missing part calls :func:`require`, which skips with the reason
+on a developer's machine and fails under CI.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+
+def _has_command(name: str) -> Callable[[], bool]:
+    return lambda: shutil.which(name) is not None
+
+
+def _has_file(path: str) -> Callable[[], bool]:
+    return lambda: Path(path).exists()
+
+
+# A part: how to tell it is there, and the Debian packages that provide it.
+PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
+    "compiler": (_has_command("gcc"), ["gcc", "g++", "libc6-dev"]),
+    "chromium": (_has_command("chromium"), ["chromium"]),
+    "ros": (
+        lambda: _has_command("rosmaster")() and _has_file("/usr/include/ros/ros.h")()
+        and _has_file("/usr/lib/python3/dist-packages/tf2_ros")(),
+        ["python3-rospy", "python3-rosmaster", "python3-tf2-ros", "python3-sensor-msgs",
+         "python3-nav-msgs", "python3-geometry-msgs", "python3-tf2-msgs",
+         "python3-std-msgs", "python3-rosgraph-msgs", "libroscpp-dev", "ros-core-dev",
+         "g++", "pkg-config"],
+    ),
+}
+
+
+def missing_parts() -> list[str]:
+    """The names of the parts in :data:`PARTS` that are not on this machine."""
+    return [name for name, (present, _) in PARTS.items() if not present()]
+
+
+def install_missing() -> str | None:
+    """``apt-get install`` the missing parts when root; a note of what happened, or None."""
+    missing = missing_parts()
+    if not missing:
+        return None
+    if os.name != "posix" or os.geteuid() != 0 or shutil.which("apt-get") is None:
+        return f"not root or no apt-get: cannot install {', '.join(missing)}"
+    packages = sorted({package for name in missing for package in PARTS[name][1]})
+    env = {**os.environ, "DEBIAN_FRONTEND": "noninteractive"}
+    steps = (["apt-get", "update", "-q"],
+             ["apt-get", "install", "-y", "-q", "--no-install-recommends", *packages])
+    for command in steps:
+        done = subprocess.run(command, env=env, capture_output=True, text=True, check=False)
+        if done.returncode != 0:
+            return f"{' '.join(command[:2])} failed: {done.stderr.strip()[-500:]}"
+    still = missing_parts()
+    return f"installed {' '.join(packages)}" + (f"; still missing: {still}" if still else "")
+
+
+def require(name: str) -> None:
+    """Skip (or, under CI, fail) the calling test when part ``name`` is missing."""
+    present, packages = PARTS[name]
+    if present():
+        return
+    message = f"{name} is missing (Debian packages: {' '.join(packages)})"
+    if os.environ.get("CI"):
+        pytest.fail(message + "; the test set-up should have installed it")
+    pytest.skip(message)
