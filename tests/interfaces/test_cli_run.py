@@ -5,7 +5,7 @@ import json
 from typer.testing import CliRunner
 
 from mimics.engine import ranger
-from mimics.interfaces.cli import main as cli
+from mimics.interfaces.cli import program as cli
 
 runner = CliRunner()
 
