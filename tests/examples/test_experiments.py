@@ -39,6 +39,7 @@ def test_figure2_quick_writes_the_figure_and_a_comparison_that_matches_the_runs(
     assert mean_wall == pytest.approx(table["wall_time"].mean(), abs=0.006)
     paper_per_run = 28.92 * 3600 / 5400
     assert f"{paper_per_run / table['wall_time'].mean():,.0f}x" in text
-    slope = np.polyfit(*np.array(table.groupby("robots")["wall_time"].mean().reset_index()).T, 1)[0]
+    means = table.groupby("robots")["wall_time"].mean()
+    slope = np.polyfit(means.index.to_numpy(float), means.to_numpy(float), 1)[0]
     assert f"{1000 * slope:.3g} ms per robot" in text
     assert "0 collisions" in text  # straight lines 1 m apart never meet
