@@ -35,11 +35,10 @@ import numpy as np
 import tomli_w
 
 from mimics.world.errors import MimicsError
-from mimics.world.maps import Bounds, Map
+from mimics.world.maps import Map, bounds_around
 
 PLAIN_SUFFIXES = (".txt", ".map", ".segments")
 IMAGE_SUFFIXES = (".png", ".pgm", ".bmp")
-DEFAULT_MARGIN = 1.0  # m around the walls when a file gives no bounds
 
 # name -> (Stage bitmap, world size (m), centre (m)), as in Stage's benchmark worlds
 BUILTIN_MAPS: dict[str, tuple[str, tuple[float, float], tuple[float, float]]] = {
@@ -57,14 +56,6 @@ _OPTIONS = {
     "builtin": (),
 }
 _SPLIT = re.compile(r"[\s,]+")
-
-
-def bounds_around(segments: np.ndarray, margin: float = DEFAULT_MARGIN) -> Bounds:
-    """The bounding box of the segments' ends, grown by ``margin`` on every side."""
-    points = np.asarray(segments, dtype=np.float64).reshape(-1, 2)
-    lo, hi = points.min(axis=0), points.max(axis=0)
-    return (float(lo[0] - margin), float(lo[1] - margin), float(hi[0] + margin),
-            float(hi[1] + margin))
 
 
 def _kind(path: Path) -> str:

@@ -15,6 +15,15 @@ import numpy as np
 from mimics.world.errors import ScenarioError
 
 Bounds = tuple[float, float, float, float]  # xmin, ymin, xmax, ymax
+DEFAULT_MARGIN = 1.0  # m around the walls when a file gives no bounds
+
+
+def bounds_around(segments: np.ndarray, margin: float = DEFAULT_MARGIN) -> Bounds:
+    """The bounding box of the segments' ends, grown by ``margin`` on every side."""
+    points = np.asarray(segments, dtype=np.float64).reshape(-1, 2)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    return (float(lo[0] - margin), float(lo[1] - margin), float(hi[0] + margin),
+            float(hi[1] + margin))
 
 
 @dataclass(frozen=True, eq=False)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from mimics.world.errors import MimicsError
-from mimics.world.map_files import DEFAULT_MARGIN, bounds_around, load_map, save_map
-from mimics.world.maps import Map
+from mimics.world.map_files import load_map, save_map
+from mimics.world.maps import DEFAULT_MARGIN, Map, bounds_around
 
 
 def awkward_map() -> Map:

@@ -27,8 +27,7 @@ import svgelements as se
 from skimage.measure import approximate_polygon
 
 from mimics.world.errors import MimicsError
-from mimics.world.map_files import bounds_around
-from mimics.world.maps import Map
+from mimics.world.maps import Map, bounds_around
 
 # one CSS px (1/96 in) in metres, using svgelements' inches per mm so that mm and cm are exact
 METRES_PER_PX = 0.001 / (se.DEFAULT_PPI * 0.0393701)
