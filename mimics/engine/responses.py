@@ -88,3 +88,33 @@ def overshoot(values: np.ndarray, start: float, target: float) -> float:
     if step == 0:
         return 0.0
     return max(0.0, float(np.max((values - target) / step)))
+
+
+class StepFigures(NamedTuple):
+    """The three standard responses of a type: a speed step, a stop, a 90 degree turn."""
+
+    speed_ref: float  # m/s, of the step and of the cruise the stop starts from
+    speed_step: Response
+    stop: Response
+    turn: Response
+
+
+def standard_responses(robot_type: RobotType, *, dt: float = 0.1,
+                       duration: float = 3.0) -> StepFigures:
+    """A speed step from rest, a stop from that speed, a 90 degree turn from rest.
+
+    The speed is half the top speed, or less where that would saturate the
+    actuator at the first sample (the first actuation of a step ``r`` from
+    rest is ``(kp + ki*dt) * r``, before the D term which acts on the
+    measured rate): the loop's own response, within the actuator limits.
+    """
+    gains = robot_type.speed_pid
+    assert gains is not None  # set by RobotType
+    linear = 0.999 / (gains.kp + gains.ki * dt) if gains.kp + gains.ki * dt > 0 else math.inf
+    speed = min(0.5 * robot_type.kv, linear)
+    return StepFigures(
+        speed,
+        step_response(robot_type, speed, 0.0, dt=dt, duration=duration),
+        step_response(robot_type, 0.0, 0.0, start_speed=speed, dt=dt, duration=duration),
+        step_response(robot_type, 0.0, math.pi / 2, dt=dt, duration=duration),
+    )

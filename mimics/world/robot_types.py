@@ -352,3 +352,18 @@ def load_robot_types(path: str | Path) -> dict[str, RobotType]:
         result[name] = robot_type_from_dict({"name": name, **table}, f"{path}: types.{name}")
     return result
 
+
+
+def builtin_robot_type(name: str) -> RobotType:
+    """The built-in type called ``name`` (exact, else the one name equal ignoring case).
+
+    Raises:
+        ScenarioError: no such type; the message lists the known names.
+    """
+    if name in BUILTIN_ROBOT_TYPES:
+        return BUILTIN_ROBOT_TYPES[name]
+    folded = [t for n, t in BUILTIN_ROBOT_TYPES.items() if n.casefold() == name.casefold()]
+    if len(folded) == 1:
+        return folded[0]
+    raise ScenarioError(f"unknown robot type {name!r} (expected one of "
+                        f"{', '.join(BUILTIN_ROBOT_TYPES)})")
