@@ -101,10 +101,11 @@ def show_command(
 def list_robots_command() -> None:
     """Built-in robot types, with size, top speeds and sensor each."""
     table = Table(show_header=True)
-    for column in ("robot type", "size (m)", "top speed", "top turn rate", "ranger"):
+    table.add_column("robot type", no_wrap=True)
+    for column in ("size (m)", "top speed", "top turn rate", "ranger"):
         table.add_column(column)
     for name, t in BUILTIN_ROBOT_TYPES.items():
-        ranger = (f"{t.ranger.name} ({t.ranger.beams} beams, {t.ranger.range:g} m)"
+        ranger = (f"{t.ranger.beams} beams, {t.ranger.range:g} m: {t.ranger.name}"
                   if t.ranger.beams else "none")
         table.add_row(name, f"{t.length:g} x {t.width:g}", f"{t.kv:g} m/s",
                       f"{t.kw:.3g} rad/s", ranger)
