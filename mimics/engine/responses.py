@@ -41,7 +41,8 @@ def step_response(robot_type: RobotType, speed_ref: float, heading_ref: float, *
         speed_ref: Speed reference from time 0 on (m/s).
         heading_ref: Heading reference from time 0 on (rad).
         start_speed: Initial speed, held before time 0 by the speed loop in
-            steady state (its integral holds ``start_speed / kv``); 0: at rest.
+            steady state (its integral term holds ``start_speed / kv``; a loop
+            without integral term just starts from that speed); 0: at rest.
         dt: Control period (s).
         duration: Simulated time (s).
     """

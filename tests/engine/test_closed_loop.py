@@ -13,11 +13,19 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy import signal
 
 from mimics.engine.responses import overshoot, settling_time, step_response
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES, PIONEER_3AT, PidGains, RobotType
-from mimics.world.tuning import DESIGN_DT, SPEED_TIME_CONSTANT
+from mimics.world.tuning import (
+    DESIGN_DT,
+    HEADING_TIME_CONSTANT,
+    SPEED_TIME_CONSTANT,
+    heading_gains,
+    speed_gains,
+)
 
 DT = DESIGN_DT
 TYPES = list(BUILTIN_ROBOT_TYPES.values())
@@ -160,3 +168,32 @@ def test_gains_are_the_types_own_unless_given() -> None:
     up = step_response(tuned, 0.1, 0.0)
     np.testing.assert_allclose(up.speed, 0.1 * (1 - np.exp(-up.time / SPEED_TIME_CONSTANT)),
                                atol=1e-12)
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(kv=st.floats(0.05, 3.0), tau=st.floats(0.01, 3.0), dt=st.floats(0.01, 0.3),
+       time_constant=st.floats(0.05, 2.0))
+def test_the_speed_rule_places_the_sampled_closed_loop_pole_for_any_plant(
+        kv: float, tau: float, dt: float, time_constant: float) -> None:
+    """The closed loop's characteristic polynomial (z-1)(z-a) + b((kp+ki dt)z - kp) has its
+    roots at exp(-dt/T) and on the plant pole a (cancelled by the PI's zero)."""
+    kp, ki, _ = speed_gains(kv, tau, dt=dt, time_constant=time_constant)
+    a, b = math.exp(-dt / tau), kv * (1 - math.exp(-dt / tau))
+    characteristic = np.polyadd(np.polymul([1, -1], [1, -a]), [b * (kp + ki * dt), -b * kp])
+    np.testing.assert_allclose(characteristic,
+                               np.poly([a, math.exp(-dt / time_constant)]), atol=1e-9)
+    assert kp * (1 - a) / a == pytest.approx(ki * dt)  # the zero kp / (kp + ki dt) is a
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(kw=st.floats(0.2, 6.0), tau=st.floats(0.01, 2.0), dt=st.floats(0.01, 0.3))
+def test_the_heading_rule_places_both_sampled_poles_for_any_plant(kw: float, tau: float,
+                                                                 dt: float) -> None:
+    kp, ki, kd = heading_gains(kw, tau, dt=dt)
+    a, b, *_ = signal.cont2discrete((np.array([[0, 1], [0, -1 / tau]]), np.array([[0], [kw / tau]]),
+                                     np.eye(2), np.zeros((2, 1))), dt, method="zoh")
+    closed = a - b @ np.array([[kp, kd]])
+    q = math.exp(-dt / HEADING_TIME_CONSTANT)
+    # a double pole: the characteristic polynomial is (z - q)^2
+    np.testing.assert_allclose(np.poly(closed), [1.0, -2 * q, q * q], atol=1e-8)
+    assert ki == 0.0
