@@ -26,7 +26,8 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
 )
-list_app = typer.Typer(help="List built-in algorithms or scenarios.", no_args_is_help=True)
+list_app = typer.Typer(help="List built-in algorithms, scenarios or robot types.",
+                       no_args_is_help=True)
 app.add_typer(list_app, name="list")
 
 console = Console()
@@ -171,6 +172,7 @@ def _mount_subcommands() -> None:
     from mimics.interfaces.cli.maps import app as map_app
     from mimics.interfaces.cli.maps import data_app
     from mimics.interfaces.cli.records import logs_app, report_command
+    from mimics.interfaces.cli.robots import list_robots_command, robot_app
     from mimics.interfaces.cli.view import battery_plot_command, plot_command, replay_command
 
     battery_app.command("plot")(battery_plot_command)
@@ -181,6 +183,8 @@ def _mount_subcommands() -> None:
     app.command("report")(report_command)
     app.command("replay")(replay_command)
     app.command("plot")(plot_command)
+    app.add_typer(robot_app, name="robot")
+    list_app.command("robots")(list_robots_command)
 
 
 _mount_subcommands()
