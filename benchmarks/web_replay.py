@@ -1,6 +1,7 @@
 """How fast the workbench's replay loads and draws a run in headless Chromium.
 
     python benchmarks/web_replay.py --workspace DIR --run runs/NAME [--seconds 5] [--repeats 3]
+        [--no-trails]
 
 Serves ``DIR`` with ``mimics ui``'s app in this process, opens the Runs page in
 Debian's ``chromium`` (Playwright), and for each repeat: opens the run (the
@@ -53,6 +54,7 @@ def main() -> None:
     parser.add_argument("--run", required=True, help="the run folder, workspace-relative")
     parser.add_argument("--seconds", type=float, default=5.0)
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--no-trails", action="store_true", help="play with trails off")
     args = parser.parse_args()
     server, port = serve(args.workspace)
     loads, rates = [], []
@@ -69,6 +71,8 @@ def main() -> None:
             robots = page.evaluate("window.workbench.runs.data.robots")
             frames = page.evaluate("window.workbench.runs.data.frames")
             page.evaluate(COUNTER)
+            if args.no_trails:
+                page.get_by_label("Trails").uncheck()
             page.get_by_role("button", name="Play").click()
             page.wait_for_timeout(args.seconds * 1000)
             painted = page.evaluate("window.painted")

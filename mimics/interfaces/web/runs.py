@@ -74,6 +74,12 @@ def _replay(folder: Path, stamp: float) -> tuple[ReplayData, Any, int]:
     return data, run.events, stride
 
 
+@functools.lru_cache(maxsize=2)
+def _caster(folder: Path, stamp: float) -> BeamCaster:
+    """The run's beam caster (its wall index is built once per run)."""
+    return BeamCaster(_replay(folder, stamp)[0].scenario)
+
+
 def replay_of(workspace: Workspace, path: str) -> tuple[ReplayData, Any, int]:
     """The cached replay of a run folder (re-read when its summary changes)."""
     folder = run_folder(workspace, path)
@@ -154,12 +160,16 @@ def frames(request: Request, path: str) -> Response:
 def beams(request: Request, path: str, robot: int, frame: int) -> dict[str, Any]:
     """Robot ``robot``'s laser beams at frame ``frame``, recomputed from the logged poses
     (the replay's :class:`~mimics.interfaces.replay.BeamCaster`; noise-free)."""
-    data, _events, stride = replay_of(request.app.state.workspace, path)
+    workspace: Workspace = request.app.state.workspace
+    data, _events, stride = replay_of(workspace, path)
     index = _frames(data, stride)
     if not 0 <= robot < data.n or not 0 <= frame < len(index):
         raise HTTPException(400, f"robot {robot} or frame {frame} is not in the run")
     k = int(index[frame])
-    segments = BeamCaster(data.scenario).beams(robot, data.pose[k], data.status[k])
+    marker = run_folder(workspace, path) / SUMMARY_JSON
+    caster = _caster(run_folder(workspace, path),
+                     marker.stat().st_mtime if marker.exists() else 0.0)
+    segments = caster.beams(robot, data.pose[k], data.status[k])
     return {"segments": [] if segments is None else segments.reshape(-1, 4).tolist()}
 
 

@@ -63,7 +63,7 @@ export class RunPage {
     this.speed.value = "1";
     this.trails = element("input", { type: "checkbox", checked: true, "aria-label": "Trails",
       onchange: () => this.view.redraw() });
-    this.clock = element("output", { "aria-label": "Simulated time", "aria-live": "off" },
+    this.clock = element("span", { role: "timer", "aria-label": "Simulated time" },
       "t = 0.00 s");
     this.timebar = element("canvas", { id: "timebar", "aria-label": "Events on the time bar" });
     this.timebar.addEventListener("pointerdown", (e) => {
@@ -77,6 +77,7 @@ export class RunPage {
         this.clock, element("label", {}, "speed ", this.speed),
         element("label", {}, this.trails, " trails"))));
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
+    this.view.drawStatic = (c, view) => { if (this.meta) view.drawSegments(this.meta.map.segments); };
     this.canvas.addEventListener("pointerdown", (e) => this.pick(e));
   }
 
@@ -118,6 +119,7 @@ export class RunPage {
     this.legend.replaceChildren(...STATE_NAMES.map((name, k) => element("span", {},
       element("i", { style: `background:${this.colors[k]}` }), name.replace("_", " "))));
     this.view.fit(meta.map.bounds);
+    this.view.invalidate();
     this.seekFrame(0);
     this.drawTimebar();
     window.history.replaceState(null, "", `#/runs?path=${encodeURIComponent(path)}`);
@@ -187,7 +189,8 @@ export class RunPage {
       this.fetchBeams();
       guarded(async () => {
         const log = await api.get("/api/runs/log", { path: this.meta.path, robot: best });
-        this.logBox.textContent = log.lines.join("\n") || "(no lines)";
+        this.logBox.textContent = log.lines.join("\n")
+          || "(no lines: no per-robot log was written and the robot had no events)";
       });
     }
   }
@@ -206,7 +209,6 @@ export class RunPage {
   paint(c, view) {
     if (!this.data) return;
     const { robots, poses, states } = this.data;
-    view.drawSegments(this.meta.map.segments);
     const k = this.frame;
     const frame = poses.subarray(k * robots * 3, (k + 1) * robots * 3);
     if (this.trails.checked && k > 0) {
@@ -215,13 +217,15 @@ export class RunPage {
       c.strokeStyle = "rgba(31, 119, 180, 0.35)";
       c.lineWidth = 1;
       c.beginPath();
+      const { scale, offsetX, offsetY } = view;
       for (let i = 0; i < robots; i++) {
         for (let f = first; f <= k; f += step) {
-          const [px, py] = view.toScreen(poses[(f * robots + i) * 3], poses[(f * robots + i) * 3 + 1]);
+          const at = (f * robots + i) * 3;
+          const px = offsetX + poses[at] * scale;
+          const py = offsetY - poses[at + 1] * scale;
           if (f === first) c.moveTo(px, py); else c.lineTo(px, py);
         }
-        const [px, py] = view.toScreen(frame[3 * i], frame[3 * i + 1]);
-        c.lineTo(px, py);
+        c.lineTo(offsetX + frame[3 * i] * scale, offsetY - frame[3 * i + 1] * scale);
       }
       c.stroke();
     }

@@ -11,6 +11,12 @@ export class WorldView {
     this.offsetY = 0; // screen y of world y = 0
     this.pending = false;
     this.bounds = [0, 0, 10, 10];
+    // What does not move (bounds, walls) is drawn once into a layer, re-drawn only when
+    // the view or the content changes (invalidate()), and copied into each frame.
+    this.drawStatic = null;
+    this.layer = document.createElement("canvas");
+    this.layerKey = "";
+    this.version = 0;
     new ResizeObserver(() => this.resize()).observe(canvas);
     canvas.addEventListener("wheel", (event) => this.zoom(event), { passive: false });
     canvas.addEventListener("contextmenu", (event) => event.preventDefault());
@@ -85,13 +91,37 @@ export class WorldView {
     this.pending = true;
     requestAnimationFrame(() => {
       this.pending = false;
-      const ratio = window.devicePixelRatio || 1;
       const c = this.context;
-      c.setTransform(ratio, 0, 0, ratio, 0, 0);
+      c.setTransform(1, 0, 0, 1, 0, 0);
       c.clearRect(0, 0, this.canvas.width, this.canvas.height);
-      this.drawBounds();
+      c.drawImage(this.staticLayer(), 0, 0);
+      const ratio = window.devicePixelRatio || 1;
+      c.setTransform(ratio, 0, 0, ratio, 0, 0);
       this.draw(c, this);
     });
+  }
+
+  // The content changed: the static layer is drawn again at the next frame.
+  invalidate() {
+    this.version += 1;
+    this.redraw();
+  }
+
+  staticLayer() {
+    const key = [this.scale, this.offsetX, this.offsetY, this.canvas.width, this.canvas.height,
+      this.version, ...this.bounds].join();
+    if (key === this.layerKey) return this.layer;
+    this.layerKey = key;
+    this.layer.width = this.canvas.width;
+    this.layer.height = this.canvas.height;
+    const ratio = window.devicePixelRatio || 1;
+    const main = this.context;
+    this.context = this.layer.getContext("2d");
+    this.context.setTransform(ratio, 0, 0, ratio, 0, 0);
+    this.drawBounds();
+    if (this.drawStatic) this.drawStatic(this.context, this);
+    this.context = main;
+    return this.layer;
   }
 
   drawBounds() {
@@ -146,30 +176,33 @@ export class WorldView {
   }
 }
 
-// Robots as filled rectangles, one path per colour: fast for thousands of robots.
+// Robots as filled rectangles, one path per colour: fast for thousands of robots
+// (no allocation per robot: the corners are computed in screen units in place).
 export function drawRobots(c, view, poses, halfLength, halfWidth, colorOf, count) {
   const groups = new Map();
   for (let i = 0; i < count; i++) {
     const color = colorOf(i);
-    if (!groups.has(color)) groups.set(color, []);
-    groups.get(color).push(i);
+    let group = groups.get(color);
+    if (!group) { group = []; groups.set(color, group); }
+    group.push(i);
   }
+  const { scale, offsetX, offsetY } = view;
   for (const [color, robots] of groups) {
     c.fillStyle = color;
     c.beginPath();
     for (const i of robots) {
-      const x = poses[3 * i];
-      const y = poses[3 * i + 1];
+      const sx = offsetX + poses[3 * i] * scale;
+      const sy = offsetY - poses[3 * i + 1] * scale;
       const t = poses[3 * i + 2];
-      const cos = Math.cos(t);
-      const sin = Math.sin(t);
+      const cos = Math.cos(t) * scale;
+      const sin = Math.sin(t) * scale;
       const l = halfLength[i];
       const w = halfWidth[i];
-      const corners = [[l, w], [-l, w], [-l, -w], [l, -w]];
-      corners.forEach(([dx, dy], k) => {
-        const [px, py] = view.toScreen(x + dx * cos - dy * sin, y + dx * sin + dy * cos);
-        if (k === 0) c.moveTo(px, py); else c.lineTo(px, py);
-      });
+      // corner (dx, dy) in the robot's frame -> screen (y down)
+      c.moveTo(sx + l * cos - w * sin, sy - (l * sin + w * cos));
+      c.lineTo(sx - l * cos - w * sin, sy - (-l * sin + w * cos));
+      c.lineTo(sx - l * cos + w * sin, sy - (-l * sin - w * cos));
+      c.lineTo(sx + l * cos + w * sin, sy - (l * sin - w * cos));
       c.closePath();
     }
     c.fill();
