@@ -112,6 +112,48 @@ def test_draw_two_walls_and_save(page: Any, site: tuple[str, Path]) -> None:
     assert the_map.bounds == (0.0, 0.0, 10.0, 10.0)
 
 
+def test_rectangle_undo_redo_move_a_vertex_delete_and_import(
+        page: Any, site: tuple[str, Path], tmp_path: Path) -> None:
+    url, root = site
+    page.goto(f"{url}/#/maps")
+    page.get_by_role("button", name="New map").click()
+    page.get_by_role("button", name="Rectangle").click()
+    click_world(page, "maps", 2.0, 2.0)
+    click_world(page, "maps", 6.0, 5.0)
+    walls = page.get_by_label("Wall count")
+    playwright_api.expect(walls).to_have_text("4 walls")
+    page.get_by_role("button", name="Undo").click()
+    playwright_api.expect(walls).to_have_text("0 walls")
+    page.get_by_role("button", name="Redo").click()
+    playwright_api.expect(walls).to_have_text("4 walls")
+    page.get_by_role("button", name="Select").click()
+    box = page.get_by_label("Map canvas").bounding_box()
+    corner = page.evaluate("window.workbench.maps.view.toScreen(6, 5)")
+    target = page.evaluate("window.workbench.maps.view.toScreen(7, 6)")
+    page.mouse.move(box["x"] + corner[0], box["y"] + corner[1])
+    page.mouse.down()
+    page.mouse.move(box["x"] + target[0], box["y"] + target[1], steps=4)
+    page.mouse.up()
+    click_world(page, "maps", 2.0, 3.5)  # the west wall, away from its ends
+    page.get_by_role("button", name="Delete").click()
+    playwright_api.expect(walls).to_have_text("3 walls")
+    page.get_by_label("Save as").fill("maps/moved.txt")
+    page.get_by_role("button", name="Save map").click()
+    playwright_api.expect(message(page)).to_have_text("saved maps/moved.txt: 3 walls")
+    saved = sorted(map(tuple, load_map(root / "maps" / "moved.txt").segments.tolist()))
+    assert saved == sorted([(2.0, 2.0, 6.0, 2.0), (6.0, 2.0, 7.0, 6.0), (7.0, 6.0, 2.0, 5.0)])
+    drawing = tmp_path / "plan.svg"
+    drawing.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50">'
+                       '<rect x="10" y="10" width="30" height="20" fill="none" stroke="black"/>'
+                       '</svg>')
+    page.get_by_label("File to import").set_input_files(str(drawing))
+    page.get_by_label("SVG scale (m/unit)").fill("0.1")
+    page.get_by_role("button", name="Import", exact=True).click()
+    playwright_api.expect(message(page)).to_have_text(
+        "imported plan.svg: 4 walls (not saved yet)", timeout=30_000)
+    assert not (root / "maps" / "plan.txt").exists()
+
+
 def test_place_a_line_of_robots_save_and_mimics_run_runs_it(
         page: Any, site: tuple[str, Path], tmp_path: Path) -> None:
     url, root = site

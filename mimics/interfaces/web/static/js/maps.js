@@ -79,6 +79,8 @@ export class MapEditor {
       element("div", { class: "statusbar" }, this.info, this.coords));
     this.root.replaceChildren(side, stage);
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
+    this.view.drawStatic = (c, view) => this.paintWalls(c, view);
+    this.gridInput.addEventListener("change", () => this.view.invalidate());
     this.canvas.addEventListener("pointerdown", (e) => this.pointerDown(e));
     this.canvas.addEventListener("pointermove", (e) => this.pointerMove(e));
     this.canvas.addEventListener("dblclick", () => this.finishPolyline());
@@ -134,7 +136,7 @@ export class MapEditor {
     if (bounds[0] < bounds[2] && bounds[1] < bounds[3]) {
       this.bounds = bounds;
       this.view.bounds = bounds;
-      this.view.redraw();
+      this.view.invalidate();
     }
   }
 
@@ -253,7 +255,7 @@ export class MapEditor {
       const box = this.canvas.getBoundingClientRect();
       const [x, y] = this.snap(this.view.toWorld(e.clientX - box.left, e.clientY - box.top));
       for (const [k, at] of ends) { this.segments[k][at] = x; this.segments[k][at + 1] = y; }
-      this.view.redraw();
+      this.view.invalidate();
     };
     const up = () => {
       window.removeEventListener("pointermove", move);
@@ -278,9 +280,23 @@ export class MapEditor {
     if ((event.ctrlKey || event.metaKey) && event.key === "y") this.redo();
   }
 
-  paint(c, view) {
+  // The walls, their grid and vertices: the view's cached layer (redrawn on a change only),
+  // so that drawing over the Hospital's thousands of walls stays fluid.
+  paintWalls(c, view) {
     view.drawGrid(Number(this.gridInput.value) || 1);
     view.drawSegments(this.segments);
+    if (this.segments.length < 5000) {
+      c.fillStyle = "#1f6feb";
+      for (const [x1, y1, x2, y2] of this.segments) {
+        for (const [x, y] of [[x1, y1], [x2, y2]]) {
+          const [px, py] = view.toScreen(x, y);
+          c.fillRect(px - 2, py - 2, 4, 4);
+        }
+      }
+    }
+  }
+
+  paint(c, view) {
     if (this.selected >= 0 && this.segments[this.selected]) {
       view.drawSegments([this.segments[this.selected]], "#1f6feb", 4);
     }
@@ -294,20 +310,11 @@ export class MapEditor {
       }
       view.drawSegments(preview, "#1f6feb", 1);
     }
-    if (this.segments.length < 5000) {
-      c.fillStyle = "#1f6feb";
-      for (const [x1, y1, x2, y2] of this.segments) {
-        for (const [x, y] of [[x1, y1], [x2, y2]]) {
-          const [px, py] = view.toScreen(x, y);
-          c.fillRect(px - 2, py - 2, 4, 4);
-        }
-      }
-    }
   }
 
   showInfo() {
     this.info.textContent = `${this.segments.length} walls`;
-    this.view.redraw();
+    this.view.invalidate();
   }
 
   async importMap() {

@@ -45,6 +45,8 @@ export class ScenarioEditor {
     this.offsetInput = element("input", { type: "text", value: "5, 0",
       "aria-label": "Goal offset dx, dy (m)" });
     this.timeInput = number("Time limit (s)", "60", "1");
+    this.toleranceInput = number("Goal tolerance (m)", "0.2", "0.05");
+    this.deadlockInput = number("Deadlock window (s)", "10", "1");
     this.nameInput = element("input", { type: "text", value: "scenario",
       "aria-label": "Scenario name" });
     this.pathInput = element("input", { type: "text", value: "scenarios/scenario.toml",
@@ -71,6 +73,8 @@ export class ScenarioEditor {
       element("button", { type: "button", onclick: () => this.clearRobots() }, "Remove all"),
       element("h2", {}, "Settings"),
       element("label", {}, "time limit (s) ", this.timeInput),
+      element("label", {}, "goal tolerance (m) ", this.toleranceInput),
+      element("label", {}, "deadlock after (s) without moving ", this.deadlockInput),
       element("h2", {}, "Save"), element("label", {}, "name ", this.nameInput),
       element("label", {}, "file ", this.pathInput),
       element("button", { type: "button", class: "primary", onclick: () => this.save() },
@@ -83,6 +87,7 @@ export class ScenarioEditor {
       element("div", { class: "canvas-box" }, this.canvas),
       element("div", { class: "statusbar" }, this.info)));
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
+    this.view.drawStatic = (c, view) => { if (this.map) view.drawSegments(this.map.segments); };
     this.canvas.addEventListener("pointerdown", (e) => this.pointerDown(e));
   }
 
@@ -145,6 +150,7 @@ export class ScenarioEditor {
     this.mapRef = path;
     this.map = data;
     this.view.fit(data.bounds);
+    this.view.invalidate();
     this.showInfo();
   }
 
@@ -165,7 +171,10 @@ export class ScenarioEditor {
     this.nameInput.value = data.name;
     this.pathInput.value = path;
     this.timeInput.value = String(data.settings.time_limit);
+    this.toleranceInput.value = String(data.settings.goal_tolerance);
+    this.deadlockInput.value = String(data.settings.deadlock_window);
     this.view.fit(this.map.bounds);
+    this.view.invalidate();
     this.showInfo();
     say(`opened ${path}: ${this.robots.length} robots`);
   }
@@ -287,7 +296,6 @@ export class ScenarioEditor {
 
   paint(c, view) {
     if (!this.map) return;
-    view.drawSegments(this.map.segments);
     const n = this.robots.length;
     c.strokeStyle = "#9aa4b1";
     c.lineWidth = 1;
@@ -327,7 +335,9 @@ export class ScenarioEditor {
     const types = Object.fromEntries(Object.entries(this.types).filter(([k]) => used.has(k)));
     return { path: this.pathInput.value.trim(), name: this.nameInput.value.trim() || "scenario",
       map: this.mapRef, robots: this.robots, types,
-      settings: { time_limit: Number(this.timeInput.value) } };
+      settings: { time_limit: Number(this.timeInput.value),
+        goal_tolerance: Number(this.toleranceInput.value),
+        deadlock_window: Number(this.deadlockInput.value) } };
   }
 
   async save() {
