@@ -181,6 +181,12 @@ def test_place_a_line_of_robots_save_and_mimics_run_runs_it(
     assert starts[:, 0] == pytest.approx([2.0] * 4, abs=0.1)
     assert starts[:, 1] == pytest.approx([1.5, 3.0, 4.5, 6.0], abs=0.1)
     assert (run.scenario.goals - starts).ravel() == pytest.approx([6.0, 0.0] * 4)
+    page.get_by_label("Algorithm", exact=True).select_option("go_to_goal")
+    page.get_by_role("button", name="Run", exact=True).click()  # run once, open the replay
+    playwright_api.expect(page).to_have_url(
+        re.compile(r"#/runs\?path=runs%2Fscenario-go_to_goal-s0"), timeout=60_000)
+    playwright_api.expect(page.get_by_label("Simulated time")).to_have_text("t = 0.00 s")
+    assert load_run(root / "runs" / "scenario-go_to_goal-s0").summary["sim_time"] == 5.0
 
 
 def test_start_a_battery_of_four_runs_and_watch_it_finish(page: Any, site: tuple[str, Path]
