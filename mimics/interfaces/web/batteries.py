@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import json
 import re
+import tempfile
 from pathlib import Path
 from typing import Any
 
 import tomli_w
 from fastapi import APIRouter, HTTPException, Request
-from fastapi.responses import FileResponse
+from fastapi.responses import Response
 from pydantic import BaseModel, Field
 
 from mimics.batteries.driver import lock_holder, rerun_failed, resume_battery, run_battery
@@ -184,16 +185,19 @@ def status(request: Request, path: str) -> dict[str, Any]:
 
 
 @router.get("/plot")
-def plot(request: Request, path: str, name: str) -> FileResponse:
+def plot(request: Request, path: str, name: str) -> Response:
     """A battery figure (``outcomes.png``, ``time_to_goal.png``...), drawn by
-    :func:`mimics.interfaces.plots.battery_plots` into the battery's ``plots/``."""
+    :func:`mimics.interfaces.plots.battery_plots` into a temporary folder (a GET writes
+    nothing into the workspace)."""
     from mimics.interfaces.plots import battery_plots
 
     if name not in PLOTS:
         raise HTTPException(400, f"plot {name!r}: expected one of {', '.join(PLOTS)}")
     folder = battery_folder(request.app.state.workspace, path)
-    written, _skipped = battery_plots(folder)
-    target = folder / "plots" / name
-    if target not in written:
-        raise HTTPException(404, f"{name}: not drawn for this battery")
-    return FileResponse(target, media_type="image/png")
+    with tempfile.TemporaryDirectory(prefix="mimics-plots-") as scratch:
+        written, skipped = battery_plots(folder, scratch)
+        target = Path(scratch) / name
+        if target not in written:
+            raise HTTPException(404, f"{name}: not drawn for this battery "
+                                     f"({'; '.join(skipped) or 'no data'})")
+        return Response(target.read_bytes(), media_type="image/png")

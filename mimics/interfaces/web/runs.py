@@ -23,6 +23,7 @@ from __future__ import annotations
 import functools
 import math
 import struct
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -43,7 +44,6 @@ FRAME_BYTES = 64_000_000  # largest frames body; Hospital x 2,000 robots x 600 s
 EVENT_LIMIT = 20_000  # events sent for the time bar and the logs
 LIVELOCK_CODE = 6
 VIDEO_NAME = "replay.mp4"
-PLOT_NAME = "trajectories.png"
 
 
 class ExportBody(BaseModel):
@@ -216,9 +216,12 @@ def video(request: Request, path: str) -> FileResponse:
 
 
 @router.get("/plot")
-def plot(request: Request, path: str) -> FileResponse:
-    """The run's trajectories over the map (:func:`mimics.interfaces.plots.plot_run`)."""
+def plot(request: Request, path: str) -> Response:
+    """The run's trajectories over the map (:func:`mimics.interfaces.plots.plot_run`),
+    drawn into a temporary file: a GET writes nothing into the workspace."""
     from mimics.interfaces.plots import plot_run
 
     folder = run_folder(request.app.state.workspace, path)
-    return FileResponse(plot_run(folder, folder / PLOT_NAME), media_type="image/png")
+    with tempfile.TemporaryDirectory(prefix="mimics-plot-") as scratch:
+        image = plot_run(folder, Path(scratch) / "trajectories.png").read_bytes()
+    return Response(image, media_type="image/png")

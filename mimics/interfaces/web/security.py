@@ -6,9 +6,10 @@ DNS-rebinding attack can make a foreign name point at 127.0.0.1. So:
 * every path the API takes is relative to the workspace and resolved there:
   an absolute path or ``..`` is refused with 400, a path whose real location
   (after symlinks) is outside the workspace with 403, and nothing is read;
-* a request that changes state (POST, PUT, PATCH, DELETE) is refused with 403
-  unless its ``Host`` is the one served and its ``Origin`` (when sent) is that
-  same host: a foreign page cannot post here, a rebound name is not served;
+* every request whose ``Host`` is not the one served is refused with 403 (a
+  rebound name is not served, not even for reading), and a request that
+  changes state (POST, PUT, PATCH, DELETE) also when its ``Origin`` (when
+  sent) is another host: a foreign page cannot post here;
 * request bodies are limited in size (413).
 """
 
@@ -83,7 +84,7 @@ def _host_of(value: str) -> str:
 def guard_middleware(served_hosts: set[str], body_limit: int, upload_limit: int
                      ) -> Callable[[Request, Callable[[Request], Awaitable[Response]]],
                                    Awaitable[Response]]:
-    """An HTTP middleware refusing foreign state changes and oversized bodies.
+    """An HTTP middleware refusing foreign hosts, foreign state changes and oversized bodies.
 
     Args:
         served_hosts: ``host:port`` values this server answers to (the Host header).
@@ -94,11 +95,11 @@ def guard_middleware(served_hosts: set[str], body_limit: int, upload_limit: int
 
     async def guard(request: Request, call_next: Callable[[Request], Awaitable[Response]]
                     ) -> Response:
+        host = _host_of(request.headers.get("host", ""))
+        if host not in served_hosts:  # a rebound name must not even read the workspace
+            return JSONResponse({"detail": f"refused: Host {host!r} is not this server"},
+                                status_code=403)
         if request.method in STATE_CHANGING:
-            host = _host_of(request.headers.get("host", ""))
-            if host not in served_hosts:
-                return JSONResponse({"detail": f"refused: Host {host!r} is not this server"},
-                                    status_code=403)
             origin = request.headers.get("origin")
             if origin is not None and _host_of(origin) not in served_hosts:
                 return JSONResponse({"detail": f"refused: Origin {origin!r} is not this "

@@ -209,6 +209,7 @@ def test_beams_logs_plot_and_video(client: TestClient, workspace: Path) -> None:
     assert client.get("/api/runs/log", params={"path": path, "robot": 3}).status_code == 400
     plot = client.get("/api/runs/plot", params={"path": path})
     assert plot.content[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not list((workspace / path).glob("*.png"))  # a GET writes nothing in the workspace
     assert client.get("/api/runs/video", params={"path": path}).status_code == 404
     job = client.post("/api/runs/export", json={"path": path, "speed": 3.0, "fps": 5}).json()
     done = wait(client, job["id"])

@@ -65,6 +65,7 @@ def test_a_battery_runs_from_the_api_and_its_state_comes_from_sqlite(
     plot = again.get("/api/batteries/plot", params={"path": "batteries/night",
                                                     "name": "outcomes.png"})
     assert plot.content[:4] == b"\x89PNG"
+    assert not (workspace / "batteries" / "night" / "plots").exists()
 
 
 def test_battery_refusals(client: TestClient, workspace: Path) -> None:

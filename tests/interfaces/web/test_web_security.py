@@ -54,8 +54,11 @@ def test_state_changes_from_another_origin_or_host_are_refused_with_403(
     assert not (workspace / "maps" / "a.txt").exists()
     same = client.put("/api/maps/file", json=GOOD_MAP, headers={"Origin": "http://testserver"})
     assert same.status_code == 200
-    # reading is allowed (the browser keeps other sites from seeing the answer)
+    # reading is allowed from a page of another origin (the browser keeps it from seeing the
+    # answer), but not through a rebound name
     assert client.get("/api/maps", headers={"Origin": "http://evil.example"}).status_code == 200
+    for route in ("/", "/api/maps", "/api/runs/frames?path=runs/line-go_to_goal-s1"):
+        assert client.get(route, headers={"Host": "evil.example:8765"}).status_code == 403
 
 
 def test_served_hosts_are_the_bound_address_and_loopback_names() -> None:
