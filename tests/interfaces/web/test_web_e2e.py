@@ -69,12 +69,18 @@ def page(browser: Any, site: tuple[str, Path], tmp_path_factory: pytest.TempPath
     tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
     tab.on("pageerror", lambda e: errors.append(str(e)))
     yield tab
-    shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{request.node.name}.png"
-    shot.parent.mkdir(exist_ok=True)
-    tab.screenshot(path=str(shot))
-    print(f"screenshot: {shot}")
+    screenshot(tab, tmp_path_factory, request.node.name)
     tab.close()
     assert errors == [], errors
+
+
+def screenshot(page: Any, tmp_path_factory: pytest.TempPathFactory, name: str) -> Path:
+    """Save the page as ``screenshots/NAME.png`` under pytest's temporary folder."""
+    shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{name}.png"
+    shot.parent.mkdir(exist_ok=True)
+    page.screenshot(path=str(shot))
+    print(f"screenshot: {shot}")
+    return shot
 
 
 def click_world(page: Any, editor: str, x: float, y: float) -> None:
@@ -189,8 +195,8 @@ def test_place_a_line_of_robots_save_and_mimics_run_runs_it(
     assert load_run(root / "runs" / "scenario-go_to_goal-s0").summary["sim_time"] == 5.0
 
 
-def test_start_a_battery_of_four_runs_and_watch_it_finish(page: Any, site: tuple[str, Path]
-                                                         ) -> None:
+def test_start_a_battery_of_four_runs_and_watch_it_finish(
+        page: Any, site: tuple[str, Path], tmp_path_factory: pytest.TempPathFactory) -> None:
     url, root = site
     page.goto(f"{url}/#/batteries")
     page.get_by_label("Battery name").fill("four")
@@ -211,6 +217,8 @@ def test_start_a_battery_of_four_runs_and_watch_it_finish(page: Any, site: tuple
     assert (root / "batteries" / "four" / "battery.db").is_file()
     page.reload()  # the state comes from SQLite, so a reload shows the same
     playwright_api.expect(progress).to_contain_text("4 of 4 runs finished")
+    playwright_api.expect(table.locator("tbody tr")).to_have_count(4)
+    screenshot(page, tmp_path_factory, "batteries_page")  # this test ends on the Runs page
     table.locator("tbody tr").first.click()
     playwright_api.expect(page).to_have_url(re.compile(r"#/runs\?path=batteries%2Ffour"))
     playwright_api.expect(page.get_by_label("Simulated time")).to_have_text("t = 0.00 s")

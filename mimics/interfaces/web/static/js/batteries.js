@@ -164,7 +164,8 @@ export class BatteryPage {
     this.bar.max = data.total || 1;
     this.bar.value = data.finished;
     this.resumeButton.disabled = data.running || data.finished === data.total;
-    this.rerunButton.disabled = data.running;
+    const failed = ["error", "timeout", "crashed"].reduce((n, k) => n + (data.counts[k] || 0), 0);
+    this.rerunButton.disabled = data.running || failed === 0;
     this.rows = data.runs;
     this.showTable();
     if (data.running && !document.hidden) this.timer = setTimeout(() => this.poll(), 700);
