@@ -29,6 +29,7 @@ import contextlib
 import math
 import sys
 import time as wallclock
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -400,7 +401,8 @@ class _Sink:
 def export_replay(run: str | Path | Any, *, video: str | Path | None = None,
                   gif: str | Path | None = None, fps: float = 10.0, speed: float = 1.0,
                   robot_beams: int | None = None, trail: float = 5.0, width_px: int = 800,
-                  progress: bool = True) -> ExportResult:
+                  progress: bool = True,
+                  on_frame: Callable[[int, int], None] | None = None) -> ExportResult:
     """Write a run's replay as a video and/or a GIF, without a display.
 
     Args:
@@ -414,6 +416,8 @@ def export_replay(run: str | Path | Any, *, video: str | Path | None = None,
         trail: seconds of trail behind each robot.
         width_px: pixels of the longer side of the map.
         progress: show a Rich progress bar on stderr.
+        on_frame: called with (frames written, frames in all) after each frame
+            (the workbench's progress bar).
 
     Raises:
         MimicsError: not a run, an unreadable trajectory, a bad argument or an
@@ -432,7 +436,7 @@ def export_replay(run: str | Path | Any, *, video: str | Path | None = None,
     start = wallclock.perf_counter()
     try:
         count, (width, height) = _export_frames(run, outputs, fps, speed, robot_beams, trail,
-                                                width_px, progress)
+                                                width_px, progress, on_frame)
     except BaseException:
         for path in outputs:  # no half-written or empty file is left behind
             path.unlink(missing_ok=True)
@@ -442,8 +446,9 @@ def export_replay(run: str | Path | Any, *, video: str | Path | None = None,
 
 
 def _export_frames(run: str | Path | Any, outputs: list[Path], fps: float, speed: float,
-                   robot_beams: int | None, trail: float, width_px: int,
-                   progress: bool) -> tuple[int, tuple[int, int]]:
+                   robot_beams: int | None, trail: float, width_px: int, progress: bool,
+                   on_frame: Callable[[int, int], None] | None = None
+                   ) -> tuple[int, tuple[int, int]]:
     """Draw every frame of the replay into the sinks; returns the count and the size."""
     data = replay_data(open_run(run))
     replayer = Replayer.create(data, width_px=width_px, trail=trail, robot_beams=robot_beams)
@@ -455,12 +460,14 @@ def _export_frames(run: str | Path | Any, outputs: list[Path], fps: float, speed
         with _progress(progress) as bar:
             task = bar.add_task(f"replay -> {', '.join(p.name for p in outputs)}",
                                 total=len(times))
-            for t in times:
+            for done, t in enumerate(times, start=1):
                 replayer.show_at(float(t))
                 frame = replayer.renderer.to_rgb()
                 for sink in sinks:
                     sink.append(frame)
                 bar.advance(task)
+                if on_frame is not None:
+                    on_frame(done, len(times))
     except (OSError, RuntimeError) as exc:
         raise MimicsError(f"writing {', '.join(map(str, outputs))} failed: {exc}") from None
     finally:

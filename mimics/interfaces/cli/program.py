@@ -173,6 +173,7 @@ def _mount_subcommands() -> None:
     from mimics.interfaces.cli.maps import data_app
     from mimics.interfaces.cli.records import logs_app, report_command
     from mimics.interfaces.cli.robots import list_robots_command, robot_app
+    from mimics.interfaces.cli.ui import ui_command
     from mimics.interfaces.cli.view import battery_plot_command, plot_command, replay_command
 
     battery_app.command("plot")(battery_plot_command)
@@ -185,6 +186,7 @@ def _mount_subcommands() -> None:
     app.command("plot")(plot_command)
     app.add_typer(robot_app, name="robot")
     list_app.command("robots")(list_robots_command)
+    app.command("ui")(ui_command)
 
 
 _mount_subcommands()

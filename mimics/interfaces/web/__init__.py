@@ -1,0 +1,1 @@
+"""The workbench: `mimics ui`, a local web application on the lower layers (see app.py)."""

@@ -1,0 +1,227 @@
+"""The Runs page's API: list run folders, send a replay in binary, beams, logs, video, plot.
+
+The replay's arrays come from :func:`mimics.interfaces.replay.replay_data` (the
+replay's own reader of a run folder). ``/api/runs/frames`` sends them as one
+little-endian binary body the page reads with typed arrays, no JSON per frame:
+
+======== ================= ==============================================
+bytes    type              content
+======== ================= ==============================================
+0..3     uint32            T, frames sent
+4..7     uint32            n, robots
+8..      float32[T]        simulated time of each frame (s)
+then     float32[T, n, 3]  x, y, theta of every robot in every frame
+then     uint8[T, n]       state: ``Status`` code, 6 for a robot in livelock
+======== ================= ==============================================
+
+A long run is thinned to every k-th recorded step (always keeping the last)
+so that the body stays under :data:`FRAME_BYTES`; ``/api/runs/meta`` tells k.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import struct
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from fastapi import APIRouter, HTTPException, Request
+from fastapi.responses import FileResponse, Response
+from pydantic import BaseModel, Field
+
+from mimics.interfaces.render import STATUS_COLORS
+from mimics.interfaces.replay import BeamCaster, ReplayData, export_replay, replay_data
+from mimics.interfaces.web.security import Workspace
+from mimics.records.layout import SCENARIO_TOML, SUMMARY_JSON
+from mimics.records.run_folder import load_run
+from mimics.world.map_files import map_to_dict
+
+router = APIRouter(prefix="/api/runs", tags=["runs"])
+FRAME_BYTES = 64_000_000  # largest frames body; Hospital x 2,000 robots x 600 s fits thinned
+EVENT_LIMIT = 20_000  # events sent for the time bar and the logs
+LIVELOCK_CODE = 6
+VIDEO_NAME = "replay.mp4"
+
+
+class ExportBody(BaseModel):
+    """Export a run's replay as ``replay.mp4`` in its folder."""
+
+    path: str
+    speed: float = Field(default=1.0, gt=0, le=1000)
+    fps: float = Field(default=10.0, gt=0, le=60)
+    robot: int | None = Field(default=None, ge=0)
+
+
+def run_folder(workspace: Workspace, path: str) -> Path:
+    """The real path of a run folder of the workspace, else 400."""
+    real = workspace.resolve(path, must_exist=True)
+    if not real.is_dir() or not ((real / SUMMARY_JSON).is_file()
+                                 or (real / SCENARIO_TOML).is_file()):
+        raise HTTPException(400, f"{path}: not a run folder")
+    return real
+
+
+@functools.lru_cache(maxsize=2)
+def _replay(folder: Path, stamp: float) -> tuple[ReplayData, Any, int]:
+    """The run's replay arrays, its events and the thinning step (kept for the last 2 runs)."""
+    run = load_run(folder)
+    data = replay_data(run)
+    frame_bytes = data.n * 13 + 4
+    stride = max(1, math.ceil(len(data.times) * frame_bytes / FRAME_BYTES))
+    return data, run.events, stride
+
+
+@functools.lru_cache(maxsize=2)
+def _caster(folder: Path, stamp: float) -> BeamCaster:
+    """The run's beam caster (its wall index is built once per run)."""
+    return BeamCaster(_replay(folder, stamp)[0].scenario)
+
+
+def replay_of(workspace: Workspace, path: str) -> tuple[ReplayData, Any, int]:
+    """The cached replay of a run folder (re-read when its summary changes)."""
+    folder = run_folder(workspace, path)
+    marker = folder / SUMMARY_JSON
+    stamp = marker.stat().st_mtime if marker.exists() else 0.0
+    return _replay(folder, stamp)
+
+
+def _frames(data: ReplayData, stride: int) -> np.ndarray:
+    index = np.arange(0, len(data.times), stride)
+    if index[-1] != len(data.times) - 1:
+        index = np.append(index, len(data.times) - 1)
+    return index
+
+
+@router.get("")
+def list_runs(request: Request) -> dict[str, Any]:
+    """Run folders under ``runs/`` and in the batteries, newest first, with their outcome."""
+    workspace: Workspace = request.app.state.workspace
+    found = []
+    folders = [*workspace.folder("runs").glob("*/"),
+               *workspace.folder("batteries").glob("*/runs/*/")]
+    for folder in folders:
+        if not ((folder / SUMMARY_JSON).is_file() or (folder / SCENARIO_TOML).is_file()):
+            continue
+        entry: dict[str, Any] = {"path": workspace.relative(folder),
+                                 "modified": folder.stat().st_mtime}
+        try:
+            summary = load_run(folder).summary
+            entry.update({k: summary.get(k) for k in ("scenario", "algorithm", "seed", "robots",
+                                                     "status", "sim_time")})
+        except Exception as exc:  # a broken run is listed with its message
+            entry["error"] = str(exc)
+        found.append(entry)
+    found.sort(key=lambda e: -e["modified"])
+    return {"runs": found}
+
+
+@router.get("/meta")
+def meta(request: Request, path: str) -> dict[str, Any]:
+    """Everything but the frames: summary, map, robot sizes, goals, events, colours."""
+    workspace: Workspace = request.app.state.workspace
+    data, events, stride = replay_of(workspace, path)
+    run = load_run(run_folder(workspace, path))
+    half_length, half_width = data.half_sizes
+    goals = data.scenario.goals
+    rows = []
+    if events is not None and len(events):
+        shown = events.head(EVENT_LIMIT)
+        rows = [{"time": float(t), "robot": int(r), "kind": str(k), "detail": str(d)}
+                for t, r, k, d in zip(shown["time"], shown["robot"], shown["kind"],
+                                      shown["detail"], strict=True)]
+    return {"path": path, "summary": run.summary, "title": data.title, "robots": data.n,
+            "duration": data.duration, "stride": stride,
+            "frames": len(_frames(data, stride)), "map": map_to_dict(data.scenario.map),
+            "half_length": half_length.tolist(), "half_width": half_width.tolist(),
+            "goals": [None if math.isnan(g[0]) else [float(g[0]), float(g[1])]
+                      for g in goals.tolist()],
+            "beams": [int(data.scenario.robot_type(i).ranger.beams) for i in range(data.n)],
+            "events": rows, "colors": STATUS_COLORS,
+            "video": (run.path / VIDEO_NAME).is_file()}
+
+
+@router.get("/frames")
+def frames(request: Request, path: str) -> Response:
+    """The replay in the binary layout of the module docstring."""
+    data, _events, stride = replay_of(request.app.state.workspace, path)
+    index = _frames(data, stride)
+    status = data.status[index].astype(np.uint8)
+    status[data.livelock[index] & (status == 0)] = LIVELOCK_CODE
+    body = b"".join([struct.pack("<II", len(index), data.n),
+                     data.times[index].astype("<f4").tobytes(),
+                     data.pose[index].astype("<f4").tobytes(), status.tobytes()])
+    return Response(body, media_type="application/octet-stream")
+
+
+@router.get("/beams")
+def beams(request: Request, path: str, robot: int, frame: int) -> dict[str, Any]:
+    """Robot ``robot``'s laser beams at frame ``frame``, recomputed from the logged poses
+    (the replay's :class:`~mimics.interfaces.replay.BeamCaster`; noise-free)."""
+    workspace: Workspace = request.app.state.workspace
+    data, _events, stride = replay_of(workspace, path)
+    index = _frames(data, stride)
+    if not 0 <= robot < data.n or not 0 <= frame < len(index):
+        raise HTTPException(400, f"robot {robot} or frame {frame} is not in the run")
+    k = int(index[frame])
+    marker = run_folder(workspace, path) / SUMMARY_JSON
+    caster = _caster(run_folder(workspace, path),
+                     marker.stat().st_mtime if marker.exists() else 0.0)
+    segments = caster.beams(robot, data.pose[k], data.status[k])
+    return {"segments": [] if segments is None else segments.reshape(-1, 4).tolist()}
+
+
+@router.get("/log")
+def log(request: Request, path: str, robot: int) -> dict[str, Any]:
+    """Robot ``robot``'s lines: its per-robot text log when written, else its events."""
+    workspace: Workspace = request.app.state.workspace
+    run = load_run(run_folder(workspace, path))
+    if not 0 <= robot < run.robot_count:
+        raise HTTPException(400, f"robot {robot}: the run has robots 0..{run.robot_count - 1}")
+    log_file = run.log_path(robot)
+    if log_file.is_file():
+        lines = log_file.read_text(encoding="utf-8", errors="replace").splitlines()
+        return {"source": "log", "lines": lines[:2000]}
+    events = run.events
+    mine = events[events["robot"] == robot].head(2000)
+    return {"source": "events",
+            "lines": [f"{t:.2f} s  {k}: {d}" for t, k, d in
+                      zip(mine["time"], mine["kind"], mine["detail"], strict=True)]}
+
+
+@router.post("/export")
+def export(request: Request, body: ExportBody) -> dict[str, Any]:
+    """Write ``replay.mp4`` into the run folder with the existing renderer; poll the job."""
+    workspace: Workspace = request.app.state.workspace
+    folder = run_folder(workspace, body.path)
+
+    def work(job: Any) -> dict[str, Any]:
+        result = export_replay(folder, video=folder / VIDEO_NAME, fps=body.fps,
+                               speed=body.speed, robot_beams=body.robot, progress=False,
+                               on_frame=job.progress)
+        return {"video": workspace.relative(result.paths[0]), "frames": result.frames}
+
+    return request.app.state.jobs.start("export", work).as_dict()
+
+
+@router.get("/video")
+def video(request: Request, path: str) -> FileResponse:
+    """The run's exported ``replay.mp4``."""
+    target = run_folder(request.app.state.workspace, path) / VIDEO_NAME
+    if not target.is_file():
+        raise HTTPException(404, f"{path}: no video exported yet")
+    return FileResponse(target, media_type="video/mp4")
+
+
+@router.get("/plot")
+def plot(request: Request, path: str) -> Response:
+    """The run's trajectories over the map (:func:`mimics.interfaces.plots.plot_run`),
+    drawn into a temporary file: a GET writes nothing into the workspace."""
+    from mimics.interfaces.plots import plot_run
+
+    folder = run_folder(request.app.state.workspace, path)
+    with tempfile.TemporaryDirectory(prefix="mimics-plot-") as scratch:
+        image = plot_run(folder, Path(scratch) / "trajectories.png").read_bytes()
+    return Response(image, media_type="image/png")

@@ -1,0 +1,211 @@
+"""The Scenarios page's API: open, place robots, save, and run a scenario file.
+
+A scenario is saved as the TOML file ``mimics run`` reads, built from the
+page's robots and checked by :func:`mimics.world.scenario_files.scenario_from_toml_text`
+before anything is written (a scenario the CLI would refuse is not saved).
+Runs go through :func:`mimics.records.runner.prepare` and ``run_to_folder``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import tomllib
+from dataclasses import asdict, fields
+from typing import Any
+
+import numpy as np
+import tomli_w
+from fastapi import APIRouter, HTTPException, Request
+from pydantic import BaseModel, Field
+
+from mimics.catalog import list_scenarios
+from mimics.interfaces.web.algorithms import algorithm_ref
+from mimics.interfaces.web.jobs import Job
+from mimics.interfaces.web.maps import map_json, open_map
+from mimics.interfaces.web.security import Workspace
+from mimics.world.map_files import BUILTIN_MAPS
+from mimics.world.robot_types import BUILTIN_ROBOT_TYPES
+from mimics.world.scenario import Settings
+from mimics.world.scenario_files import (
+    load_scenario_toml,
+    random_placement,
+    scenario_from_toml_text,
+)
+
+router = APIRouter(prefix="/api/scenarios", tags=["scenarios"])
+_SAFE = re.compile(r"[^A-Za-z0-9._=+-]+")
+
+
+class RobotBody(BaseModel):
+    """One robot: its type, start pose (yaw in rad) and optional goal."""
+
+    type: str
+    x: float
+    y: float
+    yaw: float = 0.0
+    goal: list[float] | None = Field(default=None, min_length=2, max_length=2)
+
+
+class ScenarioBody(BaseModel):
+    """A scenario to save under ``scenarios/`` (``.toml``)."""
+
+    path: str
+    name: str = "scenario"
+    map: str
+    robots: list[RobotBody] = Field(min_length=1, max_length=100_000)
+    types: dict[str, dict[str, Any]] = Field(default_factory=dict)
+    settings: dict[str, float | bool] = Field(default_factory=dict)
+
+
+class PlaceBody(BaseModel):
+    """Random placement of ``count`` robots of ``type`` in ``region`` on ``map``."""
+
+    map: str
+    type: str
+    count: int = Field(ge=1, le=5000)
+    region: list[float] | None = Field(default=None, min_length=4, max_length=4)
+    min_spacing: float | None = Field(default=None, gt=0)
+    seed: int = Field(default=0, ge=0)
+    others: list[list[float]] = Field(default_factory=list)
+
+
+class RunBody(BaseModel):
+    """Run a saved scenario once."""
+
+    path: str
+    algorithm: str
+    seed: int = Field(default=0, ge=0)
+    time: float | None = Field(default=None, gt=0)
+
+
+def scenario_file(workspace: Workspace, path: str, must_exist: bool = True) -> Any:
+    """The real path of a ``.toml`` under ``scenarios/``, else 400."""
+    real = workspace.resolve(path, must_exist=must_exist)
+    if workspace.folder("scenarios") not in real.parents or real.suffix != ".toml":
+        raise HTTPException(400, f"{path}: scenarios are .toml files under scenarios/")
+    return real
+
+
+def _nan_free(values: list[float]) -> list[float] | None:
+    return None if any(math.isnan(v) for v in values) else values
+
+
+@router.get("")
+def list_all(request: Request) -> dict[str, Any]:
+    """The workspace's scenario files, the built-in scenarios, robot types and settings."""
+    workspace: Workspace = request.app.state.workspace
+    files = sorted(workspace.relative(p) for p in workspace.folder("scenarios").rglob("*.toml"))
+    return {"files": files,
+            "builtin": [{"name": n, "description": d} for n, d in list_scenarios()],
+            "robot_types": {name: asdict(t) for name, t in BUILTIN_ROBOT_TYPES.items()},
+            "settings": {f.name: getattr(Settings(), f.name) for f in fields(Settings)
+                         if isinstance(getattr(Settings(), f.name), bool | float | int)
+                         and math.isfinite(float(getattr(Settings(), f.name)))}}
+
+
+@router.get("/file")
+def get_scenario(request: Request, path: str) -> dict[str, Any]:
+    """A scenario file as the page edits it: map, robots, types and settings."""
+    workspace: Workspace = request.app.state.workspace
+    real = scenario_file(workspace, path)
+    scenario = load_scenario_toml(real)
+    raw = tomllib.loads(real.read_text(encoding="utf-8"))
+    map_ref = raw.get("map") if isinstance(raw.get("map"), str) else None
+    if map_ref is not None and map_ref not in BUILTIN_MAPS:
+        map_ref = workspace.relative((real.parent / map_ref).resolve())
+    robots = [{"type": scenario.robot_type(i).name, "x": x, "y": y, "yaw": yaw,
+               "goal": _nan_free(scenario.goals[i].tolist())}
+              for i, (x, y, yaw, _v) in enumerate(scenario.stages.tolist())]
+    types = {t.name: asdict(t) for t in scenario.types}
+    settings = {f.name: getattr(scenario.settings, f.name) for f in fields(Settings)}
+    settings = {k: v for k, v in settings.items() if not (isinstance(v, float)
+                                                          and not math.isfinite(v))}
+    return {"path": path, "name": scenario.name, "map": map_ref,
+            "map_data": map_json(scenario.map, map_ref or ""), "robots": robots,
+            "types": types, "custom_types": raw.get("types", {}), "settings": settings}
+
+
+def scenario_text(workspace: Workspace, body: ScenarioBody) -> tuple[Any, str]:
+    """The real path and TOML text of the scenario the page sent."""
+    real = scenario_file(workspace, body.path, must_exist=False)
+    if body.map in BUILTIN_MAPS:
+        map_ref = body.map
+    else:
+        map_real = workspace.resolve(body.map, must_exist=True)
+        map_ref = os.path.relpath(map_real, real.parent).replace(os.sep, "/")
+    robots = []
+    for robot in body.robots:
+        entry: dict[str, Any] = {"type": robot.type, "x": robot.x, "y": robot.y,
+                                 "yaw": robot.yaw}
+        if robot.goal is not None:
+            entry["goal"] = list(robot.goal)
+        robots.append(entry)
+    data: dict[str, Any] = {"name": body.name, "map": map_ref, "robots": robots}
+    if body.settings:
+        data["settings"] = dict(body.settings)
+    if body.types:
+        data["types"] = body.types
+    try:
+        return real, tomli_w.dumps(data)
+    except (TypeError, ValueError) as exc:
+        raise HTTPException(400, f"scenario: cannot be written as TOML ({exc})") from None
+
+
+@router.put("/file")
+def put_scenario(request: Request, body: ScenarioBody) -> dict[str, Any]:
+    """Check and save the scenario as the TOML file the CLI runs."""
+    workspace: Workspace = request.app.state.workspace
+    real, text = scenario_text(workspace, body)
+    scenario = scenario_from_toml_text(text, real)  # the CLI's own checks, before writing
+    real.parent.mkdir(parents=True, exist_ok=True)
+    real.write_text(text, encoding="utf-8")
+    return {"path": workspace.relative(real), "robots": scenario.robot_count}
+
+
+@router.post("/place")
+def place(request: Request, body: PlaceBody) -> dict[str, Any]:
+    """Random start poses in free space, ``min_spacing`` apart and from ``others``."""
+    if body.type not in BUILTIN_ROBOT_TYPES:
+        raise HTTPException(400, f"type {body.type!r}: expected one of "
+                                 f"{', '.join(BUILTIN_ROBOT_TYPES)}")
+    the_map = open_map(request, body.map)
+    others = np.array(body.others, dtype=float).reshape(-1, 2) if body.others else None
+    poses = random_placement(body.count, BUILTIN_ROBOT_TYPES[body.type], the_map,
+                             np.random.default_rng(body.seed),
+                             region=tuple(body.region) if body.region else None,
+                             min_spacing=body.min_spacing, others=others)
+    return {"poses": poses.tolist()}
+
+
+def run_scenario(workspace: Workspace, job: Job, scenario: str, algorithm: str, seed: int,
+                 time: float | None) -> dict[str, Any]:
+    """Run once and record into ``runs/NAME-ALGORITHM-sSEED`` (reported to ``job``)."""
+    from mimics.records.runner import prepare, run_to_folder
+
+    sim = prepare(scenario, algorithm, seed=seed, time=time)
+    name = _SAFE.sub("_", f"{sim.scenario.name}-{sim.controller.name}-s{seed}")
+    folder = workspace.folder("runs") / name
+    limit = sim.scenario.settings.time_limit if time is None else time
+    total = max(1, round(limit / sim.scenario.settings.dt))
+
+    class Progress:
+        def on_step(self, sim: Any) -> None:
+            job.progress(int(sim.state.step), total)
+
+    sim.observers.append(Progress())
+    result = run_to_folder(sim, folder)
+    return {"run": workspace.relative(folder), "status": result.summary()["status"]}
+
+
+@router.post("/run")
+def run(request: Request, body: RunBody) -> dict[str, Any]:
+    """Start one run of a saved scenario; poll ``/api/jobs/{id}`` for its run folder."""
+    workspace: Workspace = request.app.state.workspace
+    real = scenario_file(workspace, body.path)
+    ref = algorithm_ref(workspace, body.algorithm)
+    load_scenario_toml(real)  # a broken file fails here, with its message, before the job
+    job = request.app.state.jobs.start(
+        "run", lambda job: run_scenario(workspace, job, str(real), ref, body.seed, body.time))
+    return job.as_dict()

@@ -1,0 +1,74 @@
+// The JSON API and the message line, shared by the pages.
+
+export function say(text, isError = false) {
+  const line = document.getElementById("message");
+  line.textContent = text;
+  line.classList.toggle("error", isError);
+}
+
+async function send(method, url, body, raw = false) {
+  const options = { method, headers: {} };
+  if (body instanceof Blob || body instanceof ArrayBuffer) {
+    options.body = body;
+    options.headers["Content-Type"] = "application/octet-stream";
+  } else if (body !== undefined) {
+    options.body = JSON.stringify(body);
+    options.headers["Content-Type"] = "application/json";
+  }
+  const response = await fetch(url, options);
+  if (!response.ok) {
+    let detail = `${response.status} ${response.statusText}`;
+    try {
+      const data = await response.json();
+      if (data.detail) {
+        detail = typeof data.detail === "string" ? data.detail
+          : data.detail.map((d) => `${(d.loc || []).slice(1).join(".")}: ${d.msg}`).join("; ");
+      }
+    } catch (_) { /* not JSON: keep the status line */ }
+    throw new Error(detail);
+  }
+  return raw ? response.arrayBuffer() : response.json();
+}
+
+export const api = {
+  get: (url, params) => send("GET", params ? `${url}?${new URLSearchParams(params)}` : url),
+  binary: (url, params) => send("GET", `${url}?${new URLSearchParams(params)}`, undefined, true),
+  post: (url, body, params) =>
+    send("POST", params ? `${url}?${new URLSearchParams(params)}` : url, body),
+  put: (url, body) => send("PUT", url, body),
+};
+
+// Run an async action; show its error (one line) in the message line instead of throwing.
+export async function guarded(action) {
+  try {
+    return await action();
+  } catch (error) {
+    say(error.message, true);
+    return undefined;
+  }
+}
+
+// Poll a background job until it ends; onProgress(job) after each poll.
+export async function waitJob(id, onProgress) {
+  for (;;) {
+    const job = await api.get(`/api/jobs/${id}`);
+    if (onProgress) onProgress(job);
+    if (job.state !== "running") return job;
+    await new Promise((resolve) => setTimeout(resolve, 300));
+  }
+}
+
+export function element(tag, attributes = {}, ...children) {
+  const node = document.createElement(tag);
+  for (const [key, value] of Object.entries(attributes)) {
+    if (key.startsWith("on")) node.addEventListener(key.slice(2), value);
+    else if (value !== undefined && value !== null && value !== false) node.setAttribute(key, value);
+  }
+  for (const child of children) node.append(child);
+  return node;
+}
+
+export function fileList(list, paths, onOpen) {
+  list.replaceChildren(...paths.map((path) => element("li", {},
+    element("button", { type: "button", onclick: () => onOpen(path) }, path))));
+}

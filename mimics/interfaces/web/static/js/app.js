@@ -1,0 +1,31 @@
+// The workbench's router: one page per hash (#/maps, #/scenarios, #/batteries, #/runs).
+import { BatteryPage } from "./batteries.js";
+import { MapEditor } from "./maps.js";
+import { RunPage } from "./runs.js";
+import { ScenarioEditor } from "./scenarios.js";
+
+const PAGES = { maps: MapEditor, scenarios: ScenarioEditor, batteries: BatteryPage, runs: RunPage };
+const instances = {};
+let shown = null;
+
+function route() {
+  const [name, query = ""] = window.location.hash.replace(/^#\/?/, "").split("?");
+  const page = PAGES[name] ? name : "maps";
+  const params = new URLSearchParams(query);
+  for (const key of Object.keys(PAGES)) {
+    document.getElementById(`page-${key}`).hidden = key !== page;
+  }
+  document.querySelectorAll("nav a").forEach((a) => {
+    if (a.dataset.page === page) a.setAttribute("aria-current", "page");
+    else a.removeAttribute("aria-current");
+  });
+  if (shown && shown !== instances[page] && shown.leave) shown.leave();
+  if (!instances[page]) instances[page] = new PAGES[page](document.getElementById(`page-${page}`));
+  shown = instances[page];
+  shown.refresh();
+  if (shown.enter) shown.enter(params);
+}
+
+window.workbench = instances; // for tests and the console: the page objects
+window.addEventListener("hashchange", route);
+route();

@@ -1,0 +1,292 @@
+// The Runs page: replay a run folder (binary frames), play/pause/scrub, speed, colours by
+// state, trails, the selected robot's beams and log, events on the time bar, video export.
+import { api, element, fileList, guarded, say, waitJob } from "./api.js";
+import { WorldView, drawRobots } from "./view.js";
+
+const SPEEDS = [0.1, 0.25, 0.5, 1, 2, 5, 10, 25, 50, 100];
+const STATE_NAMES = ["active", "reached_goal", "collided", "escaped", "deadlock", "error",
+  "livelock"];
+const EVENT_COLORS = { collision: "#d62728", deadlock: "#ff7f0e", livelock: "#9467bd",
+  exception: "#e377c2", escaped: "#8c8c8c", reached_goal: "#2ca02c" };
+const TRAIL_FRAMES = 40;
+
+// Parse the body of /api/runs/frames (layout in runs.py): times, poses, states.
+export function parseFrames(buffer) {
+  const header = new DataView(buffer, 0, 8);
+  const frames = header.getUint32(0, true);
+  const robots = header.getUint32(4, true);
+  const times = new Float32Array(buffer, 8, frames);
+  const poses = new Float32Array(buffer, 8 + 4 * frames, frames * robots * 3);
+  const states = new Uint8Array(buffer, 8 + 4 * frames + 12 * frames * robots, frames * robots);
+  return { frames, robots, times, poses, states };
+}
+
+export class RunPage {
+  constructor(root) {
+    this.root = root;
+    this.data = null;
+    this.meta = null;
+    this.frame = 0;
+    this.time = 0;
+    this.playing = false;
+    this.selected = -1;
+    this.beams = [];
+    this.build();
+  }
+
+  build() {
+    this.list = element("ul", { class: "files", "aria-label": "Runs" });
+    this.summary = element("div", { class: "hint" });
+    this.logBox = element("div", { class: "log", "aria-label": "Robot log" });
+    this.robotLabel = element("p", {}, "Click a robot to see its beams and log.");
+    this.exportBar = element("progress", { max: "1", value: "0", "aria-label": "Export progress" });
+    this.videoLink = element("p", {});
+    this.plotBox = element("div", { class: "plots" });
+    this.legend = element("div", { class: "legend" });
+    const side = element("div", { class: "side" },
+      element("h2", {}, "Runs"), this.list, element("h2", {}, "Run"), this.summary,
+      this.legend, element("h2", {}, "Selected robot"), this.robotLabel, this.logBox,
+      element("h2", {}, "Video"),
+      element("button", { type: "button", onclick: () => this.exportVideo() }, "Export video"),
+      this.exportBar, this.videoLink,
+      element("h2", {}, "Plot"),
+      element("button", { type: "button", onclick: () => this.showPlot() }, "Trajectories plot"),
+      this.plotBox);
+    this.canvas = element("canvas", { "aria-label": "Replay canvas" });
+    this.playButton = element("button", { type: "button", onclick: () => this.play() }, "Play");
+    this.pauseButton = element("button", { type: "button", onclick: () => this.pause() },
+      "Pause");
+    this.scrub = element("input", { type: "range", min: "0", max: "0", value: "0", step: "1",
+      "aria-label": "Time", oninput: () => this.seekFrame(Number(this.scrub.value)) });
+    this.speed = element("select", { "aria-label": "Speed" },
+      ...SPEEDS.map((s) => element("option", { value: String(s) }, `x${s}`)));
+    this.speed.value = "1";
+    this.trails = element("input", { type: "checkbox", checked: true, "aria-label": "Trails",
+      onchange: () => this.view.redraw() });
+    this.clock = element("span", { role: "timer", "aria-label": "Simulated time" },
+      "t = 0.00 s");
+    this.timebar = element("canvas", { id: "timebar", "aria-label": "Events on the time bar" });
+    this.timebar.addEventListener("pointerdown", (e) => {
+      if (!this.data) return;
+      const box = this.timebar.getBoundingClientRect();
+      this.seekTime(((e.clientX - box.left) / box.width) * this.meta.duration);
+    });
+    this.root.replaceChildren(side, element("div", { class: "stage" },
+      element("div", { class: "canvas-box" }, this.canvas), this.timebar,
+      element("div", { class: "controls" }, this.playButton, this.pauseButton, this.scrub,
+        this.clock, element("label", {}, "speed ", this.speed),
+        element("label", {}, this.trails, " trails"))));
+    this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
+    this.view.drawStatic = (c, view) => { if (this.meta) view.drawSegments(this.meta.map.segments); };
+    this.canvas.addEventListener("pointerdown", (e) => this.pick(e));
+  }
+
+  async refresh() {
+    const data = await guarded(() => api.get("/api/runs"));
+    if (data) fileList(this.list, data.runs.map((r) => r.path), (p) => this.open(p));
+  }
+
+  enter(params) {
+    const path = params.get("path");
+    if (path && (!this.meta || this.meta.path !== path)) this.open(path);
+  }
+
+  leave() { this.pause(); }
+
+  async open(path) {
+    this.pause();
+    say(`loading ${path}...`);
+    const [meta, buffer] = await Promise.all([
+      guarded(() => api.get("/api/runs/meta", { path })),
+      guarded(() => api.binary("/api/runs/frames", { path }))]);
+    if (!meta || !buffer) return;
+    this.meta = meta;
+    this.data = parseFrames(buffer);
+    this.halfLength = Float32Array.from(meta.half_length);
+    this.halfWidth = Float32Array.from(meta.half_width);
+    this.colors = STATE_NAMES.map((name) => meta.colors[name]);
+    this.selected = -1;
+    this.beams = [];
+    this.logBox.textContent = "";
+    this.plotBox.replaceChildren();
+    this.videoLink.replaceChildren(...(meta.video ? [this.videoAnchor()] : []));
+    this.scrub.max = String(this.data.frames - 1);
+    const s = meta.summary;
+    this.summary.textContent = `${meta.title}: ${s.status}, ${meta.robots} robots, `
+      + `${s.reached_goal ?? "?"} reached goal, ${s.collisions ?? "?"} collisions, `
+      + `${s.deadlocks ?? "?"} deadlocks, ${(s.sim_time ?? meta.duration).toFixed(1)} s`
+      + (meta.stride > 1 ? ` (every ${meta.stride}th step shown)` : "");
+    this.legend.replaceChildren(...STATE_NAMES.map((name, k) => element("span", {},
+      element("i", { style: `background:${this.colors[k]}` }), name.replace("_", " "))));
+    this.view.fit(meta.map.bounds);
+    this.view.invalidate();
+    this.seekFrame(0);
+    this.drawTimebar();
+    window.history.replaceState(null, "", `#/runs?path=${encodeURIComponent(path)}`);
+    say(`${path}: ${this.data.frames} frames of ${meta.robots} robots`);
+  }
+
+  play() {
+    if (!this.data || this.playing) return;
+    if (this.frame >= this.data.frames - 1) this.seekFrame(0);
+    this.playing = true;
+    let last = performance.now();
+    const tick = (now) => {
+      if (!this.playing) return;
+      const advance = ((now - last) / 1000) * Number(this.speed.value);
+      last = now;
+      this.seekTime(this.time + advance, false);
+      if (this.frame >= this.data.frames - 1) { this.playing = false; return; }
+      requestAnimationFrame(tick);
+    };
+    requestAnimationFrame(tick);
+  }
+
+  pause() { this.playing = false; this.fetchBeams(); }
+
+  seekTime(t, fetchBeams = true) {
+    const { times, frames } = this.data;
+    this.time = Math.max(0, Math.min(t, this.meta.duration));
+    let lo = 0;
+    let hi = frames - 1;
+    while (lo < hi) { // last frame at or before this.time
+      const mid = (lo + hi + 1) >> 1;
+      if (times[mid] <= this.time + 1e-6) lo = mid; else hi = mid - 1;
+    }
+    this.show(lo, fetchBeams);
+  }
+
+  seekFrame(k) {
+    this.time = this.data.times[k];
+    this.show(k, true);
+  }
+
+  show(k, fetchBeams) {
+    this.frame = k;
+    this.scrub.value = String(k);
+    this.clock.textContent = `t = ${this.time.toFixed(2)} s`;
+    if (fetchBeams) this.fetchBeams(); else this.beams = [];
+    this.view.redraw();
+  }
+
+  pick(event) {
+    if (!this.data || event.button !== 0 || event.shiftKey) return;
+    const [x, y] = this.view.eventWorld(event);
+    const base = this.frame * this.data.robots * 3;
+    let best = -1;
+    let bestDistance = Math.max(0.5, 15 / this.view.scale);
+    for (let i = 0; i < this.data.robots; i++) {
+      const d = Math.hypot(this.data.poses[base + 3 * i] - x, this.data.poses[base + 3 * i + 1] - y);
+      if (d < bestDistance) { bestDistance = d; best = i; }
+    }
+    this.selected = best;
+    this.robotLabel.textContent = best < 0 ? "Click a robot to see its beams and log."
+      : `robot ${best}`;
+    this.logBox.textContent = "";
+    this.beams = [];
+    this.view.redraw();
+    if (best >= 0) {
+      this.fetchBeams();
+      guarded(async () => {
+        const log = await api.get("/api/runs/log", { path: this.meta.path, robot: best });
+        this.logBox.textContent = log.lines.join("\n")
+          || "(no lines: no per-robot log was written and the robot had no events)";
+      });
+    }
+  }
+
+  async fetchBeams() {
+    if (!this.data || this.selected < 0 || !this.meta.beams[this.selected]) return;
+    const [robot, frame] = [this.selected, this.frame];
+    const data = await guarded(() => api.get("/api/runs/beams",
+      { path: this.meta.path, robot, frame }));
+    if (data && robot === this.selected && frame === this.frame) {
+      this.beams = data.segments;
+      this.view.redraw();
+    }
+  }
+
+  paint(c, view) {
+    if (!this.data) return;
+    const { robots, poses, states } = this.data;
+    const k = this.frame;
+    const frame = poses.subarray(k * robots * 3, (k + 1) * robots * 3);
+    if (this.trails.checked && k > 0) {
+      const first = Math.max(0, k - TRAIL_FRAMES);
+      const step = Math.max(1, Math.floor((k - first) / 12));
+      c.strokeStyle = "rgba(31, 119, 180, 0.35)";
+      c.lineWidth = 1;
+      c.beginPath();
+      const { scale, offsetX, offsetY } = view;
+      for (let i = 0; i < robots; i++) {
+        for (let f = first; f <= k; f += step) {
+          const at = (f * robots + i) * 3;
+          const px = offsetX + poses[at] * scale;
+          const py = offsetY - poses[at + 1] * scale;
+          if (f === first) c.moveTo(px, py); else c.lineTo(px, py);
+        }
+        c.lineTo(offsetX + frame[3 * i] * scale, offsetY - frame[3 * i + 1] * scale);
+      }
+      c.stroke();
+    }
+    if (this.beams.length) view.drawSegments(this.beams, "rgba(214, 39, 40, 0.45)", 1);
+    const stateBase = k * robots;
+    drawRobots(c, view, frame, this.halfLength, this.halfWidth,
+      (i) => this.colors[states[stateBase + i]] || "#000", robots);
+    if (this.selected >= 0) {
+      const [px, py] = view.toScreen(frame[3 * this.selected], frame[3 * this.selected + 1]);
+      c.strokeStyle = "#111";
+      c.lineWidth = 2;
+      c.beginPath();
+      c.arc(px, py, Math.max(8, this.halfLength[this.selected] * view.scale * 1.6), 0, 2 * Math.PI);
+      c.stroke();
+    }
+  }
+
+  drawTimebar() {
+    const canvas = this.timebar;
+    const ratio = window.devicePixelRatio || 1;
+    canvas.width = Math.round(canvas.clientWidth * ratio);
+    canvas.height = Math.round(canvas.clientHeight * ratio);
+    const c = canvas.getContext("2d");
+    c.setTransform(ratio, 0, 0, ratio, 0, 0);
+    c.fillStyle = "#eef1f5";
+    c.fillRect(0, 0, canvas.clientWidth, canvas.clientHeight);
+    const duration = this.meta.duration || 1;
+    for (const event of this.meta.events) {
+      const color = EVENT_COLORS[event.kind];
+      if (!color) continue;
+      c.fillStyle = color;
+      c.fillRect((event.time / duration) * canvas.clientWidth - 1, 3, 2, canvas.clientHeight - 6);
+    }
+  }
+
+  videoAnchor() {
+    return element("a", { href: `/api/runs/video?${new URLSearchParams({ path: this.meta.path })}`,
+      target: "_blank" }, "replay.mp4");
+  }
+
+  async exportVideo() {
+    if (!this.meta) { say("open a run first", true); return; }
+    const path = this.meta.path;
+    const job = await guarded(() => api.post("/api/runs/export", { path,
+      speed: Math.max(1, Number(this.speed.value)),
+      robot: this.selected >= 0 && this.meta.beams[this.selected] ? this.selected : null }));
+    if (!job) return;
+    say(`exporting ${path}/replay.mp4...`);
+    const end = await guarded(() => waitJob(job.id, (j) => {
+      this.exportBar.max = j.total || 1;
+      this.exportBar.value = j.done;
+    }));
+    if (!end) return;
+    if (end.state !== "done") { say(`export failed: ${end.error}`, true); return; }
+    say(`wrote ${end.result.video} (${end.result.frames} frames)`);
+    if (this.meta.path === path) this.videoLink.replaceChildren(this.videoAnchor());
+  }
+
+  showPlot() {
+    if (!this.meta) return;
+    this.plotBox.replaceChildren(element("img", { alt: `trajectories of ${this.meta.path}`,
+      src: `/api/runs/plot?${new URLSearchParams({ path: this.meta.path })}` }));
+  }
+}

@@ -1,0 +1,366 @@
+// The Scenarios page: pick a map, place robots (one, line, grid, random), drag starts and
+// goals, choose the robot type and sensors, time limit, save, run.
+import { api, element, fileList, guarded, say, waitJob } from "./api.js";
+import { WorldView, drawRobots } from "./view.js";
+
+const TOOLS = ["One", "Line", "Grid", "Random", "Move", "Remove"];
+const HINTS = {
+  One: "Click the start, then the goal.",
+  Line: "Click the first and the last start: the count spreads along; goals are start + offset.",
+  Grid: "Click two corners: rows x columns of starts; goals are start + offset.",
+  Random: "Click two corners of a region: the count at random, min spacing apart.",
+  Move: "Drag a robot's start or its goal.",
+  Remove: "Click a robot to remove it.",
+};
+
+export class ScenarioEditor {
+  constructor(root) {
+    this.root = root;
+    this.robots = [];
+    this.types = {};
+    this.map = null;
+    this.mapRef = "";
+    this.tool = "Line";
+    this.points = [];
+    this.robotTypes = {};
+    this.build();
+  }
+
+  build() {
+    const number = (label, value, step = "1") => element("input", { type: "number", value,
+      step, "aria-label": label });
+    this.toolButtons = TOOLS.map((name) => element("button", { type: "button",
+      "aria-pressed": String(name === this.tool), onclick: () => this.setTool(name) }, name));
+    this.fileListNode = element("ul", { class: "files", "aria-label": "Scenario files" });
+    this.mapSelect = element("select", { "aria-label": "Map", onchange: () => this.pickMap() });
+    this.typeSelect = element("select", { "aria-label": "Robot type",
+      onchange: () => this.showType() });
+    this.beamsInput = number("Beams", "180");
+    this.rangeInput = number("Range (m)", "8", "0.1");
+    this.noiseInput = number("Noise sigma (m)", "0", "0.01");
+    this.countInput = number("Count", "5");
+    this.rowsInput = number("Rows", "2");
+    this.columnsInput = number("Columns", "3");
+    this.spacingInput = number("Min spacing (m)", "0.8", "0.1");
+    this.offsetInput = element("input", { type: "text", value: "5, 0",
+      "aria-label": "Goal offset dx, dy (m)" });
+    this.timeInput = number("Time limit (s)", "60", "1");
+    this.toleranceInput = number("Goal tolerance (m)", "0.2", "0.05");
+    this.deadlockInput = number("Deadlock window (s)", "10", "1");
+    this.nameInput = element("input", { type: "text", value: "scenario",
+      "aria-label": "Scenario name" });
+    this.pathInput = element("input", { type: "text", value: "scenarios/scenario.toml",
+      "aria-label": "Save scenario as" });
+    this.algorithmSelect = element("select", { "aria-label": "Algorithm" });
+    this.seedInput = number("Seed", "0");
+    this.progress = element("progress", { max: "1", value: "0", "aria-label": "Run progress" });
+    this.hint = element("p", { class: "hint" }, HINTS[this.tool]);
+    this.info = element("span", {});
+    const side = element("div", { class: "side" },
+      element("h2", {}, "Scenarios"), this.fileListNode,
+      element("h2", {}, "Map"), this.mapSelect,
+      element("h2", {}, "Robot type and sensors"), this.typeSelect,
+      element("div", { class: "row" }, element("label", {}, "beams ", this.beamsInput),
+        element("label", {}, "range ", this.rangeInput)),
+      element("label", {}, "range noise sigma (m) ", this.noiseInput),
+      element("h2", {}, "Place robots"), element("div", { class: "row" }, ...this.toolButtons),
+      this.hint,
+      element("div", { class: "row" }, element("label", {}, "count ", this.countInput),
+        element("label", {}, "spacing ", this.spacingInput)),
+      element("div", { class: "row" }, element("label", {}, "rows ", this.rowsInput),
+        element("label", {}, "columns ", this.columnsInput)),
+      element("label", {}, "goal offset dx, dy (m) ", this.offsetInput),
+      element("button", { type: "button", onclick: () => this.clearRobots() }, "Remove all"),
+      element("h2", {}, "Settings"),
+      element("label", {}, "time limit (s) ", this.timeInput),
+      element("label", {}, "goal tolerance (m) ", this.toleranceInput),
+      element("label", {}, "deadlock after (s) without moving ", this.deadlockInput),
+      element("h2", {}, "Save"), element("label", {}, "name ", this.nameInput),
+      element("label", {}, "file ", this.pathInput),
+      element("button", { type: "button", class: "primary", onclick: () => this.save() },
+        "Save scenario"),
+      element("h2", {}, "Run"), element("label", {}, "algorithm ", this.algorithmSelect),
+      element("label", {}, "seed ", this.seedInput),
+      element("button", { type: "button", onclick: () => this.run() }, "Run"), this.progress);
+    this.canvas = element("canvas", { "aria-label": "Scenario canvas" });
+    this.root.replaceChildren(side, element("div", { class: "stage" },
+      element("div", { class: "canvas-box" }, this.canvas),
+      element("div", { class: "statusbar" }, this.info)));
+    this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
+    this.view.drawStatic = (c, view) => { if (this.map) view.drawSegments(this.map.segments); };
+    this.canvas.addEventListener("pointerdown", (e) => this.pointerDown(e));
+  }
+
+  async refresh() {
+    const [scenarios, maps, algorithms] = await Promise.all([
+      guarded(() => api.get("/api/scenarios")), guarded(() => api.get("/api/maps")),
+      guarded(() => api.get("/api/algorithms"))]);
+    if (!scenarios || !maps || !algorithms) return;
+    fileList(this.fileListNode, scenarios.files, (p) => this.open(p));
+    this.robotTypes = scenarios.robot_types;
+    const current = this.mapSelect.value;
+    const mapNames = [...maps.files.map((f) => f.path), ...maps.builtin];
+    this.mapSelect.replaceChildren(element("option", { value: "" }, "(choose a map)"),
+      ...mapNames.map((p) => element("option", { value: p }, p)));
+    this.mapSelect.value = mapNames.includes(current) ? current : "";
+    if (!this.typeSelect.options.length) {
+      this.typeSelect.replaceChildren(...Object.keys(this.robotTypes).map((name) =>
+        element("option", { value: name }, name)));
+      this.typeSelect.value = "Pioneer2DX";
+      this.showType();
+    }
+    const names = [...algorithms.builtin.map((a) => a.name), ...algorithms.files];
+    const chosen = this.algorithmSelect.value || "go_to_goal";
+    this.algorithmSelect.replaceChildren(...names.map((n) => element("option", { value: n }, n)));
+    this.algorithmSelect.value = names.includes(chosen) ? chosen : names[0];
+  }
+
+  showType() {
+    const type = this.robotTypes[this.typeSelect.value];
+    if (!type) return;
+    this.beamsInput.value = String(type.ranger.beams);
+    this.rangeInput.value = String(type.ranger.range);
+    this.noiseInput.value = String(type.ranger.sigma);
+  }
+
+  // The type name new robots get: the built-in, or a custom type when the sensors differ.
+  currentType() {
+    const base = this.typeSelect.value;
+    const ranger = this.robotTypes[base].ranger;
+    const wanted = { beams: Math.round(Number(this.beamsInput.value)),
+      range: Number(this.rangeInput.value), sigma: Number(this.noiseInput.value) };
+    if (wanted.beams === ranger.beams && wanted.range === ranger.range
+        && wanted.sigma === ranger.sigma) return base;
+    const name = `${base}_b${wanted.beams}_r${wanted.range}_n${wanted.sigma}`.replace(/\./g, "p");
+    this.types[name] = { base, ranger: wanted };
+    return name;
+  }
+
+  sizeOf(typeName) {
+    const type = this.robotTypes[typeName] || this.robotTypes[this.types[typeName]?.base]
+      || { length: 0.3, width: 0.3 };
+    return [type.length / 2, type.width / 2];
+  }
+
+  async pickMap() {
+    const path = this.mapSelect.value;
+    if (!path) return;
+    const data = await guarded(() => api.get("/api/maps/file", { path }));
+    if (!data) return;
+    this.mapRef = path;
+    this.map = data;
+    this.view.fit(data.bounds);
+    this.view.invalidate();
+    this.showInfo();
+  }
+
+  async open(path) {
+    const data = await guarded(() => api.get("/api/scenarios/file", { path }));
+    if (!data) return;
+    this.robots = data.robots;
+    this.types = data.custom_types || {};
+    for (const [name, type] of Object.entries(data.types)) {
+      if (!this.robotTypes[name]) this.robotTypes[name] = type;
+    }
+    this.map = data.map_data;
+    this.mapRef = data.map || "";
+    if (this.mapRef && ![...this.mapSelect.options].some((o) => o.value === this.mapRef)) {
+      this.mapSelect.append(element("option", { value: this.mapRef }, this.mapRef));
+    }
+    this.mapSelect.value = this.mapRef;
+    this.nameInput.value = data.name;
+    this.pathInput.value = path;
+    this.timeInput.value = String(data.settings.time_limit);
+    this.toleranceInput.value = String(data.settings.goal_tolerance);
+    this.deadlockInput.value = String(data.settings.deadlock_window);
+    this.view.fit(this.map.bounds);
+    this.view.invalidate();
+    this.showInfo();
+    say(`opened ${path}: ${this.robots.length} robots`);
+  }
+
+  setTool(name) {
+    this.tool = name;
+    this.points = [];
+    this.hint.textContent = HINTS[name];
+    this.toolButtons.forEach((b) => b.setAttribute("aria-pressed", String(b.textContent === name)));
+  }
+
+  offset() {
+    const [dx, dy] = this.offsetInput.value.split(",").map(Number);
+    return Number.isFinite(dx) && Number.isFinite(dy) && (dx || dy) ? [dx, dy] : null;
+  }
+
+  add(starts) {
+    const offset = this.offset();
+    const type = this.currentType();
+    const yaw = offset ? Math.atan2(offset[1], offset[0]) : 0;
+    for (const [x, y, heading] of starts) {
+      this.robots.push({ type, x, y, yaw: heading ?? yaw,
+        goal: offset ? [x + offset[0], y + offset[1]] : null });
+    }
+    this.showInfo();
+  }
+
+  robotAt(x, y) {
+    let best = -1;
+    let bestDistance = Infinity;
+    this.robots.forEach((r, k) => {
+      const d = Math.hypot(r.x - x, r.y - y);
+      if (d < bestDistance) { bestDistance = d; best = k; }
+    });
+    return bestDistance * this.view.scale < 12 ? best : -1;
+  }
+
+  async pointerDown(event) {
+    if (event.button !== 0 || event.shiftKey) return;
+    if (!this.map) { say("choose a map first", true); return; }
+    const [x, y] = this.view.eventWorld(event);
+    if (this.tool === "Move") { this.drag(event, x, y); return; }
+    if (this.tool === "Remove") {
+      const k = this.robotAt(x, y);
+      if (k >= 0) { this.robots.splice(k, 1); this.showInfo(); }
+      return;
+    }
+    this.points.push([x, y]);
+    if (this.tool === "One" && this.points.length === 2) {
+      const [[sx, sy], [gx, gy]] = this.points;
+      this.robots.push({ type: this.currentType(), x: sx, y: sy,
+        yaw: Math.atan2(gy - sy, gx - sx), goal: [gx, gy] });
+      this.points = [];
+      this.showInfo();
+    } else if (this.points.length === 2) {
+      const [[x1, y1], [x2, y2]] = this.points;
+      this.points = [];
+      if (this.tool === "Line") {
+        const n = Math.max(1, Math.round(Number(this.countInput.value)));
+        this.add(Array.from({ length: n }, (_, k) => {
+          const t = n === 1 ? 0 : k / (n - 1);
+          return [x1 + t * (x2 - x1), y1 + t * (y2 - y1)];
+        }));
+      } else if (this.tool === "Grid") {
+        const rows = Math.max(1, Math.round(Number(this.rowsInput.value)));
+        const columns = Math.max(1, Math.round(Number(this.columnsInput.value)));
+        const starts = [];
+        for (let r = 0; r < rows; r++) {
+          for (let c = 0; c < columns; c++) {
+            starts.push([x1 + (columns === 1 ? 0 : (c / (columns - 1)) * (x2 - x1)),
+              y1 + (rows === 1 ? 0 : (r / (rows - 1)) * (y2 - y1))]);
+          }
+        }
+        this.add(starts);
+      } else if (this.tool === "Random") {
+        await this.random([Math.min(x1, x2), Math.min(y1, y2), Math.max(x1, x2), Math.max(y1, y2)]);
+      }
+    }
+    this.view.redraw();
+  }
+
+  async random(region) {
+    const type = this.currentType();
+    const base = this.types[type]?.base || type;
+    const data = await guarded(() => api.post("/api/scenarios/place", {
+      map: this.mapRef, type: base, count: Math.round(Number(this.countInput.value)), region,
+      min_spacing: Number(this.spacingInput.value) || null,
+      seed: Math.floor(Math.random() * 1e9), others: this.robots.map((r) => [r.x, r.y]) }));
+    if (data) this.add(data.poses);
+  }
+
+  drag(event, x, y) {
+    let target = null;
+    let bestDistance = 12 / this.view.scale;
+    this.robots.forEach((r, k) => {
+      const ds = Math.hypot(r.x - x, r.y - y);
+      if (ds < bestDistance) { bestDistance = ds; target = [k, "start"]; }
+      if (r.goal) {
+        const dg = Math.hypot(r.goal[0] - x, r.goal[1] - y);
+        if (dg < bestDistance) { bestDistance = dg; target = [k, "goal"]; }
+      }
+    });
+    if (!target) return;
+    const move = (e) => {
+      const [wx, wy] = this.view.eventWorld(e);
+      const robot = this.robots[target[0]];
+      if (target[1] === "start") { robot.x = wx; robot.y = wy; } else robot.goal = [wx, wy];
+      this.view.redraw();
+    };
+    const up = () => {
+      window.removeEventListener("pointermove", move);
+      window.removeEventListener("pointerup", up);
+    };
+    window.addEventListener("pointermove", move);
+    window.addEventListener("pointerup", up);
+  }
+
+  clearRobots() { this.robots = []; this.showInfo(); }
+
+  paint(c, view) {
+    if (!this.map) return;
+    const n = this.robots.length;
+    c.strokeStyle = "#9aa4b1";
+    c.lineWidth = 1;
+    c.beginPath();
+    for (const r of this.robots) {
+      if (!r.goal) continue;
+      const [ax, ay] = view.toScreen(r.x, r.y);
+      const [bx, by] = view.toScreen(r.goal[0], r.goal[1]);
+      c.moveTo(ax, ay);
+      c.lineTo(bx, by);
+      c.moveTo(bx + 4, by);
+      c.arc(bx, by, 4, 0, 2 * Math.PI);
+    }
+    c.stroke();
+    const poses = new Float32Array(3 * n);
+    const halfLength = new Float32Array(n);
+    const halfWidth = new Float32Array(n);
+    this.robots.forEach((r, k) => {
+      poses.set([r.x, r.y, r.yaw], 3 * k);
+      [halfLength[k], halfWidth[k]] = this.sizeOf(r.type);
+    });
+    drawRobots(c, view, poses, halfLength, halfWidth, () => "#1f77b4", n);
+    if (this.points.length) {
+      const [px, py] = view.toScreen(...this.points[0]);
+      c.fillStyle = "#d62728";
+      c.fillRect(px - 3, py - 3, 6, 6);
+    }
+  }
+
+  showInfo() {
+    this.info.textContent = `${this.robots.length} robots on ${this.mapRef || "no map"}`;
+    this.view.redraw();
+  }
+
+  body() {
+    const used = new Set(this.robots.map((r) => r.type));
+    const types = Object.fromEntries(Object.entries(this.types).filter(([k]) => used.has(k)));
+    return { path: this.pathInput.value.trim(), name: this.nameInput.value.trim() || "scenario",
+      map: this.mapRef, robots: this.robots, types,
+      settings: { time_limit: Number(this.timeInput.value),
+        goal_tolerance: Number(this.toleranceInput.value),
+        deadlock_window: Number(this.deadlockInput.value) } };
+  }
+
+  async save() {
+    if (!this.mapRef) { say("choose a map first", true); return undefined; }
+    const data = await guarded(() => api.put("/api/scenarios/file", this.body()));
+    if (data) { say(`saved ${data.path}: ${data.robots} robots`); this.refresh(); }
+    return data;
+  }
+
+  async run() {
+    const saved = await this.save();
+    if (!saved) return;
+    const job = await guarded(() => api.post("/api/scenarios/run", { path: saved.path,
+      algorithm: this.algorithmSelect.value, seed: Math.round(Number(this.seedInput.value)) }));
+    if (!job) return;
+    say(`running ${saved.path} with ${this.algorithmSelect.value}...`);
+    const end = await guarded(() => waitJob(job.id, (j) => {
+      this.progress.max = j.total || 1;
+      this.progress.value = j.done;
+    }));
+    if (!end) return;
+    if (end.state !== "done") { say(`run failed: ${end.error}`, true); return; }
+    say(`run finished (${end.result.status}): ${end.result.run}`);
+    window.location.hash = `#/runs?path=${encodeURIComponent(end.result.run)}`;
+  }
+}

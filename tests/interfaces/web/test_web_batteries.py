@@ -1,0 +1,90 @@
+"""The Batteries page's API: count, start, status from SQLite, table, resume, re-run, plots."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+from fastapi.testclient import TestClient
+
+from mimics.batteries.report import runs_table
+from mimics.interfaces.web.app import create_app
+
+CRASH = "def step(robot):\n    raise ValueError('on purpose')\n"
+
+
+def status_when_stopped(client: TestClient, path: str, limit: float = 90.0) -> dict[str, Any]:
+    end = time.monotonic() + limit
+    while time.monotonic() < end:
+        status = client.get("/api/batteries/status", params={"path": path}).json()
+        if not status["starting"] and not status["running"] and status["total"]:
+            return status
+        time.sleep(0.3)
+    raise AssertionError(f"{path} still running after {limit} s")
+
+
+def test_a_battery_runs_from_the_api_and_its_state_comes_from_sqlite(
+        client: TestClient, workspace: Path) -> None:
+    (workspace / "algorithms" / "crash.py").write_text(CRASH)
+    body = {"name": "night", "algorithms": ["go_to_goal", "algorithms/crash.py"],
+            "scenarios": [{"name": "line", "params": {"robots": [1, 2]}}], "seeds": 2,
+            "time": 0.5}
+    assert client.post("/api/batteries", json={**body, "dry_run": True}).json() == {"runs": 8}
+    assert not (workspace / "batteries" / "night").exists()
+    started = client.post("/api/batteries", json=body).json()
+    assert started["runs"] == 8 and started["path"] == "batteries/night"
+    status = status_when_stopped(client, "batteries/night")
+    assert status["finished"] == status["total"] == 8
+    assert status["counts"] == {"done": 4, "error": 4}
+    rows = {(r["algorithm"], r["parameters"], r["seed"]): r for r in status["runs"]}
+    assert len(rows) == 8
+    truth = runs_table(workspace / "batteries" / "night")  # the battery's own report
+    for _, row in truth.iterrows():
+        mine = rows[(row["algorithm"], row["parameters"], row["seed"])]
+        assert mine["state"] == row["state"] and mine["misbehaving"] == bool(row["misbehaving"])
+    crashed = [r for r in status["runs"] if r["algorithm"] == "crash"]
+    assert all(r["misbehaving"] and r["state"] == "error" for r in crashed)
+    assert all((workspace / r["folder"] / "summary.json").is_file() for r in status["runs"])
+    assert (workspace / "batteries" / "night.toml").is_file()
+    listed = client.get("/api/batteries").json()["batteries"]
+    assert listed == [{"path": "batteries/night", "total": 8, "counts": {"done": 4, "error": 4},
+                       "running": False}]
+
+    # a new server on the same workspace (a restart) sees the same state, and re-runs failures
+    again = TestClient(create_app(workspace, hosts={"testserver"}))
+    assert again.get("/api/batteries/status",
+                     params={"path": "batteries/night"}).json()["counts"] == status["counts"]
+    assert again.post("/api/batteries/rerun-failed",
+                      json={"path": "batteries/night"}).status_code == 200
+    rerun = status_when_stopped(again, "batteries/night")
+    assert {r["attempts"] for r in rerun["runs"] if r["algorithm"] == "crash"} == {2}
+    assert {r["attempts"] for r in rerun["runs"] if r["algorithm"] == "go_to_goal"} == {1}
+    assert again.post("/api/batteries/resume", json={"path": "batteries/night"}).status_code == 200
+    assert status_when_stopped(again, "batteries/night")["finished"] == 8
+    plot = again.get("/api/batteries/plot", params={"path": "batteries/night",
+                                                    "name": "outcomes.png"})
+    assert plot.content[:4] == b"\x89PNG"
+    assert not (workspace / "batteries" / "night" / "plots").exists()
+
+
+def test_battery_refusals(client: TestClient, workspace: Path) -> None:
+    base = {"name": "b", "algorithms": ["go_to_goal"], "scenarios": [{"name": "line"}]}
+    for changes, status in (({"name": "../b"}, 400), ({"name": ""}, 400),
+                            ({"policy": "ignore"}, 400),
+                            ({"algorithms": ["maps/room.txt"]}, 400),
+                            ({"scenarios": [{"name": "maps/room.txt"}]}, 400),
+                            ({"scenarios": [{"name": "nowhere"}]}, 404),
+                            ({"scenarios": [{"name": "line", "params": {"wheels": 3}}]}, 422),
+                            ({"seeds": 0}, 422)):
+        response = client.post("/api/batteries", json={**base, **changes, "dry_run": True})
+        assert response.status_code == status, (changes, response.json())
+    (workspace / "batteries" / "b").mkdir()
+    taken = client.post("/api/batteries", json=base)
+    assert taken.status_code == 409 and "exists" in taken.json()["detail"]
+    for route in ("/api/batteries/resume", "/api/batteries/rerun-failed"):
+        assert client.post(route, json={"path": "batteries/b"}).status_code == 400
+    assert client.get("/api/batteries/status", params={"path": "runs"}).status_code == 400
+    assert client.get("/api/batteries/status", params={"path": "../x"}).status_code == 400
+    assert client.get("/api/batteries/plot", params={"path": "batteries/b",
+                                                     "name": "x.png"}).status_code == 400

@@ -1,0 +1,242 @@
+"""The workbench in a real headless Chromium (Debian's package, driven by Playwright).
+
+The server runs in a thread of the test process (uvicorn on a free port). Every
+test fails on a console error of the page, and saves a screenshot of its page
+under pytest's temporary folder (the path is printed).
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import socket
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.system_packages import require
+
+playwright_api = pytest.importorskip("playwright.sync_api")
+uvicorn = pytest.importorskip("uvicorn")
+
+from mimics.interfaces.cli import main  # noqa: E402
+from mimics.interfaces.web.app import create_app  # noqa: E402
+from mimics.records.run_folder import load_run  # noqa: E402
+from mimics.world.map_files import load_map  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory: pytest.TempPathFactory, recorded_run: Path
+         ) -> Iterator[tuple[str, Path]]:
+    """The workbench serving a fresh workspace (with a recorded run): its URL and folder."""
+    root = tmp_path_factory.mktemp("e2e") / "ws"
+    (root / "runs").mkdir(parents=True)
+    shutil.copytree(recorded_run, root / "runs" / recorded_run.name)
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    server = uvicorn.Server(uvicorn.Config(create_app(root, port=port), host="127.0.0.1",
+                                           port=port, log_level="warning"))
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    while not server.started:
+        time.sleep(0.02)
+    yield f"http://127.0.0.1:{port}", root
+    server.should_exit = True
+    thread.join(10)
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    require("chromium")
+    with playwright_api.sync_playwright() as driver:
+        launched = driver.chromium.launch(executable_path=shutil.which("chromium"),
+                                          args=["--no-sandbox"])
+        yield launched
+        launched.close()
+
+
+@pytest.fixture
+def page(browser: Any, site: tuple[str, Path], tmp_path_factory: pytest.TempPathFactory,
+         request: pytest.FixtureRequest) -> Iterator[Any]:
+    """A fresh page; after the test: no console errors, and a screenshot kept."""
+    tab = browser.new_page(viewport={"width": 1280, "height": 800})
+    errors: list[str] = []
+    tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    tab.on("pageerror", lambda e: errors.append(str(e)))
+    yield tab
+    screenshot(tab, tmp_path_factory, request.node.name)
+    tab.close()
+    assert errors == [], errors
+
+
+def screenshot(page: Any, tmp_path_factory: pytest.TempPathFactory, name: str) -> Path:
+    """Save the page as ``screenshots/NAME.png`` under pytest's temporary folder."""
+    shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{name}.png"
+    shot.parent.mkdir(exist_ok=True)
+    page.screenshot(path=str(shot))
+    print(f"screenshot: {shot}")
+    return shot
+
+
+def click_world(page: Any, editor: str, x: float, y: float) -> None:
+    """Click the canvas of ``editor`` (maps, scenarios) at world point (x, y) in metres."""
+    px, py = page.evaluate(f"window.workbench.{editor}.view.toScreen({x}, {y})")
+    box = page.get_by_label(f"{editor[:-1].capitalize()} canvas").bounding_box()
+    page.mouse.click(box["x"] + px, box["y"] + py)
+
+
+def message(page: Any) -> Any:
+    return page.get_by_role("status")
+
+
+def test_every_page_opens_from_the_navigation(page: Any, site: tuple[str, Path]) -> None:
+    page.goto(site[0])
+    expect = playwright_api.expect
+    for name in ("Scenarios", "Batteries", "Runs", "Maps"):
+        page.get_by_role("link", name=name).click()
+        expect(page.get_by_role("link", name=name)).to_have_attribute("aria-current", "page")
+        expect(page.get_by_role("region", name=name)).to_be_visible()
+
+
+def test_draw_two_walls_and_save(page: Any, site: tuple[str, Path]) -> None:
+    url, root = site
+    page.goto(f"{url}/#/maps")
+    page.get_by_role("button", name="New map").click()
+    page.get_by_role("button", name="Segment").click()
+    for x, y in ((1.0, 1.0), (6.0, 1.0), (2.5, 3.0), (2.5, 8.5)):
+        click_world(page, "maps", x + 0.1, y - 0.1)  # off by less than half a grid step
+    page.get_by_label("Save as").fill("maps/two.txt")
+    page.get_by_role("button", name="Save map").click()
+    playwright_api.expect(message(page)).to_have_text("saved maps/two.txt: 2 walls")
+    the_map = load_map(root / "maps" / "two.txt")
+    assert the_map.segments.tolist() == [[1.0, 1.0, 6.0, 1.0], [2.5, 3.0, 2.5, 8.5]]
+    assert the_map.bounds == (0.0, 0.0, 10.0, 10.0)
+
+
+def test_rectangle_undo_redo_move_a_vertex_delete_and_import(
+        page: Any, site: tuple[str, Path], tmp_path: Path) -> None:
+    url, root = site
+    page.goto(f"{url}/#/maps")
+    page.get_by_role("button", name="New map").click()
+    page.get_by_role("button", name="Rectangle").click()
+    click_world(page, "maps", 2.0, 2.0)
+    click_world(page, "maps", 6.0, 5.0)
+    walls = page.get_by_label("Wall count")
+    playwright_api.expect(walls).to_have_text("4 walls")
+    page.get_by_role("button", name="Undo").click()
+    playwright_api.expect(walls).to_have_text("0 walls")
+    page.get_by_role("button", name="Redo").click()
+    playwright_api.expect(walls).to_have_text("4 walls")
+    page.get_by_role("button", name="Select").click()
+    box = page.get_by_label("Map canvas").bounding_box()
+    corner = page.evaluate("window.workbench.maps.view.toScreen(6, 5)")
+    target = page.evaluate("window.workbench.maps.view.toScreen(7, 6)")
+    page.mouse.move(box["x"] + corner[0], box["y"] + corner[1])
+    page.mouse.down()
+    page.mouse.move(box["x"] + target[0], box["y"] + target[1], steps=4)
+    page.mouse.up()
+    click_world(page, "maps", 2.0, 3.5)  # the west wall, away from its ends
+    page.get_by_role("button", name="Delete").click()
+    playwright_api.expect(walls).to_have_text("3 walls")
+    page.get_by_label("Save as").fill("maps/moved.txt")
+    page.get_by_role("button", name="Save map").click()
+    playwright_api.expect(message(page)).to_have_text("saved maps/moved.txt: 3 walls")
+    saved = sorted(map(tuple, load_map(root / "maps" / "moved.txt").segments.tolist()))
+    assert saved == sorted([(2.0, 2.0, 6.0, 2.0), (6.0, 2.0, 7.0, 6.0), (7.0, 6.0, 2.0, 5.0)])
+    drawing = tmp_path / "plan.svg"
+    drawing.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50">'
+                       '<rect x="10" y="10" width="30" height="20" fill="none" stroke="black"/>'
+                       '</svg>')
+    page.get_by_label("File to import").set_input_files(str(drawing))
+    page.get_by_label("SVG scale (m/unit)").fill("0.1")
+    page.get_by_role("button", name="Import", exact=True).click()
+    playwright_api.expect(message(page)).to_have_text(
+        "imported plan.svg: 4 walls (not saved yet)", timeout=30_000)
+    assert not (root / "maps" / "plan.txt").exists()
+
+
+def test_place_a_line_of_robots_save_and_mimics_run_runs_it(
+        page: Any, site: tuple[str, Path], tmp_path: Path) -> None:
+    url, root = site
+    (root / "maps" / "room.txt").write_text("bounds 0 0 12 8\n0 0 12 0\n0 8 12 8\n")
+    page.goto(f"{url}/#/scenarios")
+    page.get_by_label("Map", exact=True).select_option("maps/room.txt")
+    playwright_api.expect(page.get_by_text("0 robots on maps/room.txt")).to_be_visible()
+    page.get_by_label("Count", exact=True).fill("4")
+    page.get_by_label("Goal offset dx, dy (m)").fill("6, 0")
+    page.get_by_role("button", name="Line").click()
+    click_world(page, "scenarios", 2.0, 1.5)
+    click_world(page, "scenarios", 2.0, 6.0)
+    playwright_api.expect(page.get_by_text("4 robots on maps/room.txt")).to_be_visible()
+    page.get_by_label("Time limit (s)").fill("5")
+    page.get_by_label("Save scenario as").fill("scenarios/line4.toml")
+    page.get_by_role("button", name="Save scenario").click()
+    playwright_api.expect(message(page)).to_have_text("saved scenarios/line4.toml: 4 robots")
+    out = tmp_path / "run"
+    code = main(["run", str(root / "scenarios" / "line4.toml"), "go_to_goal", "--time", "1",
+                 "--out", str(out), "--robot-logs", "off"])
+    assert code in (0, None)
+    run = load_run(out)
+    assert run.summary["robots"] == 4 and run.summary["sim_time"] == 1.0
+    starts = run.scenario.stages[:, :2]
+    assert starts[:, 0] == pytest.approx([2.0] * 4, abs=0.1)
+    assert starts[:, 1] == pytest.approx([1.5, 3.0, 4.5, 6.0], abs=0.1)
+    assert (run.scenario.goals - starts).ravel() == pytest.approx([6.0, 0.0] * 4)
+    page.get_by_label("Algorithm", exact=True).select_option("go_to_goal")
+    page.get_by_role("button", name="Run", exact=True).click()  # run once, open the replay
+    playwright_api.expect(page).to_have_url(
+        re.compile(r"#/runs\?path=runs%2Fscenario-go_to_goal-s0"), timeout=60_000)
+    playwright_api.expect(page.get_by_label("Simulated time")).to_have_text("t = 0.00 s")
+    assert load_run(root / "runs" / "scenario-go_to_goal-s0").summary["sim_time"] == 5.0
+
+
+def test_start_a_battery_of_four_runs_and_watch_it_finish(
+        page: Any, site: tuple[str, Path], tmp_path_factory: pytest.TempPathFactory) -> None:
+    url, root = site
+    page.goto(f"{url}/#/batteries")
+    page.get_by_label("Battery name").fill("four")
+    page.get_by_role("group", name="Algorithms").get_by_label("go_to_goal", exact=True).check()
+    scenarios = page.get_by_role("group", name="Scenarios")
+    scenarios.get_by_label("line", exact=True).check()
+    scenarios.get_by_label("Parameters of line", exact=True).fill("robots=1,2")
+    page.get_by_label("Seeds", exact=True).fill("2")
+    page.get_by_label("Simulated seconds per run").fill("0.5")
+    page.get_by_label("Simulated seconds per run").blur()
+    playwright_api.expect(page.get_by_text("4 runs", exact=True)).to_be_visible()
+    page.get_by_role("button", name="Start battery").click()
+    progress = page.get_by_label("Progress", exact=True)
+    playwright_api.expect(progress).to_contain_text("4 of 4 runs finished (stopped",
+                                                    timeout=90_000)
+    table = page.get_by_role("table", name="Runs of the battery")
+    playwright_api.expect(table.locator("tbody tr")).to_have_count(4)
+    assert (root / "batteries" / "four" / "battery.db").is_file()
+    page.reload()  # the state comes from SQLite, so a reload shows the same
+    playwright_api.expect(progress).to_contain_text("4 of 4 runs finished")
+    playwright_api.expect(table.locator("tbody tr")).to_have_count(4)
+    screenshot(page, tmp_path_factory, "batteries_page")  # this test ends on the Runs page
+    table.locator("tbody tr").first.click()
+    playwright_api.expect(page).to_have_url(re.compile(r"#/runs\?path=batteries%2Ffour"))
+    playwright_api.expect(page.get_by_label("Simulated time")).to_have_text("t = 0.00 s")
+
+
+def test_open_a_run_and_play_it(page: Any, site: tuple[str, Path]) -> None:
+    url, _ = site
+    page.goto(f"{url}/#/runs")
+    page.get_by_role("button", name="runs/line-go_to_goal-s1").click()
+    clock = page.get_by_label("Simulated time")
+    playwright_api.expect(clock).to_have_text("t = 0.00 s")
+    page.get_by_label("Speed").select_option("2")
+    page.get_by_role("button", name="Play").click()
+    playwright_api.expect(clock).not_to_have_text("t = 0.00 s")
+    page.wait_for_timeout(300)
+    page.get_by_role("button", name="Pause").click()
+    paused = clock.text_content()
+    seconds = float(paused.split()[2])
+    assert 0.0 < seconds <= 3.0
+    page.wait_for_timeout(400)
+    assert clock.text_content() == paused  # paused: time stands still
