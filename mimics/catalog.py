@@ -93,8 +93,8 @@ def find_algorithm(name_or_path: str | Path) -> tuple[str, Any]:
         return path.stem, _load_file(path, "algorithm")
     if text not in _builtin_names(mimics.algorithms):
         known = ", ".join(_builtin_names(mimics.algorithms))
-        raise AlgorithmError(f"unknown algorithm {text!r} (expected a .py file or one of: "
-                             f"{known})")
+        raise AlgorithmError(f"unknown algorithm {text!r} (expected a .py, .c or .cpp file or "
+                             f"one of: {known})")
     return text, importlib.import_module(f"mimics.algorithms.{text}")
 
 
