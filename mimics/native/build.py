@@ -10,7 +10,10 @@ Python ABI and cffi's version. A build is made in a temporary folder and
 renamed into place in one step, so battery workers starting together never
 see half a build; whoever renames first wins and the others use that build.
 
->>> # build = load_native("examples/c/go_to_goal.c"); build.lib.mimics_host_entry_points()
+Usage (compiles on the first call, a cache hit afterwards)::
+
+    build = load_native("examples/c/go_to_goal.c")
+    build.compiled, build.folder
 """
 
 from __future__ import annotations
@@ -36,8 +39,7 @@ from mimics.world.errors import AlgorithmError, MimicsError
 
 #: Environment variable naming the cache folder (tests point it at a temporary one).
 CACHE_ENV = "MIMICS_CACHE_DIR"
-#: File suffixes compiled as C and as C++.
-C_SUFFIXES = (".c",)
+#: File suffixes compiled as C++ (the others of ``NATIVE_SUFFIXES`` as C).
 CXX_SUFFIXES = (".cpp", ".cc", ".cxx")
 #: Flags for the user's file: optimised, position-independent, and a*b+c never fused
 #: into one rounding (so that arithmetic rounds as NumPy's does).
@@ -134,11 +136,6 @@ def cache_root() -> Path:
     return Path(platformdirs.user_cache_dir("mimics", appauthor=False)) / "native"
 
 
-def is_native(path: str | Path) -> bool:
-    """Whether ``path`` names a C or C++ source file (by its suffix)."""
-    return Path(path).suffix.lower() in C_SUFFIXES + CXX_SUFFIXES
-
-
 def compiler_for(path: Path) -> list[str]:
     """The compiler command for ``path``: ``$CC``/``$CXX``, else Python's own, else gcc/g++."""
     cxx = path.suffix.lower() in CXX_SUFFIXES
@@ -233,7 +230,9 @@ def _build(source: Path, compiler: list[str], key: str, root: Path) -> None:
         user_object = work / "algorithm.o"
         command = [*compiler, *FLAGS, "-I", str(include_dir()), "-c", str(source), "-o",
                    str(user_object)]
-        done = subprocess.run(command, capture_output=True, text=True, check=False)
+        # messages in English whatever the locale: the first error is found by its form
+        done = subprocess.run(command, capture_output=True, text=True, check=False,
+                              env={**os.environ, "LC_ALL": "C"})
         if done.returncode != 0:
             raise CompileError(_first_error(done.stdout + done.stderr, source, done.returncode))
         ffi = cffi.FFI()
