@@ -7,14 +7,16 @@ one fresh process (after a warm-up of each), so that they see the same
 machine: ``deployment`` (Python, one call per robot), ``deployment_team``
 (Python, one NumPy call per step), ``examples/c/deployment.c`` (C, one call
 per robot, all of a step in one call into C) and ``still`` (a team step that
-leaves every robot where it is: the engine's own cost). Printed per form,
-medians over the rounds:
+leaves every robot where it is: the engine's own cost, robots not moving).
+Printed per form, medians over the rounds:
 
-* s_sim/s, robot-steps/s and µs per robot-step (wall time of the whole step);
-* µs per call: (wall time per step - ``still``'s) / robots: what calling the
-  algorithm costs the engine, adapter and conversions included;
-* inside: the engine's own clock around each call (for the team form, a call's
-  time divided by the robots).
+* whole runs: s_sim/s, robot-steps/s, µs per robot-step (wall) and CPU µs per
+  robot-step (process CPU time: less blurred than wall time on a busy machine);
+* µs per call: the controller alone, the world frozen after 5 s of the run:
+  ``compute()`` for all robots called again and again, its wall time divided
+  by the robots (adapter, conversions and the engine's own timing included);
+* inside: the engine's clock around each call (team form: a call's time
+  divided by the robots).
 
 Deadlock deactivation is off, so that every robot stays active and every
 form drives the same number of robots. The C file is compiled (or found in
@@ -27,6 +29,7 @@ from __future__ import annotations
 import argparse
 import json
 import statistics
+import time
 from pathlib import Path
 from typing import Any
 
@@ -69,20 +72,41 @@ def child(spec: dict[str, Any]) -> dict[str, list[dict[str, float]]]:
 
     for name in FORMS:
         time_runs(make(name, spec["warmup_time"]), repeats=1, warmup=0, min_seconds=0.0)
+    frozen = {name: _frozen_world(make(name, 5.0)) for name in FORMS}
     rounds: dict[str, list[dict[str, float]]] = {name: [] for name in FORMS}
     for _ in range(spec["repeats"]):
         for name in FORMS:
             figures = time_runs(make(name, spec["time"]), repeats=1, warmup=0, min_seconds=0.0)
             sim = made[-1]
+            robot_steps = max(figures["robot_steps"], 1)
             rounds[name].append({
                 "sim_speed": figures["sim_speed"],
                 "robot_steps_per_s": figures["robot_steps_per_s"],
                 "us_per_robot_step": figures["us_per_robot_step"],
-                "us_per_step": 1e6 * figures["wall_time"] / max(figures["steps"], 1),
+                "cpu_us_per_robot_step": 1e6 * figures["cpu_time"] / robot_steps,
+                "us_per_call": _controller_us_per_call(frozen[name], spec["calls"]),
                 "inside_us_per_call": 1e6 * sim.timing.total / max(sim.timing.count, 1),
                 "robots": figures["robots"], "steps": figures["steps"],
                 "load_average": figures["load_average_after"], "threads": figures["threads"]})
     return rounds
+
+
+def _frozen_world(make: Any) -> Any:
+    """A simulation run to its time limit, its controller ready to compute again."""
+    sim = make()
+    sim.run()
+    return sim
+
+
+def _controller_us_per_call(sim: Any, calls: int) -> float:
+    """Median wall time of ``compute()`` for all robots, per robot (µs), the world frozen."""
+    ids = np.arange(sim.state.n)
+    times = []
+    for _ in range(calls):
+        start = time.perf_counter()
+        sim.controller.compute(sim, ids)
+        times.append(time.perf_counter() - start)
+    return 1e6 * statistics.median(times) / len(ids)
 
 
 def main() -> None:
@@ -97,7 +121,8 @@ def main() -> None:
     if args.child:
         print(json.dumps(child(json.loads(args.child))))
         return
-    spec = {"time": args.time, "warmup_time": args.warmup_time, "repeats": args.repeats}
+    spec = {"time": args.time, "warmup_time": args.warmup_time, "repeats": args.repeats,
+            "calls": 20 if args.quick else 100}
     rounds = run_child(__file__, spec, args.threads)
     base = rounds["still"]
     robots = base[0]["robots"]
@@ -106,25 +131,21 @@ def main() -> None:
           f"load average {statistics.median(r['load_average'] for r in base):.1f} "
           "(a shared machine: figures are noisy)")
     print(f"  {'form':>16} {'s_sim/s':>9} {'robot-steps/s':>14} {'us/robot-step':>14} "
-          f"{'us/call':>9} {'inside':>9}")
+          f"{'CPU us/r-s':>11} {'us/call':>9} {'inside':>9}")
     rows: list[dict[str, Any]] = []
+    keys = ("sim_speed", "robot_steps_per_s", "us_per_robot_step", "cpu_us_per_robot_step",
+            "us_per_call", "inside_us_per_call")
     for name in FORMS:
         mine = rounds[name]
-        per_call = [(r["us_per_step"] - b["us_per_step"]) / robots
-                    for r, b in zip(mine, base, strict=True)]
         row = {"benchmark": "c_step", "form": name, "scenario": "cave", "robots": robots,
-               "sim_time": args.time,
-               **{key: statistics.median(r[key] for r in mine)
-                  for key in ("sim_speed", "robot_steps_per_s", "us_per_robot_step",
-                              "inside_us_per_call")},
-               "us_per_call": statistics.median(per_call), "us_per_call_rounds": per_call,
-               "threads": mine[0]["threads"]}
+               "sim_time": args.time, **{key: statistics.median(r[key] for r in mine)
+                                         for key in keys}, "threads": mine[0]["threads"]}
         rows.append(row)
-        call = "(engine)" if name == "still" else f"{row['us_per_call']:9.2f}"
         print(f"  {name:>16} {row['sim_speed']:9.2f} {row['robot_steps_per_s']:14.0f} "
-              f"{row['us_per_robot_step']:14.2f} {call:>9} {row['inside_us_per_call']:9.3f}")
-    print("  us/call: (wall per step - still's) / robots; inside: the engine's clock around "
-          "each call (team: per robot)")
+              f"{row['us_per_robot_step']:14.2f} {row['cpu_us_per_robot_step']:11.2f} "
+              f"{row['us_per_call']:9.3f} {row['inside_us_per_call']:9.3f}")
+    print("  us/call: the controller alone (world frozen), per robot; inside: the engine's "
+          "clock around each call (team: per robot); CPU us/r-s: process CPU per robot-step")
     save("c_step", {"meta": meta(args), "rows": rows, "rounds": rounds}, args.results)
 
 
