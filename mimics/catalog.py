@@ -3,7 +3,8 @@
 Built-in algorithms live in ``mimics/algorithms/`` and built-in scenarios in
 ``mimics/scenarios/``, one module each, the module name being the name. A user
 passes a path instead: a ``.py`` file (an algorithm, or a scenario defining
-``scenario(**params)``) or a declarative ``.toml`` scenario.
+``scenario(**params)``), a ``.c``/``.cpp`` algorithm (compiled on first use, see
+:mod:`mimics.native`) or a declarative ``.toml`` scenario.
 
 >>> sorted(name for name, _ in list_algorithms())[:2]
 ['deployment', 'deployment_team']
@@ -23,6 +24,7 @@ from typing import Any
 
 import mimics.algorithms
 import mimics.scenarios
+from mimics.native import NATIVE_SUFFIXES
 from mimics.world.errors import AlgorithmError, MimicsError, ScenarioError
 from mimics.world.scenario import Scenario
 
@@ -61,7 +63,7 @@ def _load_file(path: Path, kind: str) -> ModuleType:
 
 
 def _looks_like_path(name: str) -> bool:
-    return name.endswith((".py", ".toml")) or "/" in name or "\\" in name
+    return name.endswith((".py", ".toml", *NATIVE_SUFFIXES)) or "/" in name or "\\" in name
 
 
 # -- algorithms --------------------------------------------------------------
@@ -72,18 +74,27 @@ def list_algorithms() -> list[tuple[str, str]]:
             for name in _builtin_names(mimics.algorithms)]
 
 
-def find_algorithm(name_or_path: str | Path) -> tuple[str, ModuleType]:
-    """The algorithm's display name and module, from a built-in name or a file path."""
+def find_algorithm(name_or_path: str | Path) -> tuple[str, Any]:
+    """The algorithm's display name and module, from a built-in name or a file path.
+
+    A C or C++ file gives a ready controller instead of a module (compiled on
+    first use, then found in the cache): a fresh one per call.
+    """
     text = str(name_or_path)
     if _looks_like_path(text):
         path = Path(text)
+        if path.suffix.lower() in NATIVE_SUFFIXES:
+            from mimics.native.adapter import native_controller
+
+            return path.name, native_controller(path)
         if path.suffix != ".py":
-            raise AlgorithmError(f"algorithm {text!r}: expected a .py file or a built-in name")
+            raise AlgorithmError(f"algorithm {text!r}: expected a .py, .c or .cpp file or a "
+                                 "built-in name")
         return path.stem, _load_file(path, "algorithm")
     if text not in _builtin_names(mimics.algorithms):
         known = ", ".join(_builtin_names(mimics.algorithms))
-        raise AlgorithmError(f"unknown algorithm {text!r} (expected a .py file or one of: "
-                             f"{known})")
+        raise AlgorithmError(f"unknown algorithm {text!r} (expected a .py, .c or .cpp file or "
+                             f"one of: {known})")
     return text, importlib.import_module(f"mimics.algorithms.{text}")
 
 

@@ -42,6 +42,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from mimics.native import NATIVE_SUFFIXES
 from mimics.world.errors import MimicsError, read_input_text
 
 BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
@@ -156,7 +157,7 @@ def _text(value: Any) -> str:
 
 
 def _is_path(name: str) -> bool:
-    return name.endswith((".py", ".toml")) or "/" in name or "\\" in name
+    return name.endswith((".py", ".toml", *NATIVE_SUFFIXES)) or "/" in name or "\\" in name
 
 
 # -- reading and checking ------------------------------------------------------

@@ -73,7 +73,8 @@ def print_summary(summary: dict[str, Any], out: Path | None) -> None:
 @app.command()
 def run(
     scenario: Annotated[str, typer.Argument(help="Built-in scenario name or a .py/.toml file.")],
-    algorithm: Annotated[str, typer.Argument(help="Built-in algorithm name or a .py file.")],
+    algorithm: Annotated[str, typer.Argument(help="Built-in algorithm name or a .py, .c or "
+                                                  ".cpp file.")],
     robots: Annotated[int | None, typer.Option(help="Number of robots (scenario parameter).")]
     = None,
     time: Annotated[float | None, typer.Option(help="Simulated seconds to run.")] = None,
@@ -92,6 +93,13 @@ def run(
     video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
 ) -> None:
     """Run one simulation, print its summary and write its run folder."""
+    from mimics.interfaces.cli.native import needs_child, run_in_child
+
+    if needs_child(algorithm):  # compiled code may crash: run it in a child process
+        raise typer.Exit(run_in_child(dict(
+            scenario=scenario, algorithm=algorithm, robots=robots, time=time, seed=seed,
+            out=out, policy=policy, param=param, wall_limit=wall_limit, robot_logs=robot_logs,
+            view=view, video=video)))
     from mimics.records.runner import prepare, run_to_folder
 
     if policy not in ("abort", "deactivate"):
@@ -171,6 +179,7 @@ def _mount_subcommands() -> None:
     from mimics.interfaces.cli.battery import app as battery_app
     from mimics.interfaces.cli.maps import app as map_app
     from mimics.interfaces.cli.maps import data_app
+    from mimics.interfaces.cli.native import include_dir_command
     from mimics.interfaces.cli.records import logs_app, report_command
     from mimics.interfaces.cli.robots import list_robots_command, robot_app
     from mimics.interfaces.cli.ui import ui_command
@@ -187,6 +196,7 @@ def _mount_subcommands() -> None:
     app.add_typer(robot_app, name="robot")
     list_app.command("robots")(list_robots_command)
     app.command("ui")(ui_command)
+    app.command("include-dir")(include_dir_command)
 
 
 _mount_subcommands()
