@@ -171,6 +171,7 @@ def _mount_subcommands() -> None:
     from mimics.interfaces.cli.maps import app as map_app
     from mimics.interfaces.cli.maps import data_app
     from mimics.interfaces.cli.records import logs_app, report_command
+    from mimics.interfaces.cli.ros import ros_command
     from mimics.interfaces.cli.view import battery_plot_command, plot_command, replay_command
 
     battery_app.command("plot")(battery_plot_command)
@@ -181,6 +182,7 @@ def _mount_subcommands() -> None:
     app.command("report")(report_command)
     app.command("replay")(replay_command)
     app.command("plot")(plot_command)
+    app.command("ros")(ros_command)
 
 
 _mount_subcommands()
