@@ -202,16 +202,17 @@ def command_from_twist(message: Twist) -> Command:
 
 
 def twist_to_references(speed: float, turn_rate: float, heading: float, kw: float,
-                        heading_kp: float) -> tuple[float, float]:
+                        heading_kp: float, heading_kd: float) -> tuple[float, float]:
     """Turn a velocity command into the two references the robot's PID loops follow.
 
     The speed reference is the commanded speed. The heading reference leads
     the measured heading by the error at which the heading loop turns at the
-    commanded rate in steady state: with ``w' = (-w + kw*u_w)/tau_w`` and
-    ``u_w = kp*error`` that is ``error = w / (kw*kp)`` (exact for heading loops
-    without an integral term, as the built-in types have). The rate is first
-    limited to the robot's maximum, ``kw``.
+    commanded rate ``w`` in steady state: with ``w' = (-w + kw*u_w)/tau_w`` and
+    ``u_w = kp*error - kd*w`` (the D term acts on the measured rate) that is
+    ``error = w*(1 + kw*kd) / (kw*kp)``, exact for heading loops without an
+    integral term, as the built-in types have. The rate is first limited to
+    the robot's maximum, ``kw``.
     """
     rate = max(-kw, min(kw, turn_rate))
-    lead = rate / (kw * heading_kp) if heading_kp > 0 else 0.0
+    lead = rate * (1.0 + kw * heading_kd) / (kw * heading_kp) if heading_kp > 0 else 0.0
     return speed, heading + lead

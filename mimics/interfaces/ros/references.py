@@ -58,7 +58,7 @@ class RosReferences:
             return command.first, command.second
         kind = robot.type
         return twist_to_references(command.first, command.second, float(robot.heading),
-                                   kind.kw, kind.heading_pid.kp)
+                                   kind.kw, kind.heading_pid.kp, kind.heading_pid.kd)
 
     def controller(self) -> PerRobotController:
         """The engine's controller calling :meth:`step` for each active robot."""
