@@ -29,6 +29,7 @@ from mimics.world.errors import MimicsError
 if TYPE_CHECKING:
     from mimics.engine.outcome import RunResult
     from mimics.engine.simulation import Simulation
+    from mimics.interfaces.ros.inbox import Inbox
     from mimics.records.recorder import RobotLogs
 
 NODE_NAME = "mimics"
@@ -58,7 +59,7 @@ class BridgeOptions:
 class RosBridge:
     """The observer that publishes a run's steps; created once ``rospy`` is initialised."""
 
-    def __init__(self, sim: Simulation, inbox: Any, options: BridgeOptions) -> None:
+    def __init__(self, sim: Simulation, inbox: Inbox, options: BridgeOptions) -> None:
         from mimics.interfaces.ros.clock import ClockPublisher
         from mimics.interfaces.ros.commands import CommandSubscriber
         from mimics.interfaces.ros.frames import FramePublisher
