@@ -160,7 +160,7 @@ def test_realtime_keeps_wall_clock_pace_and_uses_the_last_command(ros_env, tmp_p
     folder = tmp_path / "run"
     node = [SYSTEM_PYTHON, str(NODES / "scripted_node.py")]
     bridge, output = with_node(ros_env, node, "line", "--robots", "2", "--realtime",
-                               "--time", "2", "--out", str(folder), "--robot-logs", "off")
+                               "--time", "1", "--out", str(folder), "--robot-logs", "off")
     assert bridge.returncode == 0, bridge.stderr + output
     outcome = summary(folder)
     assert outcome["status"] == "time_limit" and outcome["ros"]["mode"] == "realtime"
