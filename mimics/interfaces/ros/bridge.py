@@ -98,7 +98,7 @@ class RosBridge:
             if wall.monotonic() > deadline:
                 i = waiting[0]
                 raise MimicsError(
-                    f"lockstep: no controller node for robot {i} within "
+                    f"no controller node for robot {i} within "
                     f"{self.options.timeout:g} s (nothing subscribes to /robot_{i}/odom or "
                     f"publishes on /robot_{i}/cmd or /robot_{i}/cmd_vel; "
                     f"{len(waiting)} robots waiting)")
@@ -177,8 +177,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
         rospy.init_node(NODE_NAME, disable_signals=True)
     bridge = RosBridge(sim, inbox, options)
     try:
-        if options.lockstep:
-            bridge.wait_for_nodes(np.flatnonzero(sim.state.active))
+        bridge.wait_for_nodes(np.flatnonzero(sim.state.active))
         sim.observers.append(bridge)
         return run_to_folder(sim, folder, robot_logs=robot_logs,
                              extra={"ros": {"mode": "lockstep" if options.lockstep
