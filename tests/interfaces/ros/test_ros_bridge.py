@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from tests.interfaces.ros.conftest import (
+from tests.interfaces.ros.helpers import (
     EXAMPLES,
     NODES,
     SYSTEM_PYTHON,
@@ -45,11 +45,22 @@ def trajectory(folder: Path) -> pd.DataFrame:
 
 
 def built_in_go_to_goal(folder: Path, robots: int, seed: int) -> pd.DataFrame:
-    """The same logic as the examples, run by mimics itself (no ROS)."""
+    """The same logic as the examples, run by mimics itself (no ROS).
+
+    On one engine thread, as the bridge runs it (the results do not depend on
+    the number of threads; waking a pool every step is slow on a busy machine).
+    """
+    import numba
+
     from mimics.records.runner import prepare, run_to_folder
 
-    run_to_folder(prepare("line", "go_to_goal", robots=robots, seed=seed), folder,
-                  robot_logs="off")
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        run_to_folder(prepare("line", "go_to_goal", robots=robots, seed=seed), folder,
+                      robot_logs="off")
+    finally:
+        numba.set_num_threads(threads)
     return trajectory(folder)
 
 
