@@ -182,6 +182,7 @@ def _mount_subcommands() -> None:
     from mimics.interfaces.cli.native import include_dir_command
     from mimics.interfaces.cli.records import logs_app, report_command
     from mimics.interfaces.cli.robots import list_robots_command, robot_app
+    from mimics.interfaces.cli.ros import ros_command
     from mimics.interfaces.cli.ui import ui_command
     from mimics.interfaces.cli.view import battery_plot_command, plot_command, replay_command
 
@@ -197,6 +198,7 @@ def _mount_subcommands() -> None:
     list_app.command("robots")(list_robots_command)
     app.command("ui")(ui_command)
     app.command("include-dir")(include_dir_command)
+    app.command("ros")(ros_command)
 
 
 _mount_subcommands()

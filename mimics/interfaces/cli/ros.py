@@ -1,0 +1,89 @@
+"""`mimics ros`: a simulation run as a ROS 1 node, driven by ROS controllers.
+
+The main CLI registers it with ``app.command("ros")(ros_command)``. Bad
+input, no ROS installed or no master reachable: one line on stderr, status
+2. A run that a lockstep time-out ended: its summary, then one line on
+stderr, status 1.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from mimics.interfaces.cli.output import fail, note
+from mimics.world.errors import MimicsError
+
+
+def ros_command(
+    scenario: Annotated[str, typer.Argument(help="Built-in scenario name or a .py/.toml file.")],
+    robots: Annotated[int | None, typer.Option(help="Number of robots (scenario parameter).")]
+    = None,
+    lockstep: Annotated[bool, typer.Option(
+        "--lockstep/--realtime",
+        help="Lockstep: each step waits for every active robot's command (deterministic). "
+             "Realtime: wall-clock pace, the last command received.")] = True,
+    time: Annotated[float | None, typer.Option(help="Simulated seconds to run.")] = None,
+    seed: Annotated[int, typer.Option(help="Seed of every random draw.")] = 0,
+    out: Annotated[Path | None, typer.Option(help="Run folder [default: runs/SCENARIO-ros-sSEED]"
+                                             )] = None,
+    timeout: Annotated[float, typer.Option(
+        help="Seconds to wait for the controller nodes to connect and, in lockstep, for "
+             "each step's commands.")] = 10.0,
+    map_resolution: Annotated[float, typer.Option(help="Metres per cell of /map.")] = 0.05,
+    robot_logs: Annotated[str, typer.Option(help="Per-robot text logs: auto, on or off.")]
+    = "auto",
+) -> None:
+    """Run a simulation as a ROS node: robots are driven by commands received from ROS.
+
+    Per robot i, under /robot_i/: odom (nav_msgs/Odometry), scan
+    (sensor_msgs/LaserScan), goal (geometry_msgs/PoseStamped, latched); it
+    listens to cmd (std_msgs/Float64MultiArray [speed_ref, heading_ref(,
+    stamp)]) and cmd_vel (geometry_msgs/Twist). Also /map (latched
+    nav_msgs/OccupancyGrid), /clock and tf2 frames map -> robot_i/odom ->
+    robot_i/base_link -> robot_i/laser. Needs ROS 1 (Debian's python3-rospy
+    and message packages) and a running master (ROS_MASTER_URI). See
+    docs/how-to/ros.md.
+    """
+    from mimics.interfaces.cli.program import print_summary
+
+    if robots is not None and robots < 1:
+        raise fail(f"--robots: expected a whole number >= 1, got {robots}")
+    if time is not None and not time > 0:
+        raise fail(f"--time: expected a positive number of simulated seconds, got {time}")
+    if not timeout > 0:
+        raise fail(f"--timeout: expected a positive number of seconds, got {timeout}")
+    if not map_resolution > 0:
+        raise fail(f"--map-resolution: expected a positive number of metres, "
+                   f"got {map_resolution}")
+    if robot_logs not in ("auto", "on", "off"):
+        raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
+    from mimics.interfaces.ros.system_ros import require_master, require_ros
+
+    try:
+        require_ros()
+        require_master()
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    from mimics.engine.ranger import kernels_cached
+    from mimics.interfaces.cli.program import _compile_kernels
+    from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
+
+    if not kernels_cached():
+        note("mimics: first run: compiling the simulation kernels (about 25 s, once)")
+        _compile_kernels()
+    params = {"robots": robots} if robots is not None else {}
+    folder = out or Path("runs") / f"{Path(scenario).stem}-ros-s{seed}"
+    try:
+        options = BridgeOptions(lockstep=lockstep, timeout=timeout,
+                                map_resolution=map_resolution)
+        result = run_ros(scenario, folder, options=options, params=params, time=time,
+                         seed=seed, robot_logs=robot_logs)  # type: ignore[arg-type]
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    print_summary(result.summary(), folder)
+    if result.status == "error" and "LockstepTimeout" in result.error:
+        fail(result.error)
+        raise typer.Exit(1)

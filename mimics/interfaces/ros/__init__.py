@@ -1,0 +1,14 @@
+"""The live ROS 1 bridge: ``mimics ros`` runs a simulation as a ROS node.
+
+A bridge is a set of small capabilities, one module each: ``clock``,
+``odometry``, ``scans``, ``grid_map`` (the latched ``/map``), ``frames`` (tf2),
+``goals``, ``commands`` (the ``cmd`` and ``cmd_vel`` subscriptions); message
+conversion lives in one place (``conversion``), the map's rasterisation in
+``occupancy``, the references' hand-over between ROS threads and the step in
+``inbox`` and ``references``, and ``bridge`` ties them to a run.
+
+ROS comes from Debian's packages in the system's dist-packages;
+``system_ros`` makes them importable (see ``docs/how-to/ros.md``). Import
+``system_ros`` (or call :func:`system_ros.require_ros`) before the modules
+that import ``rospy``.
+"""

@@ -1,0 +1,218 @@
+"""Every conversion between mimics' arrays and ROS messages, in one place.
+
+Outgoing: odometry, laser scans, goals, the occupancy grid, tf2 transforms
+and the clock, all stamped with simulated time. Incoming: the two command
+messages, checked and turned into :class:`~mimics.interfaces.ros.inbox.Command`.
+
+Frames (REP 105 names, one set per robot ``i``): ``map`` (the world),
+``robot_i/odom`` (where the odometer's estimate lives), ``robot_i/base_link``
+(the robot's centre, x forward) and ``robot_i/laser`` (the ranger, at the
+centre, facing forward).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import rospy
+from geometry_msgs.msg import PoseStamped, Quaternion, TransformStamped, Twist
+from nav_msgs.msg import OccupancyGrid, Odometry
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import Float64MultiArray, Header
+
+from mimics.interfaces.ros.inbox import Command
+from mimics.interfaces.ros.occupancy import Grid
+
+MAP_FRAME = "map"
+
+
+class BadCommand(ValueError):
+    """A command message that cannot be used (its text says why)."""
+
+
+def robot_namespace(robot: int) -> str:
+    """The topic namespace and frame prefix of robot ``robot``: ``robot_3``."""
+    return f"robot_{robot}"
+
+
+def frame(robot: int, name: str) -> str:
+    """A robot's frame id, e.g. ``robot_3/base_link``."""
+    return f"{robot_namespace(robot)}/{name}"
+
+
+def stamp(seconds: float) -> rospy.Time:
+    """Simulated seconds as a ROS time, rounded to the nanosecond (no float truncation)."""
+    return rospy.Time(nsecs=round(seconds * 1e9))
+
+
+def step_of(stamp_seconds: float, dt: float) -> int:
+    """The step whose time is ``stamp_seconds`` (the nearest whole number of steps)."""
+    return round(stamp_seconds / dt)
+
+
+def yaw_quaternion(yaw: float) -> Quaternion:
+    """A rotation of ``yaw`` radians about z."""
+    return Quaternion(0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
+
+
+def quaternion_yaw(q: Quaternion) -> float:
+    """The rotation about z of a quaternion (the inverse of :func:`yaw_quaternion`)."""
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def header(seconds: float, frame_id: str) -> Header:
+    """A header stamped with simulated time."""
+    return Header(stamp=stamp(seconds), frame_id=frame_id)
+
+
+def odometry_message(robot: int, seconds: float, pose: np.ndarray, velocity: np.ndarray,
+                     sigma_position: float, sigma_velocity: float) -> Odometry:
+    """The measured pose (in ``map``) and velocity (in ``base_link``) of one robot.
+
+    The covariances hold the positioning noise of the robot's type: variance
+    ``sigma_position**2`` on x and y, ``sigma_velocity**2`` on v and w.
+    """
+    x, y, theta = (float(value) for value in pose)
+    message = Odometry(header=header(seconds, MAP_FRAME), child_frame_id=frame(robot, "base_link"))
+    message.pose.pose.position.x = x
+    message.pose.pose.position.y = y
+    message.pose.pose.orientation = yaw_quaternion(theta)
+    position_variance, velocity_variance = sigma_position ** 2, sigma_velocity ** 2
+    message.pose.covariance = [0.0] * 36
+    message.pose.covariance[0] = message.pose.covariance[7] = position_variance
+    message.twist.twist.linear.x = float(velocity[0])
+    message.twist.twist.angular.z = float(velocity[1])
+    message.twist.covariance = [0.0] * 36
+    message.twist.covariance[0] = message.twist.covariance[35] = velocity_variance
+    return message
+
+
+def scan_message(robot: int, seconds: float, ranges: np.ndarray, hit: np.ndarray,
+                 angles: np.ndarray, max_range: float, dt: float) -> LaserScan:
+    """One ranger reading; beams that hit nothing read ``+inf`` (REP 117).
+
+    ``angles`` are the ranger's beam angles (right to left, evenly spread),
+    ``ranges`` its distances and ``hit`` which beams hit something.
+    """
+    increment = float(angles[1] - angles[0]) if len(angles) > 1 else 0.0
+    values = np.where(hit, ranges, np.inf)
+    return LaserScan(header=header(seconds, frame(robot, "laser")),
+                     angle_min=float(angles[0]), angle_max=float(angles[-1]),
+                     angle_increment=increment, time_increment=0.0, scan_time=dt,
+                     range_min=0.0, range_max=float(max_range), ranges=values.tolist(),
+                     intensities=[])
+
+
+def goal_message(seconds: float, goal: np.ndarray) -> PoseStamped:
+    """A robot's goal as a pose in ``map`` (no orientation: identity)."""
+    message = PoseStamped(header=header(seconds, MAP_FRAME))
+    message.pose.position.x, message.pose.position.y = float(goal[0]), float(goal[1])
+    message.pose.orientation.w = 1.0
+    return message
+
+
+def grid_message(grid: Grid, seconds: float) -> OccupancyGrid:
+    """An occupancy grid: 100 on cells that walls cross, 0 elsewhere, row 0 at the bottom."""
+    message = OccupancyGrid(header=header(seconds, MAP_FRAME))
+    info = message.info
+    info.map_load_time = stamp(seconds)
+    info.resolution = grid.resolution
+    info.width, info.height = grid.width, grid.height
+    info.origin.position.x, info.origin.position.y = grid.origin
+    info.origin.orientation.w = 1.0
+    message.data = grid.cells.ravel().tolist()
+    return message
+
+
+def transform(seconds: float, parent: str, child: str, x: float, y: float,
+              yaw: float) -> TransformStamped:
+    """The planar pose of ``child`` in ``parent``."""
+    message = TransformStamped(header=header(seconds, parent), child_frame_id=child)
+    message.transform.translation.x, message.transform.translation.y = x, y
+    message.transform.rotation = yaw_quaternion(yaw)
+    return message
+
+
+def robot_transforms(robot: int, seconds: float, pose: np.ndarray,
+                     odometry: np.ndarray) -> list[TransformStamped]:
+    """``map -> robot_i/odom -> robot_i/base_link`` for one robot.
+
+    ``odom -> base_link`` is the odometer's estimate; ``map -> odom`` is the
+    correction that puts ``base_link`` at the measured ``pose`` in ``map``:
+    ``T(pose) * T(odometry)^-1``.
+    """
+    px, py, ptheta = (float(value) for value in pose)
+    ox, oy, otheta = (float(value) for value in odometry)
+    yaw = ptheta - otheta
+    cos, sin = math.cos(yaw), math.sin(yaw)
+    to_odom = transform(seconds, MAP_FRAME, frame(robot, "odom"),
+                        px - (cos * ox - sin * oy), py - (sin * ox + cos * oy), yaw)
+    to_base = transform(seconds, frame(robot, "odom"), frame(robot, "base_link"), ox, oy,
+                        otheta)
+    return [to_odom, to_base]
+
+
+def laser_transform(robot: int) -> TransformStamped:
+    """``robot_i/base_link -> robot_i/laser``: the ranger sits at the centre, facing forward."""
+    return transform(0.0, frame(robot, "base_link"), frame(robot, "laser"), 0.0, 0.0, 0.0)
+
+
+def clock_message(seconds: float) -> Clock:
+    """``/clock`` at simulated time."""
+    return Clock(clock=stamp(seconds))
+
+
+def command_from_array(message: Float64MultiArray, dt: float) -> Command:
+    """``cmd``: ``data = [speed_ref, heading_ref]`` or ``[speed_ref, heading_ref, stamp]``.
+
+    ``speed_ref`` in m/s, ``heading_ref`` an absolute heading in ``map`` (rad);
+    ``stamp`` is the ``header.stamp`` (in seconds) of the ``odom`` message the
+    reference answers, which ties it to that step in lockstep mode.
+
+    Raises:
+        BadCommand: on a wrong length or a value that is not finite.
+    """
+    data = list(message.data)
+    if len(data) not in (2, 3):
+        raise BadCommand(f"cmd: expected data = [speed_ref, heading_ref] or [speed_ref, "
+                         f"heading_ref, stamp], got {len(data)} values")
+    names = ("speed_ref", "heading_ref", "stamp")
+    for name, value in zip(names, data, strict=False):
+        if not math.isfinite(value):
+            raise BadCommand(f"cmd: {name} must be a finite number, got {value}")
+    step = step_of(data[2], dt) if len(data) == 3 else None
+    if step is not None and step < 0:
+        raise BadCommand(f"cmd: stamp must not be negative, got {data[2]}")
+    return Command("reference", float(data[0]), float(data[1]), step)
+
+
+def command_from_twist(message: Twist) -> Command:
+    """``cmd_vel``: ``linear.x`` (m/s) and ``angular.z`` (rad/s); the other fields are ignored.
+
+    Raises:
+        BadCommand: when either is not finite.
+    """
+    speed, turn = message.linear.x, message.angular.z
+    if not (math.isfinite(speed) and math.isfinite(turn)):
+        raise BadCommand(f"cmd_vel: linear.x and angular.z must be finite numbers, got "
+                         f"{speed} and {turn}")
+    return Command("twist", float(speed), float(turn), None)
+
+
+def twist_to_references(speed: float, turn_rate: float, heading: float, kw: float,
+                        heading_kp: float, heading_kd: float) -> tuple[float, float]:
+    """Turn a velocity command into the two references the robot's PID loops follow.
+
+    The speed reference is the commanded speed. The heading reference leads
+    the measured heading by the error at which the heading loop turns at the
+    commanded rate ``w`` in steady state: with ``w' = (-w + kw*u_w)/tau_w`` and
+    ``u_w = kp*error - kd*w`` (the D term acts on the measured rate) that is
+    ``error = w*(1 + kw*kd) / (kw*kp)``, exact for heading loops without an
+    integral term, as the built-in types have. The rate is first limited to
+    the robot's maximum, ``kw``.
+    """
+    rate = max(-kw, min(kw, turn_rate))
+    lead = rate * (1.0 + kw * heading_kd) / (kw * heading_kp) if heading_kp > 0 else 0.0
+    return speed, heading + lead

@@ -1,0 +1,28 @@
+"""``/robot_i/goal``: each robot's goal, latched (robots without a goal publish none)."""
+
+from __future__ import annotations
+
+import numpy as np
+import rospy
+from geometry_msgs.msg import PoseStamped
+
+from mimics.interfaces.ros.conversion import goal_message, robot_namespace
+
+
+class GoalPublisher:
+    """Latches ``geometry_msgs/PoseStamped`` goals, in ``map``, once."""
+
+    def __init__(self, goals: np.ndarray) -> None:
+        self.publishers = []
+        for i, goal in enumerate(goals):
+            if not np.all(np.isfinite(goal)):
+                continue
+            publisher = rospy.Publisher(f"/{robot_namespace(i)}/goal", PoseStamped,
+                                        queue_size=1, latch=True)
+            publisher.publish(goal_message(0.0, goal))
+            self.publishers.append(publisher)
+
+    def close(self) -> None:
+        """Withdraw the topics."""
+        for publisher in self.publishers:
+            publisher.unregister()

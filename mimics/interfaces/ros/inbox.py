@@ -1,0 +1,131 @@
+"""Handing commands from ROS's threads to the simulation's step.
+
+ROS delivers messages on its own threads; the simulation asks for one
+command per active robot and step. Two ways to match them:
+
+* **lockstep**: before the observations of step ``k`` are published, the
+  bridge calls :meth:`Inbox.expect`; the first command that arrives for a
+  robot after that answers step ``k`` (a stamped ``cmd`` must carry step
+  ``k``'s stamp, else it is dropped as stale). :meth:`Inbox.take` waits for
+  that answer with a time-out. The answer depends only on what the
+  controller computed from step ``k``'s observations, never on timing, so a
+  run is as deterministic as the controller.
+* **realtime**: :meth:`Inbox.take` returns the latest command received.
+
+A malformed message is never used: in lockstep it answers the step with
+"hold the last reference", in realtime it is dropped; either way its
+problem is returned by the next :meth:`Inbox.take` to be logged.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Literal
+
+
+@dataclass(frozen=True)
+class Command:
+    """One command received from ROS for one robot.
+
+    ``kind`` is ``"reference"`` (``first`` = speed reference in m/s,
+    ``second`` = absolute heading reference in rad) or ``"twist"`` (``first``
+    = speed in m/s, ``second`` = turn rate in rad/s). ``step`` is the step it
+    answers when the message was stamped, else None.
+    """
+
+    kind: Literal["reference", "twist"]
+    first: float
+    second: float
+    step: int | None = None
+
+
+HOLD = Command("reference", float("nan"), float("nan"))  # "keep the last reference"
+
+
+class LockstepTimeout(RuntimeError):
+    """No command for a robot's step arrived within the time-out."""
+
+
+class Inbox:
+    """The latest command of each robot, and in lockstep the answer to each step.
+
+    Args:
+        robots: how many robots.
+        lockstep: match one command to each step (see the module's docstring).
+    """
+
+    def __init__(self, robots: int, lockstep: bool) -> None:
+        self.lockstep = lockstep
+        self._ready = threading.Condition()
+        self._awaited = [-1] * robots  # lockstep: the step each robot must answer, -1: none
+        self._answer: list[Command | None] = [None] * robots
+        self._latest: list[Command | None] = [None] * robots
+        self._notes: list[list[str]] = [[] for _ in range(robots)]
+
+    def expect(self, step: int, robots: Iterable[int]) -> None:
+        """Lockstep: from now on, the next command of each of ``robots`` answers ``step``."""
+        with self._ready:
+            for robot in robots:
+                self._awaited[robot] = step
+                self._answer[robot] = None
+
+    def deliver(self, robot: int, command: Command) -> None:
+        """A command received from ROS (any thread)."""
+        with self._ready:
+            if not 0 <= robot < len(self._latest):
+                return
+            if not self.lockstep:
+                self._latest[robot] = command
+                return
+            awaited = self._awaited[robot]
+            if awaited < 0:
+                return  # the robot has stopped, or the run has not started: nothing asked
+            if command.step is not None and command.step != awaited:
+                self._notes[robot].append(f"dropped a cmd stamped for step {command.step} "
+                                          f"while waiting for step {awaited}")
+                return
+            if self._answer[robot] is not None:
+                self._notes[robot].append(f"dropped a second command for step {awaited} "
+                                          "(lockstep takes the first)")
+                return
+            self._answer[robot] = command
+            self._ready.notify_all()
+
+    def reject(self, robot: int, problem: str) -> None:
+        """A malformed message: noted; in lockstep it answers the step with :data:`HOLD`."""
+        with self._ready:
+            if not 0 <= robot < len(self._latest):
+                return
+            self._notes[robot].append(f"{problem}; holding the last reference")
+            if self.lockstep and self._awaited[robot] >= 0 and self._answer[robot] is None:
+                self._answer[robot] = HOLD
+                self._ready.notify_all()
+
+    def take(self, robot: int, step: int, timeout: float) -> tuple[Command | None, list[str]]:
+        """The command for ``robot`` at ``step`` (None: none yet) and the notes since last time.
+
+        Raises:
+            LockstepTimeout: in lockstep, when no answer came within ``timeout`` seconds.
+        """
+        with self._ready:
+            if self.lockstep:
+                deadline = time.monotonic() + timeout
+                while self._answer[robot] is None or self._awaited[robot] != step:
+                    left = deadline - time.monotonic()
+                    if left <= 0:
+                        raise LockstepTimeout(robot)
+                    self._ready.wait(left)
+                command = self._answer[robot]
+                self._awaited[robot] = -1  # later commands until the next expect are surplus
+            else:
+                command = self._latest[robot]
+            notes, self._notes[robot] = self._notes[robot], []
+        return command, notes
+
+    def stop(self) -> None:
+        """Nothing is awaited any more (the run has ended)."""
+        with self._ready:
+            self._awaited = [-1] * len(self._awaited)

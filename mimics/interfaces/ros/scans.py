@@ -1,0 +1,42 @@
+"""``/robot_i/scan``: each active robot's ranger reading, with its real angles and range."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import rospy
+from sensor_msgs.msg import LaserScan
+
+from mimics.interfaces.ros.conversion import robot_namespace, scan_message
+
+if TYPE_CHECKING:
+    from mimics.engine.simulation import Simulation
+
+
+class ScanPublisher:
+    """Publishes ``sensor_msgs/LaserScan`` for every robot that has a ranger."""
+
+    def __init__(self, beam_count: np.ndarray) -> None:
+        self.beam_count = beam_count
+        self.publishers = {i: rospy.Publisher(f"/{robot_namespace(i)}/scan", LaserScan,
+                                              queue_size=10, tcp_nodelay=True)
+                           for i in np.flatnonzero(beam_count > 0).tolist()}
+
+    def publish(self, sim: Simulation, ids: np.ndarray) -> None:
+        """The scans of robots ``ids`` at the current step."""
+        state, types = sim.state, sim.types
+        for i in ids.tolist():
+            publisher = self.publishers.get(i)
+            if publisher is None:
+                continue
+            beams = int(self.beam_count[i])
+            publisher.publish(scan_message(
+                i, state.time, state.scan[i, :beams], state.scan_hit[i, :beams] != -2,
+                types.beam_offsets[i, :beams], float(types.max_range[i]),
+                sim.scenario.settings.dt))
+
+    def close(self) -> None:
+        """Withdraw the topics."""
+        for publisher in self.publishers.values():
+            publisher.unregister()
