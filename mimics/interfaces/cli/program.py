@@ -89,6 +89,8 @@ def run(
     = "auto",
     view: Annotated[str, typer.Option(help="Live view: step, 1s, 10s or off.")] = "off",
     video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
+    record_scans: Annotated[bool, typer.Option("--record-scans", help="Also record the laser "
+                                               "scans (scans.parquet, 1 mm steps).")] = False,
 ) -> None:
     """Run one simulation, print its summary and write its run folder."""
     from mimics.records.runner import prepare, run_to_folder
@@ -120,7 +122,7 @@ def run(
     except MimicsError as exc:
         raise fail(str(exc)) from None
     folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
-    result = run_to_folder(sim, folder, robot_logs=robot_logs)
+    result = run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans)
     print_summary(result.summary(), folder)
     if video is not None:
         from mimics.interfaces.replay import export_replay
