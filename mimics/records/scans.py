@@ -253,11 +253,11 @@ class ScanRecord:
         """Robot ``robot``'s scans, decoded to metres, in step order."""
         rows = self.table.filter(pc.equal(self.table["robot"], robot))
         rows = rows.sort_by("step")
-        beams = self.angles(robot).size
+        shape = (rows.num_rows, self.angles(robot).size)
         return RobotScans(
             steps=rows["step"].to_numpy(), times=rows["time"].to_numpy(),
-            ranges=decode(rows["ranges"], self.quantum).reshape(-1, beams),
-            hits=_flat(rows["hits"]).astype(bool).reshape(-1, beams),
+            ranges=decode(rows["ranges"], self.quantum).reshape(shape),
+            hits=_flat(rows["hits"]).astype(bool).reshape(shape),
             angles=self.angles(robot), max_range=self.max_range(robot))
 
 

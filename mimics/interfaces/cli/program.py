@@ -170,6 +170,7 @@ def _print_catalog(kind: str, entries: list[tuple[str, str]]) -> None:
 
 def _mount_subcommands() -> None:
     from mimics.interfaces.cli.battery import app as battery_app
+    from mimics.interfaces.cli.export import export_command
     from mimics.interfaces.cli.maps import app as map_app
     from mimics.interfaces.cli.maps import data_app
     from mimics.interfaces.cli.records import logs_app, report_command
@@ -183,6 +184,7 @@ def _mount_subcommands() -> None:
     app.command("report")(report_command)
     app.command("replay")(replay_command)
     app.command("plot")(plot_command)
+    app.command("export")(export_command)
 
 
 _mount_subcommands()
