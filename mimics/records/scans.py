@@ -24,6 +24,12 @@ for every ranger in the library). Why not float16: its error grows with the
 distance (up to 7.8 mm at 16-30 m for the Hokuyo), while millimetre steps
 keep one bound everywhere, at the same two bytes a beam.
 
+Rows are stored robot by robot (each robot's in step order) within each part
+of the file (a row group, about 1300 steps of 100 robots): a robot's
+consecutive scans are alike, so compression takes a quarter more off than
+in step order. Sort by ``step`` when the order matters (:meth:`ScanRecord.robot`
+does).
+
 Which rows: the steps recorded in full in trajectory.parquet (every step, or
 every ``every``-th, and the last), for the robots active after that step
 (a deactivated robot's ranger stops). A row holds exactly as many beams as
@@ -190,9 +196,15 @@ class ScanBuffer:
         if not self.rows:
             return None
         counts = [ids.size for ids in self._ids]
+        times = np.repeat(np.array(self._times), counts)
+        steps = np.repeat(np.array(self._steps, dtype=np.int32), counts)
         ids = np.concatenate(self._ids)
-        codes = np.concatenate(self._codes)
-        hits = np.concatenate(self._hits)
+        # robot by robot: a robot's consecutive scans are alike, and zstd finds that
+        # (302 -> 219 bytes a scan in the Cave), with the stored values unchanged
+        order = np.lexsort((steps, ids))
+        times, steps, ids = times[order], steps[order], ids[order]
+        codes = np.concatenate(self._codes)[order]
+        hits = np.concatenate(self._hits)[order]
         beams = self._beams[ids]
         if np.all(beams == codes.shape[1]):  # one beam count: the arrays as they are
             values, flags = codes.reshape(-1), hits.reshape(-1)
@@ -201,8 +213,8 @@ class ScanBuffer:
             values, flags = codes[keep], hits[keep]
         offsets = pa.array(np.concatenate([[0], np.cumsum(beams)]).astype(np.int32))
         arrays = [
-            pa.array(np.repeat(np.array(self._times), counts), pa.float64()),
-            pa.array(np.repeat(np.array(self._steps, dtype=np.int32), counts), pa.int32()),
+            pa.array(times, pa.float64()),
+            pa.array(steps, pa.int32()),
             pa.array(ids.astype(np.int32), pa.int32()),
             pa.ListArray.from_arrays(offsets, pa.array(values, pa.uint16())),
             pa.ListArray.from_arrays(offsets, pa.array(flags, pa.bool_())),
