@@ -45,6 +45,7 @@ class Messages:
 
     def __init__(self, ros_version: int) -> None:
         self.ros_version = ros_version
+        self._defaults: dict[str, tuple[tuple[str, Any], ...]] = {}
         if ros_version == 2:
             self.store = get_typestore(Stores.ROS2_HUMBLE)
         else:
@@ -54,15 +55,18 @@ class Messages:
 
     def make(self, msgtype: str, **fields: Any) -> Any:
         """A message of ``msgtype`` with ``fields``; the fields not given are zero/empty."""
-        given = dict(fields)
-        values = {}
-        for name, (kind, detail) in self.store.fielddefs[msgtype][1]:
-            values[name] = given.pop(name) if name in given else self._zero(kind, detail)
-        if given:
-            raise TypeError(f"{msgtype} has no field {', '.join(given)}")
-        return self.store.types[msgtype](**values)
+        defaults = self._defaults.get(msgtype)
+        if defaults is None:
+            defaults = self._defaults[msgtype] = tuple(
+                (name, self._zero(kind, detail))
+                for name, (kind, detail) in self.store.fielddefs[msgtype][1])
+        values = [fields.pop(name, zero) for name, zero in defaults]
+        if fields:
+            raise TypeError(f"{msgtype} has no field {', '.join(fields)}")
+        return self.store.types[msgtype](*values)
 
     def _zero(self, kind: int, detail: Any) -> Any:
+        """A field's zero value; shared by every message made (none is ever changed)."""
         if kind == Nodetype.BASE:
             base = detail[0]
             return "" if base == "string" else (False if base == "bool" else 0)
@@ -71,7 +75,9 @@ class Messages:
         element_kind, element = detail[0]
         length = detail[1] if kind == Nodetype.ARRAY else 0
         if element_kind == Nodetype.BASE and element[0] in _ARRAY_DTYPES:
-            return np.zeros(length, dtype=_ARRAY_DTYPES[element[0]])
+            zeros = np.zeros(length, dtype=_ARRAY_DTYPES[element[0]])
+            zeros.flags.writeable = False
+            return zeros
         return [self._zero(element_kind, element) for _ in range(length)]
 
     def serialize(self, message: Any) -> bytes | memoryview:
