@@ -135,6 +135,10 @@ def test_quantum_is_the_smallest_whole_millimetre_count_that_fits_16_bits(
 
 
 def test_runs_without_the_option_have_no_scans(tmp_path: Path) -> None:
+    mimics.simulate("line", "go_to_goal", robots=2, time=0.5, seed=1, out=tmp_path / "run",
+                    record_scans=True)
+    assert load_run(tmp_path / "run").has_scans
+    # a new run in the same folder, without scans, removes the old ones
     mimics.simulate("line", "go_to_goal", robots=2, time=0.5, seed=1, out=tmp_path / "run")
     run = load_run(tmp_path / "run")
     assert not run.has_scans and not (tmp_path / "run" / "scans.parquet").exists()
