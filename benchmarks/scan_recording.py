@@ -115,11 +115,15 @@ def main() -> None:
     load_after = os.getloadavg()[0]
     print(f"load average (1 min): {load:.1f} before, {load_after:.1f} after "
           f"({os.cpu_count()} cores; the machine is shared, so wall times are noisy)")
+    # lengths measured at other times stay in the file, each with its own conditions
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps({"algorithm": args.algorithm, "repeats": args.repeats,
-                                   "machine": platform.platform(), "cpus": os.cpu_count(),
-                                   "load_average": [load, load_after], "runs": results},
-                                  indent=2) + "\n")
+    earlier = json.loads(RESULTS.read_text()) if RESULTS.exists() else {}
+    runs = earlier.get("runs", {}) if earlier.get("algorithm") == args.algorithm else {}
+    for length, figures in results.items():
+        runs[length] = {**figures, "repeats": args.repeats, "load_average": [load, load_after],
+                        "measured": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}
+    RESULTS.write_text(json.dumps({"algorithm": args.algorithm, "machine": platform.platform(),
+                                   "cpus": os.cpu_count(), "runs": runs}, indent=2) + "\n")
 
 
 if __name__ == "__main__":
