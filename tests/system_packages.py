@@ -39,6 +39,9 @@ PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
          "python3-std-msgs", "python3-rosgraph-msgs", "libroscpp-dev", "ros-core-dev",
          "g++", "pkg-config"],
     ),
+    # ROS 1's own bag reader (Python), an independent check of `mimics export --bag`
+    "rosbag": (_has_file("/usr/lib/python3/dist-packages/rosbag/__init__.py"),
+               ["python3-rosbag", "python3-genpy"]),
 }
 
 

@@ -11,6 +11,7 @@ combination is one run::
     policy = "abort"      # or "deactivate"
     robot_logs = "off"    # per-robot text logs in run folders: "off", "auto" or "on"
     record_every = 1      # record every n-th step of the trajectory
+    record_scans = false  # also record the laser scans (scans.parquet)
 
     [[scenarios]]
     name = "line"         # a built-in name or a path
@@ -46,7 +47,7 @@ from mimics.native import NATIVE_SUFFIXES
 from mimics.world.errors import MimicsError, read_input_text
 
 BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
-                "record_every")
+                "record_every", "record_scans")
 TOP_KEYS = ("battery", "scenarios")
 POLICIES = ("abort", "deactivate")
 ROBOT_LOGS = ("off", "auto", "on")
@@ -113,6 +114,7 @@ class BatterySpec:
         policy: ``"abort"`` or ``"deactivate"`` on exceptions in user code.
         robot_logs: per-robot text logs in run folders (``"off"``, ``"auto"``, ``"on"``).
         record_every: record every n-th step of the trajectory.
+        record_scans: also record the laser scans in each run folder.
         name: a label for the battery.
         source: the file it was read from ("" when built in memory).
     """
@@ -125,6 +127,7 @@ class BatterySpec:
     policy: str = "abort"
     robot_logs: str = "off"
     record_every: int = 1
+    record_scans: bool = False
     name: str = ""
     source: str = ""
 
@@ -221,13 +224,17 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     every = table.get("record_every", 1)
     if isinstance(every, bool) or not isinstance(every, int) or every < 1:
         raise fail(f"[battery] record_every: expected a whole number >= 1, got {every!r}")
+    scans = table.get("record_scans", False)
+    if not isinstance(scans, bool):
+        raise fail(f"[battery] record_scans: expected true or false, got {scans!r}")
     name = table.get("name", "")
     if not isinstance(name, str):
         raise fail(f"[battery] name: expected a string, got {name!r}")
     scenarios = _scenarios(data.get("scenarios"), base, fail)
     return BatterySpec(algorithms=algorithms, scenarios=scenarios, seeds=seeds,
                        time=None if time is None else float(time), timeout=float(timeout),
-                       policy=policy, robot_logs=robot_logs, record_every=every, name=name,
+                       policy=policy, robot_logs=robot_logs, record_every=every,
+                       record_scans=scans, name=name,
                        source=str(Path(source).resolve()) if source else "")
 
 

@@ -198,7 +198,8 @@ class BatteryStore:
         return Task(run_id=run_id, attempt=attempt, algorithm=row[0], scenario=row[1],
                     params=json.loads(row[2]), seed=int(row[3]), time=spec.time,
                     timeout=spec.timeout, policy=spec.policy, robot_logs=spec.robot_logs,
-                    record_every=spec.record_every, folder=str(Path(folder).resolve()),
+                    record_every=spec.record_every, record_scans=spec.record_scans,
+                    folder=str(Path(folder).resolve()),
                     log_dir=str((self.folder / WORKERS_DIR).resolve()))
 
     def run_folder(self, run_id: int) -> Path:

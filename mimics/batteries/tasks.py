@@ -53,6 +53,7 @@ class Task:
     record_every: int
     folder: str  # where the worker writes (a temporary name; the parent renames it)
     log_dir: str = ""  # where workers keep their stdout/stderr logs
+    record_scans: bool = False  # also record the laser scans (scans.parquet)
 
 
 @dataclass
@@ -124,7 +125,7 @@ def execute(task: Task, worker: str) -> Outcome:
     Path(task.folder).parent.mkdir(parents=True, exist_ok=True)
     try:
         result = run_to_folder(sim, task.folder, robot_logs=task.robot_logs,  # type: ignore[arg-type]
-                               every=task.record_every,
+                               every=task.record_every, record_scans=task.record_scans,
                                extra={"battery_run": task.run_id,
                                       "battery_attempt": task.attempt})
     except BaseException as exc:  # e.g. sys.exit() in user code

@@ -14,6 +14,7 @@ from typing import Any
 from mimics.engine.outcome import RunResult
 from mimics.engine.simulation import Policy
 from mimics.records.runner import prepare, run_to_folder
+from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
 
 
@@ -21,7 +22,7 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
              time: float | None = None, seed: int = 0, policy: Policy = "abort",
              out: str | Path | None = None, wall_limit: float | None = None,
              params: dict[str, Any] | None = None,
-             observers: tuple[Any, ...] = ()) -> RunResult:
+             observers: tuple[Any, ...] = (), record_scans: bool = False) -> RunResult:
     """Run one simulation and return its outcome; with ``out``, also write its folder.
 
     Args:
@@ -35,7 +36,12 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
         wall_limit: stop after this many wall-clock seconds.
         params: other scenario parameters.
         observers: extra observers (e.g. a live view).
+        record_scans: with ``out``, also record the laser scans (scans.parquet).
     """
     sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed, policy=policy,
                   wall_limit=wall_limit, params=params, observers=observers)
-    return sim.run() if out is None else run_to_folder(sim, out)
+    if out is None:
+        if record_scans:
+            raise MimicsError("record_scans: give out=FOLDER too (the scans go in the run folder)")
+        return sim.run()
+    return run_to_folder(sim, out, record_scans=record_scans)

@@ -5,11 +5,12 @@ A run folder holds (see ``docs`` of :mod:`mimics.records.run_folder`)::
     scenario.toml        what was run: scenario, types, map, settings, [run] table
     trajectory.parquet   one row per robot per recorded step (the source of truth)
     events.parquet       deactivations, collisions, stalls, exceptions, messages
+    scans.parquet        the laser scans, only when recorded (``--record-scans``)
     robots/robot_0000.log  one text log per robot (0-based robot index), optional
     summary.txt          the outcome for a person
     summary.json         the outcome for a program; written last: it marks a finished run
 
-While a run goes on, trajectory and events are written as numbered part files
+While a run goes on, trajectory, events (and scans) are written as numbered part files
 (``trajectory.parts/part-000000.parquet``...), each complete with its footer,
 and merged into the single files when the run ends. A run killed midway keeps
 its part files, which :func:`mimics.load_run` reads as one table.
@@ -29,11 +30,13 @@ TRAJECTORY = "trajectory.parquet"
 TRAJECTORY_PARTS = "trajectory.parts"
 EVENTS = "events.parquet"
 EVENTS_PARTS = "events.parts"
+SCANS = "scans.parquet"
+SCANS_PARTS = "scans.parts"
 ROBOTS_DIR = "robots"
 
 #: Every name a recorder writes; a new run in an old folder removes these first.
 RECORD_NAMES = (SUMMARY_JSON, SUMMARY_TXT, SCENARIO_TOML, TRAJECTORY, TRAJECTORY_PARTS, EVENTS,
-                EVENTS_PARTS, ROBOTS_DIR)
+                EVENTS_PARTS, SCANS, SCANS_PARTS, ROBOTS_DIR)
 
 
 def robot_log_name(robot: int, robots: int) -> str:

@@ -7,7 +7,8 @@ messages (:mod:`mimics.records.events`), writing a part file every
 ``flush_rows`` rows or ``flush_seconds`` of wall time. At the end it merges
 the parts into trajectory.parquet and events.parquet, writes the per-robot
 logs from them (``robot_logs``: ``"auto"`` up to :data:`AUTO_ROBOT_LOGS`
-robots, ``"on"``, ``"off"``), summary.txt, and summary.json last. A run that
+robots, ``"on"``, ``"off"``), summary.txt, and summary.json last. With
+``record_scans`` it also writes the laser scans (:mod:`mimics.records.scans`). A run that
 fits in one part (most) still has its tables in memory at the end: the logs
 are then made from those while another thread writes them as Parquet.
 
@@ -44,6 +45,8 @@ from mimics.records.layout import (
     EVENTS,
     EVENTS_PARTS,
     RECORD_NAMES,
+    SCANS,
+    SCANS_PARTS,
     SCENARIO_TOML,
     SUMMARY_JSON,
     TRAJECTORY,
@@ -51,6 +54,7 @@ from mimics.records.layout import (
 )
 from mimics.records.parts import COMPRESSION, PartWriter
 from mimics.records.robot_logs import write_robot_logs
+from mimics.records.scans import ScanBuffer, ScanLayout
 from mimics.records.scenario_record import write_scenario_record
 from mimics.records.summary import write_summary
 from mimics.records.trajectory import TRAJECTORY_SCHEMA, TrajectoryBuffer
@@ -94,6 +98,8 @@ class RunRecorder:
         flush_seconds: write a part at least this often (wall-clock seconds),
             so that a killed run loses little.
         compression: Parquet codec (``"zstd"``, ``"snappy"``, ``"none"``...).
+        record_scans: also record the laser scans (scans.parquet), at the
+            steps recorded in full.
         extra: keys added to summary.json.
 
     Raises:
@@ -102,7 +108,8 @@ class RunRecorder:
 
     def __init__(self, folder: str | Path, *, robot_logs: RobotLogs = "auto", every: int = 1,
                  flush_rows: int = 131_072, flush_seconds: float = 10.0,
-                 compression: str = COMPRESSION, extra: dict[str, Any] | None = None) -> None:
+                 compression: str = COMPRESSION, record_scans: bool = False,
+                 extra: dict[str, Any] | None = None) -> None:
         if robot_logs not in ROBOT_LOG_CHOICES:
             raise MimicsError(f"robot_logs: expected auto, on or off, got {robot_logs!r}")
         if isinstance(every, bool) or not isinstance(every, int) or every < 1:
@@ -116,6 +123,8 @@ class RunRecorder:
         self.every = every
         self.flush_rows = flush_rows
         self.flush_seconds = float(flush_seconds)
+        self.record_scans = bool(record_scans)
+        self.compression = compression
         self.extra = dict(extra or {})
         self.run_info: dict[str, Any] = {}
         self.summary_path: Path | None = None
@@ -123,6 +132,8 @@ class RunRecorder:
             PartWriter(self.folder / TRAJECTORY_PARTS, TRAJECTORY_SCHEMA, compression))
         self._events = EventBuffer(PartWriter(self.folder / EVENTS_PARTS, EVENTS_SCHEMA,
                                               compression))
+        self._scans: ScanBuffer | None = None  # made at the start, from the scenario
+        self._scan_rows = 0
         self._was_active = np.zeros(0, dtype=bool)
         self._full_step = -1  # last step recorded for every robot active at its start
         self._last_flush = 0.0
@@ -160,6 +171,11 @@ class RunRecorder:
         }
         write_scenario_record(self.folder / SCENARIO_TOML, sim.scenario, self.run_info)
         everyone = np.arange(sim.state.n)
+        if self.record_scans:
+            layout = ScanLayout.from_scenario(sim.scenario)
+            self._scans = ScanBuffer(PartWriter(self.folder / SCANS_PARTS, layout.schema(),
+                                                self.compression), layout)
+            self._scans.add(sim.state, np.flatnonzero(sim.state.active))
         self._trajectory.add(sim.state, everyone)
         self._events.collect(sim.events, sim.state, everyone)
         self._full_step = sim.state.step
@@ -177,6 +193,8 @@ class RunRecorder:
         started = np.flatnonzero(self._was_active)
         if state.step % self.every == 0:
             self._trajectory.add(state, started)
+            if self._scans is not None:
+                self._scans.add(state, np.flatnonzero(active))
             self._full_step = state.step
         else:
             self._trajectory.add(state, np.flatnonzero(self._was_active & ~active))
@@ -195,6 +213,8 @@ class RunRecorder:
         began = time.perf_counter()
         if self._full_step != sim.state.step:  # the last step, when ``every`` skipped it
             self._trajectory.add(sim.state, np.flatnonzero(sim.state.active))
+            if self._scans is not None:
+                self._scans.add(sim.state, np.flatnonzero(sim.state.active))
         logs = self.robot_logs == "on" or (self.robot_logs == "auto"
                                            and sim.state.n <= AUTO_ROBOT_LOGS)
         if logs and self._trajectory.writer.parts == 0 and self._events.writer.parts == 0:
@@ -221,6 +241,7 @@ class RunRecorder:
             "records": {"trajectory_rows": self._trajectory_rows,
                         "recorded_steps": self._trajectory.steps, "every": self.every,
                         "events": self._event_rows, "robot_logs": logs,
+                        "scan_rows": self._scan_rows if self.record_scans else None,
                         "step_time": self._step_time,
                         "write_time": time.perf_counter() - began},
             **self.extra,
@@ -233,6 +254,8 @@ class RunRecorder:
         """Write the buffered rows and events as complete part files now."""
         self._trajectory.flush()
         self._events.flush()
+        if self._scans is not None:
+            self._scans.flush()
         self._last_flush = time.perf_counter()
 
     def close(self, keep: bool = False) -> None:
@@ -270,12 +293,16 @@ class RunRecorder:
         """Write the buffers' last parts (already built as these tables), then merge."""
         self._trajectory.flush(trajectory)
         self._events.flush(events)
+        if self._scans is not None:
+            self._scans.flush()
         self._merge()
 
     def _merge(self, keep: bool = False) -> None:
-        """Merge the parts into trajectory.parquet and events.parquet."""
+        """Merge the parts into trajectory.parquet, events.parquet (and scans.parquet)."""
         self._trajectory_rows = self._trajectory.writer.merge(self.folder / TRAJECTORY, keep)
         self._event_rows = self._events.writer.merge(self.folder / EVENTS, keep)
+        if self._scans is not None:
+            self._scan_rows = self._scans.writer.merge(self.folder / SCANS)
 
     @property
     def buffered_rows(self) -> int:

@@ -7,6 +7,7 @@ A run folder (written by :class:`mimics.records.recorder.RunRecorder`, through
       scenario.toml        what was run (scenario, types, map, settings, [run] table)
       trajectory.parquet   one row per robot per recorded step (see trajectory.py)
       events.parquet       events and messages (see events.py)
+      scans.parquet        the laser scans, when recorded (see scans.py)
       robots/robot_0000.log  per-robot logs in the paper's form, 0-based (robot_logs.py)
       summary.txt          the outcome for a person
       summary.json         the outcome for a program: written last, marks a finished run
@@ -35,19 +36,23 @@ from typing import Any
 import pandas as pd
 import pyarrow as pa
 import pyarrow.compute as pc
+import pyarrow.parquet as pq
 
 from mimics.records.events import EVENTS_SCHEMA
 from mimics.records.layout import (
     EVENTS,
     EVENTS_PARTS,
     ROBOTS_DIR,
+    SCANS,
+    SCANS_PARTS,
     SCENARIO_TOML,
     SUMMARY_JSON,
     TRAJECTORY,
     TRAJECTORY_PARTS,
     robot_log_name,
 )
-from mimics.records.parts import check_readable, part_files, read_table
+from mimics.records.parts import check_readable, one_line, part_files, read_table
+from mimics.records.scans import SCANS_SCHEMA, ScanLayout, ScanRecord
 from mimics.records.scenario_record import read_scenario_record
 from mimics.records.trajectory import TRAJECTORY_SCHEMA
 from mimics.world.errors import MimicsError
@@ -148,6 +153,32 @@ class Run:
                            filters=filters)
         return table if arrow else table.to_pandas()
 
+    @property
+    def has_scans(self) -> bool:
+        """True when the run recorded its laser scans (``--record-scans``)."""
+        return (self.path / SCANS).exists() or bool(part_files(self.path / SCANS_PARTS))
+
+    @cached_property
+    def scans(self) -> ScanRecord:
+        """The recorded laser scans (read once, then kept): see :mod:`mimics.records.scans`.
+
+        Raises:
+            MimicsError: when the run did not record them, or the file is unreadable.
+        """
+        if not self.has_scans:
+            raise MimicsError(f"{self.path}: no laser scans recorded in this run (run it with "
+                              f"--record-scans, or record_scans=True)")
+        final = self.path / SCANS
+        first = final if final.exists() else part_files(self.path / SCANS_PARTS)[0]
+        try:
+            metadata = pq.read_schema(first).metadata
+        except (pa.ArrowException, OSError) as exc:
+            raise MimicsError(f"{first}: not a readable Parquet file, truncated or corrupt "
+                              f"({one_line(exc)})") from None
+        layout = ScanLayout.from_metadata(metadata, str(first))
+        table = read_table(final, self.path / SCANS_PARTS, SCANS_SCHEMA)
+        return ScanRecord(table, layout)
+
     def robot(self, i: int) -> pd.DataFrame:
         """Robot ``i``'s rows of the trajectory (0-based index), in step order.
 
@@ -183,7 +214,7 @@ def load_run(path: str | Path) -> Run:
 
     Returns:
         A :class:`Run` with ``.summary``, ``.trajectory``, ``.events``,
-        ``.scenario`` and ``.robot(i)``.
+        ``.scenario``, ``.robot(i)`` and, when recorded, ``.scans``.
 
     Raises:
         MimicsError: in one line naming the folder or file, when the folder is
@@ -205,4 +236,6 @@ def load_run(path: str | Path) -> Run:
         else:
             for part in part_files(folder / parts):
                 check_readable(part)
+    if (folder / SCANS).exists():
+        check_readable(folder / SCANS)
     return run

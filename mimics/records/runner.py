@@ -48,7 +48,7 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
 
 def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs = "auto",
                   every: int = 1, flush_rows: int = 131_072, flush_seconds: float = 10.0,
-                  extra: dict[str, Any] | None = None) -> RunResult:
+                  record_scans: bool = False, extra: dict[str, Any] | None = None) -> RunResult:
     """Run ``sim`` to the end, recording it into ``folder``; returns its outcome.
 
     The folder gets scenario.toml, trajectory.parquet, events.parquet, the
@@ -70,6 +70,8 @@ def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs 
             last step always).
         flush_rows: trajectory rows buffered before a part file is written.
         flush_seconds: wall-clock seconds between part files at most.
+        record_scans: also record the laser scans in scans.parquet
+            (:mod:`mimics.records.scans`).
         extra: keys added to summary.json.
 
     Raises:
@@ -78,7 +80,7 @@ def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs 
     if sim.state.step != 0 or sim.status != "running":
         raise MimicsError("run_to_folder: the simulation has already run; give it a new one")
     recorder = RunRecorder(folder, robot_logs=robot_logs, every=every, flush_rows=flush_rows,
-                           flush_seconds=flush_seconds, extra=extra)
+                           flush_seconds=flush_seconds, record_scans=record_scans, extra=extra)
     sim.observers.append(recorder)
     try:
         result = sim.run()

@@ -91,6 +91,8 @@ def run(
     = "auto",
     view: Annotated[str, typer.Option(help="Live view: step, 1s, 10s or off.")] = "off",
     video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
+    record_scans: Annotated[bool, typer.Option("--record-scans", help="Also record the laser "
+                                               "scans (scans.parquet, 1 mm steps).")] = False,
 ) -> None:
     """Run one simulation, print its summary and write its run folder."""
     from mimics.interfaces.cli.native import needs_child, run_in_child
@@ -129,7 +131,7 @@ def run(
     except MimicsError as exc:
         raise fail(str(exc)) from None
     folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
-    result = run_to_folder(sim, folder, robot_logs=robot_logs)
+    result = run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans)
     print_summary(result.summary(), folder)
     if video is not None:
         from mimics.interfaces.replay import export_replay
@@ -177,6 +179,7 @@ def _print_catalog(kind: str, entries: list[tuple[str, str]]) -> None:
 
 def _mount_subcommands() -> None:
     from mimics.interfaces.cli.battery import app as battery_app
+    from mimics.interfaces.cli.export import export_command
     from mimics.interfaces.cli.maps import app as map_app
     from mimics.interfaces.cli.maps import data_app
     from mimics.interfaces.cli.native import include_dir_command
@@ -199,6 +202,7 @@ def _mount_subcommands() -> None:
     app.command("ui")(ui_command)
     app.command("include-dir")(include_dir_command)
     app.command("ros")(ros_command)
+    app.command("export")(export_command)
 
 
 _mount_subcommands()

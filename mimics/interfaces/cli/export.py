@@ -1,0 +1,49 @@
+"""``mimics export RUN --mcap run.mcap --bag run.bag``: a run as files ROS tools read.
+
+Registered by the main CLI as ``app.command("export")(export_command)``. Every
+error a user can cause (not a run folder, scans asked for but not recorded,
+an output that cannot be written, the ``export`` extra not installed) is one
+line ``mimics: error: ...`` on stderr and exit status 2.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from mimics.interfaces.cli.output import fail, say
+from mimics.world.errors import MimicsError
+
+
+def export_command(
+    run: Annotated[Path, typer.Argument(help="A run folder (written by `mimics run`).")],
+    mcap: Annotated[Path | None, typer.Option(help="Write an MCAP file of ROS 2 messages "
+                                              "(Foxglove opens it).")] = None,
+    bag: Annotated[Path | None, typer.Option(help="Write a ROS 1 bag.")] = None,
+    scans: Annotated[bool | None, typer.Option(
+        "--scans/--no-scans", help="Require the laser scans (recorded with --record-scans) / "
+        "leave them out [default: included when recorded]", show_default=False)] = None,
+    resolution: Annotated[float, typer.Option(help="Occupancy grid cell size (m).")] = 0.05,
+) -> None:
+    """Export a finished run for ROS tools: MCAP (ROS 2 messages) and/or a ROS 1 bag.
+
+    Topics: /map (nav_msgs/OccupancyGrid), /tf and /tf_static
+    (tf2_msgs/TFMessage), /robot_i/odom (nav_msgs/Odometry), /robot_i/scan
+    (sensor_msgs/LaserScan, when the run recorded its scans) and /markers
+    (visualization_msgs/MarkerArray: footprints and goals). Stamps are the
+    simulated time from 0. Needs the export extra: pip install 'mimics[export]'.
+    """
+    try:
+        from mimics.interfaces.rosexport import export_run
+    except ImportError as exc:
+        raise fail(f"mimics export needs the export extra ({exc.name} is missing): "
+                   f"pip install 'mimics[export]'") from None
+    try:
+        written = export_run(run, mcap=mcap, bag=bag, resolution=resolution, scans=scans)
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    for counts in written:
+        topics = len(counts.messages)
+        say(f"wrote {counts.path}: {counts.total} messages on {topics} topics")

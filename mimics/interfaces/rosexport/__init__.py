@@ -1,0 +1,77 @@
+"""Finished runs as files that ROS tools read: MCAP (ROS 2 messages) and ROS 1 bags.
+
+``mimics export RUN --mcap run.mcap`` (Foxglove opens it as it is) and
+``--bag run.bag`` (rosbag, RViz through ``rosbag play``, PlotJuggler). The
+topics and frames are listed in :mod:`mimics.interfaces.rosexport.topics`;
+one module builds each family of messages (``grid``, ``transforms``,
+``odometry``, ``laser``, ``markers``), :mod:`~.conversion` builds and
+serialises every message, :mod:`~.writer` writes the files. The run is read
+through :func:`mimics.records.run_folder.load_run`. Needs the ``export``
+extra (``pip install 'mimics[export]'``: the ``rosbags`` package).
+
+>>> import tempfile, mimics
+>>> from pathlib import Path
+>>> folder = Path(tempfile.mkdtemp())
+>>> _ = mimics.simulate("line", "go_to_goal", robots=2, time=1, seed=1, out=folder / "run",
+...                     record_scans=True)
+>>> counts = export_run(folder / "run", mcap=folder / "run.mcap")
+>>> counts[0].messages["/robot_1/scan"], counts[0].messages["/tf"]
+(11, 11)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from mimics.world.errors import MimicsError
+
+__all__ = ["export_run"]
+
+
+def export_run(folder: str | Path, *, mcap: str | Path | None = None,
+               bag: str | Path | None = None, resolution: float | None = None,
+               scans: bool | None = None) -> list:
+    """Export a recorded run as MCAP and/or a ROS 1 bag.
+
+    Args:
+        folder: the run folder (a finished run, or what a killed one kept).
+        mcap: the MCAP file to write (replaced if it exists).
+        bag: the ROS 1 bag to write (replaced if it exists).
+        resolution: the occupancy grid's cell size in metres (default 0.05).
+        scans: ``None``: the laser scans when the run recorded them; ``True``:
+            they are required; ``False``: left out.
+
+    Returns:
+        One :class:`~mimics.interfaces.rosexport.writer.ExportCounts` per file written.
+
+    Raises:
+        MimicsError: in one line, when ``folder`` is not a run, scans are
+            required but were not recorded, no output is given, the
+            resolution is not positive or an output cannot be written.
+    """
+    from mimics.interfaces.rosexport.grid import check_resolution
+    from mimics.interfaces.rosexport.source import Trajectory
+    from mimics.interfaces.rosexport.writer import DEFAULT_RESOLUTION, write_bag, write_mcap
+    from mimics.records.run_folder import load_run
+
+    if mcap is None and bag is None:
+        raise MimicsError("export: nothing to write (give --mcap FILE and/or --bag FILE)")
+    resolution = DEFAULT_RESOLUTION if resolution is None else resolution
+    check_resolution(resolution)
+    run = load_run(folder)
+    if scans and not run.has_scans:
+        raise MimicsError(f"{run.path}: --scans asked for, but this run recorded no laser scans "
+                          f"(run it again with --record-scans)")
+    with_scans = run.has_scans if scans is None else scans
+    if with_scans:
+        _ = run.scans  # an unreadable scans file fails here, before any output
+    trajectory = Trajectory.of(run)
+    written = []
+    for target, write in ((mcap, write_mcap), (bag, write_bag)):
+        if target is None:
+            continue
+        try:
+            written.append(write(run, trajectory, Path(target), resolution, with_scans))
+        except OSError as exc:
+            raise MimicsError(f"{target}: cannot write here ({exc.strerror or exc})") from None
+    return written

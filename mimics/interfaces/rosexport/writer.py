@@ -1,0 +1,133 @@
+"""Writing a finished run as an MCAP file (ROS 2 messages) or a ROS 1 bag.
+
+Both are written by the ``rosbags`` package: the MCAP through its rosbag2
+writer with MCAP storage (zstd-compressed chunks, ``ros2msg`` schemas, CDR
+messages: what Foxglove opens as it is), taken out of the rosbag2 folder as a
+single file; the bag through its ROS 1 writer. Each is written under a
+temporary name beside the target and renamed when complete, so a failed
+export leaves no half file. Every message's log time equals its header stamp:
+the simulated time, from 0.
+"""
+
+from __future__ import annotations
+
+import heapq
+import os
+import shutil
+import tempfile
+from collections import Counter
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import Writer as Ros2Writer
+from rosbags.rosbag2.enums import CompressionFormat, CompressionMode, StoragePlugin
+
+from mimics.interfaces.rosexport.conversion import Messages, Stamped
+from mimics.interfaces.rosexport.grid import map_messages
+from mimics.interfaces.rosexport.laser import scan_messages
+from mimics.interfaces.rosexport.markers import marker_messages
+from mimics.interfaces.rosexport.odometry import odometry_messages
+from mimics.interfaces.rosexport.source import Trajectory
+from mimics.interfaces.rosexport.topics import LATCHED
+from mimics.interfaces.rosexport.transforms import tf_messages, tf_static_messages
+from mimics.records.run_folder import Run
+from mimics.world.errors import MimicsError
+
+DEFAULT_RESOLUTION = 0.05  # m per occupancy grid cell
+
+
+@dataclass
+class ExportCounts:
+    """What an export wrote: messages per topic, and the file."""
+
+    path: Path
+    messages: Counter[str] = field(default_factory=Counter)
+
+    @property
+    def total(self) -> int:
+        """All messages written."""
+        return sum(self.messages.values())
+
+
+def run_messages(messages: Messages, run: Run, trajectory: Trajectory, resolution: float,
+                 scans: bool) -> Iterator[Stamped]:
+    """Every message of the export, merged in log-time order (stable within a time)."""
+    scenario = run.scenario
+    families: list[Iterable[Stamped]] = [
+        map_messages(messages, scenario.map, resolution),
+        tf_static_messages(messages, scenario.robot_count),
+        marker_messages(messages, trajectory, scenario),
+        tf_messages(messages, trajectory),
+        odometry_messages(messages, trajectory),
+    ]
+    if scans:
+        families.append(scan_messages(messages, run.scans, scenario.settings.dt))
+    return heapq.merge(*families, key=lambda stamped: stamped.time)
+
+
+def write_mcap(run: Run, trajectory: Trajectory, target: Path, resolution: float,
+               scans: bool) -> ExportCounts:
+    """Write the run as one MCAP file of ROS 2 messages at ``target``."""
+    messages = Messages(2)
+    counts = ExportCounts(target)
+    with _temporary_folder(target) as folder:
+        bag = folder / "bag"
+        writer = Ros2Writer(bag, version=Ros2Writer.VERSION_LATEST,
+                            storage_plugin=StoragePlugin.MCAP)
+        writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
+        with writer:
+            connections: dict[str, Any] = {}
+            for stamped in run_messages(messages, run, trajectory, resolution, scans):
+                connection = connections.get(stamped.topic)
+                if connection is None:
+                    connection = writer.add_connection(stamped.topic,
+                                                       stamped.message.__msgtype__,
+                                                       typestore=messages.store)
+                    connections[stamped.topic] = connection
+                writer.write(connection, stamped.time, messages.serialize(stamped.message))
+                counts.messages[stamped.topic] += 1
+        os.replace(bag / "bag.mcap", target)
+    return counts
+
+
+def write_bag(run: Run, trajectory: Trajectory, target: Path, resolution: float,
+              scans: bool) -> ExportCounts:
+    """Write the run as a ROS 1 bag at ``target``."""
+    messages = Messages(1)
+    counts = ExportCounts(target)
+    with _temporary_folder(target) as folder:
+        path = folder / "run.bag"
+        with Ros1Writer(path) as writer:
+            connections: dict[str, Any] = {}
+            for stamped in run_messages(messages, run, trajectory, resolution, scans):
+                connection = connections.get(stamped.topic)
+                if connection is None:
+                    connection = writer.add_connection(
+                        stamped.topic, stamped.message.__msgtype__, typestore=messages.store,
+                        latching=1 if stamped.topic in LATCHED else None)
+                    connections[stamped.topic] = connection
+                writer.write(connection, stamped.time, messages.serialize(stamped.message))
+                counts.messages[stamped.topic] += 1
+        os.replace(path, target)
+    return counts
+
+
+@contextmanager
+def _temporary_folder(target: Path) -> Iterator[Path]:
+    """A fresh folder beside ``target`` (same file system: the rename is atomic), removed
+    on exit; a one-line error when ``target`` cannot be written there."""
+    if target.is_dir():
+        raise MimicsError(f"{target}: is a directory (expected a file name to write)")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        folder = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    except OSError as exc:
+        raise MimicsError(f"{target}: cannot write here ({exc.strerror or exc})") from None
+    try:
+        yield folder
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
