@@ -34,28 +34,24 @@ def test_go_to_goal_drives_straight_so_everyone_meets_head_on(algorithm):
             assert 10.0 < min(times) < 20.0  # 4 m at 0.3 m/s, minus the robots' size
 
 
-def test_go_to_goal_team_is_the_per_robot_logic_at_once():
-    for name in ("circle_swap", "corridor"):
-        one = simulate(name, go_to_goal, seed=SEED)
-        team = simulate(name, go_to_goal_team, seed=SEED)
-        assert statuses(one).tolist() == statuses(team).tolist()
-        assert np.allclose(one.path_length, team.path_length, atol=1e-9)
-
-
-def test_wall_aware_stops_short_on_the_circle_instead_of_colliding():
+def test_wall_aware_turns_the_circle_into_a_roundabout():
+    """Keeping right, all 8 robots get round one another to the opposite point."""
     run = simulate("circle_swap", "wall_aware", seed=SEED)
     assert run.collisions == 0
-    assert (statuses(run) == Status.DEADLOCK).all()
-    assert run.reached_goal == 0
+    assert run.reached_goal == 8
+    assert run.sim_time < 60.0  # the scenario's limit: nobody was left going round
 
 
-def test_wall_aware_lets_some_robots_through_the_corridor_and_never_hits_a_wall():
-    # 66 s: the first robots through arrive after about a minute
-    run = simulate("corridor", "wall_aware", seed=SEED, time=66.0)
-    assert run.reached_goal >= 1
-    assert run.collisions < run.robots // 2  # go_to_goal: all of them
-    collided = statuses(run) == Status.COLLIDED
-    assert (np.asarray(run.collided_with)[collided] >= 0).all()  # robots only, no walls
+def test_wall_aware_crosses_the_corridor_without_collisions():
+    """Two rows meet in a 3 m corridor: they squeeze past on the right, touching nothing.
+
+    The first robots through arrive after about a minute (all but one by 300 s,
+    measured once; 80 s here keeps the test short).
+    """
+    run = simulate("corridor", "wall_aware", seed=SEED, time=80.0)
+    assert run.collisions == 0
+    assert run.reached_goal >= 2
+    assert int(np.sum(run.ever_deadlocked)) == 0
 
 
 @pytest.mark.parametrize("name, algorithm", [("circle_swap", deployment),
