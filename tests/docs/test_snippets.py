@@ -27,7 +27,7 @@ def included(page: Path) -> list[str]:
     for body in FENCE.findall(page.read_text()):
         line = body.strip()
         found = INCLUDE.match(line)
-        assert found and "\n" not in line, f"{page.name}: a code block that is not a snippet:\n{body}"
+        assert found and "\n" not in line, f"{page.name}: not a snippet include:\n{body}"
         paths.append(found.group(1))
     return paths
 
