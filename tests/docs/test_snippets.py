@@ -6,9 +6,15 @@ tutorial asks them to write); Python snippets are executed there too.
 """
 
 import json
+import os
 import re
 import runpy
 import shlex
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
 import tomllib
 from pathlib import Path
 
@@ -85,17 +91,54 @@ def test_first_algorithm_tutorial_runs(tmp_path, monkeypatch, capsys):
     assert wide["robots"] == 6 and wide["parameters"]["width"] == 4.0
 
 
+def done_runs(db: Path) -> dict[int, int]:
+    """Run id -> attempts, of the runs a battery database lists as done."""
+    if not db.is_file():
+        return {}
+    with sqlite3.connect(db) as connection:
+        try:
+            rows = connection.execute("SELECT id, attempts FROM runs WHERE state = 'done'")
+            return dict(rows.fetchall())
+        except sqlite3.OperationalError:  # the table is not there yet
+            return {}
+
+
+def run_then_kill(snippet: str, db: Path) -> dict[int, int]:
+    """Start the snippet's battery, kill it (and its workers) once a run is done."""
+    (line,) = [ln for ln in (SNIPPETS / snippet).read_text().splitlines() if ln.strip()]
+    words = shlex.split(line)
+    assert words[0] == "mimics"
+    battery = subprocess.Popen([sys.executable, "-m", "mimics", *words[1:], "--no-progress"],
+                               start_new_session=True, stdout=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        while not done_runs(db) and battery.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.2)
+    finally:
+        if battery.poll() is None:
+            os.killpg(battery.pid, signal.SIGKILL)
+        battery.wait()
+    return done_runs(db)
+
+
 def test_first_battery_tutorial_runs(tmp_path, monkeypatch, capsys):
     page = ROOT / "docs/tutorials/first-battery.md"
     monkeypatch.chdir(tmp_path)
     (tmp_path / "battery.toml").write_text((SNIPPETS / "first_battery/battery.toml").read_text())
+    before_kill: dict[int, int] = {}
     for snippet in included(page):
-        if snippet.endswith(".sh"):
+        if snippet.endswith("run.sh"):
+            before_kill = run_then_kill(snippet, tmp_path / "night/battery.db")
+        elif snippet.endswith(".sh"):
             run_shell(snippet)
         elif snippet.endswith("read_table.py"):
             namespace = runpy.run_path(str(SNIPPETS / snippet), run_name="__main__")
     table = namespace["table"]
     assert len(table) == 12 and set(table["state"]) == {"done"}
+    # the kill came with at least one run done; resume did not repeat those
+    assert before_kill and len(before_kill) < 12
+    attempts = dict(zip(table["id"], table["attempts"], strict=True))
+    assert all(attempts[i] == n for i, n in before_kill.items())
     means = namespace["means"]
     assert means["go_to_goal"].tolist() == [4.0, 6.0]  # everyone collides driving straight
     assert means["wall_aware"].tolist() == [0.0, 0.0]
