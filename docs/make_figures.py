@@ -33,7 +33,7 @@ SNIPPETS = DOCS / "snippets"
 SCENARIO_RUNS: dict[str, tuple[str, float, int | None]] = {
     "line": ("go_to_goal_team", 25.0, 10),
     "circle_swap": ("wall_aware", 40.0, None),
-    "corridor": ("wall_aware", 70.0, None),
+    "corridor": ("wall_aware", 220.0, None),
     "obstacle_room": ("deployment_team", 60.0, None),
     "cave": ("deployment_team", 60.0, None),
     "hospital": ("deployment_team", 10.0, None),
