@@ -52,7 +52,11 @@ def scenario_figure(name: str, work: Path) -> Path:
     algorithm, time, robots = SCENARIO_RUNS[name]
     folder = work / name
     mimics.simulate(name, algorithm, robots=robots, time=time, seed=1, out=folder)
-    return shrink(plot_run(folder, IMAGES / f"scenario_{name}.png", width_px=720, height_px=560))
+    width, height = mimics.load_run(folder).scenario.map.size
+    # about as tall as the map (plus room for the title and axes), within limits
+    height_px = int(min(560, max(260, 560 * height / width + 100)))
+    return shrink(plot_run(folder, IMAGES / f"scenario_{name}.png", width_px=720,
+                           height_px=height_px))
 
 
 def tutorial_figures(work: Path) -> list[Path]:
