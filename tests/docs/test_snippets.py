@@ -85,6 +85,8 @@ def test_first_algorithm_tutorial_runs(tmp_path, monkeypatch, capsys):
     assert "reached their goal" in capsys.readouterr().out
     first = json.loads((tmp_path / "runs/first/summary.json").read_text())
     assert (first["robots"], first["reached_goal"]) == (10, 10)  # what the page says
+    mine = json.loads((tmp_path / "runs/mine/summary.json").read_text())
+    assert (mine["robots"], mine["robot_collisions"]) == (6, 6)  # the page: all six collide
     two = json.loads((tmp_path / "runs/two/summary.json").read_text())
     assert (two["robots"], two["reached_goal"]) == (2, 2)
     wide = json.loads((tmp_path / "runs/wide/summary.json").read_text())
