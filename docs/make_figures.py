@@ -36,7 +36,7 @@ SCENARIO_RUNS: dict[str, tuple[str, float, int | None]] = {
     "corridor": ("wall_aware", 220.0, None),
     "obstacle_room": ("deployment_team", 60.0, None),
     "cave": ("deployment_team", 60.0, None),
-    "hospital": ("deployment_team", 10.0, None),
+    "hospital": ("deployment_team", 30.0, None),
 }
 
 
