@@ -1,35 +1,74 @@
-"""Go to the goal, steering around walls and robots the laser sees (potential field).
+"""Go to the goal along the laser's clear path nearest to it; keep right when robots come near.
 
-Each beam that sees something closer than ``influence`` pushes the robot away
-from it; the goal pulls. The robot heads along the sum and slows down when
-something is close in front.
+Each step the robot tries headings outward from its goal direction, right
+before left (6 degrees apart, up to 90 degrees off), and takes the first whose
+path (a band the robot's width plus a margin, ``LOOKAHEAD`` m long) is clear
+of every laser hit: walls and robots alike, as the laser sees both. When no
+path in sight is clear it takes the one with the most room. It slows down as
+the room ahead shrinks and stops ``STOP`` m short of what is in front.
+
+The side-passing rule: when another robot (from ``robot.comms``) is within
+``KEEP_RIGHT_RANGE`` m and 45 degrees of its nose, the robot aims
+``KEEP_RIGHT`` to the right of its goal. Everyone applies the same rule, so
+robots meeting head-on pass each other on the left, and a crowd heading for
+one spot turns into a roundabout.
+
+What it achieves (``tests/algorithms/test_builtins_behaviour.py``):
+``circle_swap``, 8 robots: all reach their goals, no collision, in about 52 s;
+``corridor``, 10 robots crossing in a 3 m corridor: no collision, 9 reach
+their goals within 300 s and one ends in deadlock. It sees only in front:
+the laser's field of view bounds the headings tried.
 """
 
 import numpy as np
 
-INFLUENCE = 1.5  # m: obstacles farther than this are ignored
-REPULSION = 0.6  # weight of the obstacles against the goal's pull
+LOOKAHEAD = 2.0  # m of clear path wanted ahead
+MARGIN = 0.15  # m of clearance on each side of the robot's path
+STOP = 0.3  # m: stop when the room ahead falls to this
+KEEP_RIGHT = np.radians(35)  # aim this far right of the goal when a robot is ahead...
+KEEP_RIGHT_RANGE = 4.0  # ...within this many metres (and 45 degrees of the nose)
+OFFSETS = np.radians(np.arange(6, 91, 6))
+# headings tried, relative to the aim: straight, then right before left
+TRIES = np.concatenate([[0.0], np.column_stack([-OFFSETS, OFFSETS]).ravel()])
 
 
 def step(robot):
-    """Head along goal attraction plus obstacle repulsion; slow down near obstacles."""
+    """Head along the clear path nearest the goal direction; slow down as room runs out."""
     if robot.goal is None:
         return 0.0, robot.heading
     x, y, theta = robot.pose
     gx, gy = robot.goal
-    pull = np.array([gx - x, gy - y])
-    pull /= max(np.hypot(*pull), 1e-9)
+    aim = np.arctan2(gy - y, gx - x) - (KEEP_RIGHT if _robot_ahead(robot) else 0.0)
 
     ranges, angles = robot.scan.ranges, robot.scan.angles
-    near = ranges < INFLUENCE
-    directions = theta + angles[near]
-    weights = (1.0 / np.maximum(ranges[near], 1e-3) - 1.0 / INFLUENCE) / near.size
-    push = -np.array([np.sum(weights * np.cos(directions)), np.sum(weights * np.sin(directions))])
+    hit = ranges < robot.scan.max_range
+    hit_x, hit_y = ranges[hit] * np.cos(angles[hit]), ranges[hit] * np.sin(angles[hit])
+    # each try relative to the robot's heading, and the hits in the frame of each try
+    tries = np.angle(np.exp(1j * (aim + TRIES - theta)))
+    cos, sin = np.cos(tries)[:, None], np.sin(tries)[:, None]
+    along = hit_x[None] * cos + hit_y[None] * sin
+    across = hit_y[None] * cos - hit_x[None] * sin
+    in_band = (along > -robot.type.length / 2) & (np.abs(across) < robot.type.width / 2 + MARGIN)
+    room = np.where(in_band, along, np.inf).min(axis=1)  # to the first hit on each path
+    wanted = min(LOOKAHEAD, np.hypot(gx - x, gy - y) + robot.type.width)
+    in_sight = np.abs(tries) < np.max(np.abs(angles))
+    if not in_sight.any():  # the aim is behind: turn toward it on the spot
+        return 0.0, theta + tries[0]
+    clear = in_sight & (room > wanted)
+    best = int(np.argmax(clear)) if clear.any() else int(np.argmax(np.where(in_sight, room, -1)))
 
-    total = pull + REPULSION * push
-    heading = np.arctan2(total[1], total[0])
-    front = np.abs(angles) < np.pi / 6
-    clearance = ranges[front].min() if front.any() else robot.scan.max_range
-    caution = np.clip((clearance - robot.type.length / 2) / INFLUENCE, 0.0, 1.0)
-    alignment = max(np.cos(heading - theta), 0.0)
-    return robot.type.max_speed * alignment * caution, heading
+    nose = np.where(np.abs(angles) < np.pi / 3, ranges, np.inf).min()
+    ahead = min(room[best], wanted, nose + 0.2)
+    caution = np.clip((ahead - STOP) / (LOOKAHEAD - STOP), 0.0, 1.0)
+    alignment = max(np.cos(tries[best]), 0.0) ** 4
+    return robot.type.max_speed * alignment * caution, theta + tries[best]
+
+
+def _robot_ahead(robot) -> bool:
+    """Whether another robot is within KEEP_RIGHT_RANGE and 45 degrees of the nose."""
+    others = robot.comms
+    others = others[others[:, 0] != robot.id]
+    x, y, theta = robot.pose
+    dx, dy = others[:, 1] - x, others[:, 2] - y
+    bearing = np.angle(np.exp(1j * (np.arctan2(dy, dx) - theta)))
+    return bool(np.any((np.hypot(dx, dy) < KEEP_RIGHT_RANGE) & (np.abs(bearing) < np.pi / 4)))

@@ -1,0 +1,1 @@
+mimics run two_robots.toml my_algo.py --out runs/two

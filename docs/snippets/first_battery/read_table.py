@@ -1,0 +1,9 @@
+# read_table.py: the battery's table with pandas
+import pandas as pd
+
+table = pd.read_csv("night.csv")
+print(table[["algorithm", "param_robots", "seed", "state", "reached_goal", "collisions"]])
+
+# mean collisions per algorithm and crowd size
+means = table.groupby(["algorithm", "param_robots"])["collisions"].mean()
+print(means)

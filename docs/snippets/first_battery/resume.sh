@@ -1,0 +1,2 @@
+mimics battery status night
+mimics battery resume night

@@ -1,0 +1,1 @@
+mimics battery run battery.toml --out night --workers 2
