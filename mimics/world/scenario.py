@@ -47,14 +47,14 @@ class Settings:
         for name in positive:
             value = getattr(self, name)
             if not _is_number(value) or not 0 < value < math.inf:
-                raise ScenarioError(f"settings.{name}: expected a positive finite number, got "
-                                    f"{value!r}")
+                raise ScenarioError(f"settings.{name}: expected a positive number (finite), "
+                                    f"got {value!r}")
         for name in ("deadlock_distance", "livelock_progress", "comm_range"):
             value = getattr(self, name)
             finite = name != "comm_range"  # an infinite range means no limit
             if not _is_number(value) or value < 0 or (finite and value == math.inf):
-                raise ScenarioError(f"settings.{name}: expected a{' finite' if finite else ''} "
-                                    f"number >= 0, got {value!r}")
+                raise ScenarioError(f"settings.{name}: expected a number >= 0"
+                                    f"{' (finite)' if finite else ''}, got {value!r}")
         for name in ("deactivate_on_deadlock", "inactive_as_obstacles", "allow_overlap"):
             if not isinstance(getattr(self, name), bool):
                 raise ScenarioError(f"settings.{name}: expected true or false")
