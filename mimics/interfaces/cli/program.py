@@ -246,6 +246,10 @@ def main(argv: list[str] | None = None) -> int:
         fail(f"the input is too large for this machine or for the numbers it names "
              f"({type(exc).__name__}: {_first_line(exc)}); use smaller values")
         return EXIT_BAD_INPUT
+    except OSError as exc:  # a path the system refuses (too long, a device, no permission)
+        where = f"{exc.filename}: " if exc.filename else ""
+        fail(f"{where}{exc.strerror or _first_line(exc)}")
+        return EXIT_BAD_INPUT
     except ValueError as exc:
         if not _raised_by_numpy(exc):
             raise
