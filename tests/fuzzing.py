@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 SCENARIO_TOML = """\
 name = "fuzz"
-map = { segments = [[0.0, 0.0, 10.0, 0.0], [0.0, 6.0, 10.0, 6.0]], bounds = [-1.0, -1.0, 11.0, 7.0] }
+map = { segments = [[0.0, 0.0, 10.0, 0.0], [0.0, 6.0, 10.0, 6.0]], bounds = [-1, -1, 11, 7] }
 
 [[robots]]
 type = "Pioneer2DX"

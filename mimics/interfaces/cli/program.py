@@ -6,6 +6,7 @@ is printed as one line on stderr and exits with status 2.
 
 from __future__ import annotations
 
+import functools
 import sys
 import tomllib
 from pathlib import Path
@@ -15,8 +16,8 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mimics.interfaces.cli.numbers import guard_numbers
 from mimics.interfaces.cli.output import fail, note
+from mimics.interfaces.cli.values import guard_values
 from mimics.world.errors import MimicsError
 
 HELP = """mimics: a fast multi-robot simulator for teaching, prototyping and batteries.
@@ -53,8 +54,8 @@ EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 
 @app.callback()
 def root(ctx: typer.Context) -> None:
-    """Range-check every number given to any command before it runs (cli/numbers.py)."""
-    guard_numbers(ctx.find_root().command)
+    """Check every number and text given to any command before it runs (cli/values.py)."""
+    guard_values(ctx.find_root().command)
 
 
 def parse_params(items: list[str]) -> dict[str, Any]:
@@ -135,6 +136,11 @@ def run(
         raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
     from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
 
+    if video is not None:
+        from mimics.interfaces.replay import VIDEO_SUFFIXES
+
+        if video.suffix.lower() not in VIDEO_SUFFIXES:  # checked before the run, not after
+            raise fail(f"--video {video}: expected a file ending in {', '.join(VIDEO_SUFFIXES)}")
     if view not in VIEW_CHOICES:
         raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
     live = make_live_view(view)
@@ -231,7 +237,7 @@ _mount_subcommands()
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: runs the app and turns usage errors into one line and status 2."""
-    command = typer.main.get_command(app)
+    command = _command()
     try:
         code = command.main(args=argv, prog_name="mimics", standalone_mode=False)
     except MimicsError as exc:
@@ -241,10 +247,13 @@ def main(argv: list[str] | None = None) -> int:
         fail("interrupted")
         return EXIT_INTERRUPTED
     except (MemoryError, OverflowError, RecursionError) as exc:
-        # Last resort: the specific checks (cli/numbers.py, mimics.world.limits,
+        # Last resort: the specific checks (cli/values.py, mimics.world.limits,
         # mimics.records.resources) should have refused the input before this.
         fail(f"the input is too large for this machine or for the numbers it names "
              f"({type(exc).__name__}: {_first_line(exc)}); use smaller values")
+        return EXIT_BAD_INPUT
+    except UnicodeError as exc:  # a name from a non-UTF-8 file system, or a file's bytes
+        fail(f"text that is not valid UTF-8 ({_first_line(exc)})")
         return EXIT_BAD_INPUT
     except OSError as exc:  # a path the system refuses (too long, a device, no permission)
         where = f"{exc.filename}: " if exc.filename else ""
@@ -270,6 +279,12 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         raise
     return code if isinstance(code, int) else 0
+
+
+@functools.cache
+def _command() -> Any:
+    """The click command of ``app``, built once per process (building it takes ~50 ms)."""
+    return typer.main.get_command(app)
 
 
 def _first_line(exc: BaseException) -> str:

@@ -1,9 +1,11 @@
-"""One place where every number given on the command line is range-checked.
+"""One place where every value given on the command line is checked: numbers and text.
 
-Before any command runs, :func:`guard_numbers` walks the whole command tree
+Before any command runs, :func:`guard_values` walks the whole command tree
 (also commands added later by other modules) and gives every parameter a
-check of the numbers it receives, after Typer has converted them:
+check of the values it receives, after Typer has converted them:
 
+* every text and path must be valid UTF-8 (a file name from a non-UTF-8 file
+  system would otherwise fail deep in a writer, after the work is done);
 * every float must be finite (``nan``, ``inf`` and overflowing literals such as
   ``1e999`` are refused);
 * every integer must fit in 64 bits (``2**63 - 1``);
@@ -14,8 +16,8 @@ check of the numbers it receives, after Typer has converted them:
 A value outside is a usage error: one line ``mimics: error: Invalid value for
 '--seed': ...`` and exit status 2, before the command starts. Commands keep
 their own checks of what only they know (a choice of words, a file that must
-exist); this module makes a NumPy overflow or a NaN reaching a command
-impossible.
+exist); this module makes a NumPy overflow, a NaN or an unencodable name
+reaching a command impossible.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from pathlib import PurePath
 from typing import Any
 
 import typer
@@ -72,7 +75,7 @@ RANGES: dict[str, Range] = {
 
 
 def check_value(name: str, value: Any) -> str | None:
-    """Why ``value`` (a number, or a list or tuple of them) is refused for option ``name``.
+    """Why ``value`` (a number, a text, or a list or tuple of them) is refused for ``name``.
 
     >>> check_value("seed", -1)
     'expected a whole number from 0 to 9223372036854775807, got -1'
@@ -81,6 +84,11 @@ def check_value(name: str, value: Any) -> str | None:
     >>> check_value("anything", 3) is None
     True
     """
+    for text in _texts(value):
+        try:
+            text.encode("utf-8")
+        except UnicodeEncodeError:
+            return f"expected text in UTF-8, got {text.encode('utf-8', 'replace').decode()!r}"
     for number in _numbers(value):
         if isinstance(number, float) and not math.isfinite(number):
             return f"expected a finite number, got {number}"
@@ -104,6 +112,14 @@ def _numbers(value: Any) -> Iterator[int | float]:
             yield from _numbers(item)
 
 
+def _texts(value: Any) -> Iterator[str]:
+    if isinstance(value, str | PurePath):
+        yield str(value)
+    elif isinstance(value, list | tuple):
+        for item in value:
+            yield from _texts(item)
+
+
 def _checked(name: str, callback: Callable[..., Any] | None) -> Callable[..., Any]:
     def check(ctx: Any, param: Any, value: Any) -> Any:
         problem = check_value(name, value)
@@ -111,14 +127,14 @@ def _checked(name: str, callback: Callable[..., Any] | None) -> Callable[..., An
             raise typer.BadParameter(problem, ctx=ctx, param=param)
         return callback(ctx, param, value) if callback is not None else value
 
-    check.guards_numbers = True  # type: ignore[attr-defined]
+    check.guards_values = True  # type: ignore[attr-defined]
     return check
 
 
-def guard_numbers(command: Any) -> None:
-    """Give every parameter of ``command`` and of its sub-commands the number check."""
+def guard_values(command: Any) -> None:
+    """Give every parameter of ``command`` and of its sub-commands the value check."""
     for param in getattr(command, "params", ()):
-        if param.name and not getattr(param.callback, "guards_numbers", False):
+        if param.name and not getattr(param.callback, "guards_values", False):
             param.callback = _checked(param.name, param.callback)
     for sub in getattr(command, "commands", {}).values():
-        guard_numbers(sub)
+        guard_values(sub)
