@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from mimics.world.errors import ScenarioError
+from mimics.world.errors import ScenarioError, read_input_text
 from mimics.world.limits import MAX_BEAMS
 
 
@@ -230,9 +230,7 @@ def load_robot_types(path: str | Path) -> dict[str, RobotType]:
     """Read robot types from a TOML file with one ``[types.NAME]`` table per type."""
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text())
-    except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read ({exc.strerror})") from exc
+        data = tomllib.loads(read_input_text(path, "robot types", ScenarioError))
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{path}: not valid TOML ({exc})") from exc
     tables = data.get("types")
