@@ -49,8 +49,9 @@ class MemoryEstimate:
     parts: dict[str, int]
 
     def largest(self) -> str:
-        """The name of the largest part."""
-        return max(self.parts, key=lambda name: self.parts[name])
+        """The name of the largest part that depends on the run (the base does not)."""
+        return max((name for name in self.parts if name != "base"),
+                   key=lambda name: self.parts[name])
 
 
 def run_memory(scenario: Scenario, *, flush_rows: int = 131_072, every: int = 1) -> MemoryEstimate:
@@ -115,7 +116,6 @@ ADVICE = {
     "state and sensors": "fewer robots or fewer beams per ranger",
     "stall windows": "shorter settings.deadlock_window and livelock_window, or a larger dt",
     "recorder buffer": "a smaller flush_rows for the recorder, or fewer robots",
-    "base": "closing other programs",
 }
 
 
