@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 import tomli_w
 
-from mimics.world.errors import MimicsError, read_input_text
+from mimics.world.errors import MimicsError
 from mimics.world.maps import Map
 from mimics.world.robot_types import robot_type_from_dict
 from mimics.world.scenario import Scenario, Settings
@@ -100,7 +100,12 @@ def read_scenario_record(path: Path) -> tuple[Scenario, dict[str, Any]]:
         MimicsError: naming the file, when it is missing, not TOML or not a run's record.
     """
     try:
-        data = tomllib.loads(read_input_text(Path(path), "scenario record"))
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise MimicsError(f"{path}: cannot read ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise MimicsError(f"{path}: not a run's scenario record (not UTF-8 text: "
+                          f"{exc.reason})") from None
     except tomllib.TOMLDecodeError as exc:
         raise MimicsError(f"{path}: not valid TOML ({exc})") from None
     if not isinstance(data.get("run"), dict):
