@@ -21,7 +21,7 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
              time: float | None = None, seed: int = 0, policy: Policy = "abort",
              out: str | Path | None = None, wall_limit: float | None = None,
              params: dict[str, Any] | None = None,
-             observers: tuple[Any, ...] = ()) -> RunResult:
+             observers: tuple[Any, ...] = (), allow_overlap: bool = False) -> RunResult:
     """Run one simulation and return its outcome; with ``out``, also write its folder.
 
     Args:
@@ -35,7 +35,10 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
         wall_limit: stop after this many wall-clock seconds.
         params: other scenario parameters.
         observers: extra observers (e.g. a live view).
+        allow_overlap: keep robots that start touching walls or each other, or outside
+            the map (by default the scenario is refused, naming them).
     """
     sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed, policy=policy,
-                  wall_limit=wall_limit, params=params, observers=observers)
+                  wall_limit=wall_limit, params=params, observers=observers,
+                  allow_overlap=allow_overlap)
     return sim.run() if out is None else run_to_folder(sim, out)

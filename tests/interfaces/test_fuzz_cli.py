@@ -334,3 +334,10 @@ def test_every_parameter_takes_every_edge_value_without_traceback(
         assert "Traceback" not in output, f"mimics {argv}:\n{output}"
     assert snapshot(outside) == {"sentinel.txt": snapshot(outside)["sentinel.txt"]}
     assert (outside / "sentinel.txt").read_text() == "must stay as it is"
+
+
+def test_the_time_guard_stops_a_command_that_would_serve_forever() -> None:
+    import time
+
+    with pytest.raises(Hung, match="still running after 1 s"), time_guard(1, "a server"):
+        time.sleep(5)

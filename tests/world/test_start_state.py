@@ -113,3 +113,12 @@ def test_a_long_line_on_one_axis_is_swept_along_it() -> None:
     bodies = Bodies(centers, np.zeros(n), np.full(n, 0.35), np.full(n, 0.25))
     first, _ = overlapping_robots(bodies)
     assert first.size == 0
+
+
+def test_the_python_api_refuses_or_keeps_such_starts() -> None:
+    import mimics
+
+    with pytest.raises(ScenarioError, match="overlap at the start"):
+        mimics.simulate(crowded(), "go_to_goal", time=0.2)
+    result = mimics.simulate(crowded(), "go_to_goal", time=0.2, allow_overlap=True)
+    assert result.collisions == 3  # the pair and the robot on the wall, at time zero
