@@ -86,6 +86,7 @@ import numpy as np
 import tomli_w
 
 from mimics.world.errors import MimicsError, ScenarioError, read_input_text
+from mimics.world.limits import MAX_ROBOTS, MAX_SEED
 from mimics.world.map_files import load_map, map_from_dict
 from mimics.world.maps import Map
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES, RobotType, robot_type_from_dict
@@ -116,6 +117,7 @@ GENERATOR_KEYS = {
                "max_tries"),
 }
 SWEEPABLE = ("robots", "seed")
+MAX_RANDOM_ROBOTS = 10_000  # robots of one random generator
 
 
 def random_placement(count: int, robot_type: RobotType, map: Map, rng: np.random.Generator,
@@ -269,12 +271,15 @@ class _Reader:
             raise self.fail(name, f"expected a number, got {value!r}")
         return float(value)
 
-    def integer(self, name: str, minimum: int, default: int | None = None) -> int:
+    def integer(self, name: str, minimum: int, default: int | None = None,
+                maximum: int = MAX_ROBOTS) -> int:
         value = self.data.get(name, default)
         if value is None:
             raise self.src.error(self.key, f"missing key {name!r} (expected a whole number)")
         if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
             raise self.fail(name, f"expected a whole number >= {minimum}, got {value!r}")
+        if value > maximum:
+            raise self.fail(name, f"{value} is over the limit of {maximum}")
         return value
 
     def numbers(self, name: str, size: int, default: Any = None, what: str = "") -> Any:
@@ -419,6 +424,8 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         goals = _offset_goals(table, xy)
     elif kind == "grid":
         rows, columns = table.integer("rows", 1), table.integer("columns", 1)
+        if rows * columns > MAX_ROBOTS:
+            raise table.fail("rows", f"{rows} x {columns} robots, over the limit of {MAX_ROBOTS}")
         origin = np.array(table.numbers("origin", 2, what="[x, y]"))
         spacing = table.data.get("spacing")
         if _is_number(spacing):
@@ -430,7 +437,8 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         yaw = np.full(len(xy), table.number("yaw", 0.0))
         goals = _offset_goals(table, xy)
     else:
-        count = table.integer("count", 1)
+        # placing compares each new robot with every one placed: quadratic, hence its own limit
+        count = table.integer("count", 1, maximum=MAX_RANDOM_ROBOTS)
         region = (table.numbers("region", 4, what="[xmin, ymin, xmax, ymax]")
                   if table.has("region") else None)
         yaw_value = table.data.get("yaw", "random")
@@ -440,10 +448,10 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         for what, value in (("min_spacing", spacing), ("clearance", clearance)):
             if value is not None and value < 0:
                 raise table.fail(what, f"expected a distance >= 0 (m), got {value!r}")
-        own_seed = table.integer("seed", 0, 0)
+        own_seed = table.integer("seed", 0, 0, maximum=MAX_SEED)
         rng = np.random.default_rng([own_seed if seed is None else seed, index])
         taken = np.array([row[:2] for row in robots.rows]).reshape(-1, 2)
-        tries = table.integer("max_tries", 1, 2000)
+        tries = table.integer("max_tries", 1, 2000, maximum=1_000_000)
         try:
             poses = random_placement(count, robot_type, map, rng, region, spacing, clearance,
                                      fixed_yaw, taken, tries)
@@ -455,6 +463,9 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         except ScenarioError as exc:
             raise src.error(key, str(exc)) from None
         xy, yaw = poses[:, :2], poses[:, 2]
+    if len(robots.rows) + len(xy) > MAX_ROBOTS:
+        raise src.error(key, f"{len(robots.rows) + len(xy)} robots so far, over the limit of "
+                             f"{MAX_ROBOTS}")
     for j in range(len(xy)):
         robots.rows.append([xy[j, 0], xy[j, 1], yaw[j], speed, goals[j, 0], goals[j, 1]])
         robots.types.append(name)

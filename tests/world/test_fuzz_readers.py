@@ -197,3 +197,20 @@ def test_battery_files_damaged_or_mistyped(tmp_path: Path, text: str) -> None:
         return
     assert 1 <= len(spec.seeds) <= 1_000_000
     assert all(0 <= seed < 2**63 for seed in spec.seeds)
+
+
+@pytest.mark.parametrize(("generator", "expected"), [
+    ('generator = "line"\ncount = 100000000000\nstart = [1.0, 1.0]\nstep = [0.0, 0.5]',
+     r"robots\[0\]\.count: 100000000000 is over the limit of 10000000"),
+    ('generator = "grid"\nrows = 100000\ncolumns = 100000\norigin = [1.0, 1.0]\nspacing = 0.5',
+     r"robots\[0\]\.rows: 100000 x 100000 robots, over the limit"),
+    ('generator = "random"\ncount = 9223372036854775807',
+     r"robots\[0\]\.count: 9223372036854775807 is over the limit of 10000"),
+])
+def test_generator_counts_past_the_limits_are_refused_before_allocating(
+        tmp_path: Path, generator: str, expected: str) -> None:
+    path = tmp_path / "many.toml"
+    path.write_text('map = { segments = [], bounds = [0.0, 0.0, 10.0, 6.0] }\n[[robots]]\n'
+                    f'type = "Pioneer2DX"\n{generator}\n')
+    with pytest.raises(MimicsError, match=expected):
+        load_scenario_toml(path)
