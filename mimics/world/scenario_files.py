@@ -408,7 +408,7 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         robots.labels.append(f"robots[{index}]")
         robots.entries.append(index)
         return
-    if kind not in GENERATOR_KEYS:
+    if not isinstance(kind, str) or kind not in GENERATOR_KEYS:
         raise src.error((*key, "generator"), f"unknown generator {kind!r} (expected one of "
                                               f"{', '.join(GENERATOR_KEYS)})")
     allowed = ("generator", "type", "yaw", "v", *GENERATOR_KEYS[kind])

@@ -42,7 +42,7 @@ def finished_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def damaged_summary(draw: Any, text: str) -> bytes:
     """summary.json with keys dropped or given values of the wrong type."""
     data = json.loads(text)
-    for key in draw(st.lists(st.sampled_from(sorted(data)), min_size=1, max_size=3)):
+    for key in draw(st.lists(st.sampled_from(sorted(data)), min_size=1, max_size=3, unique=True)):
         if draw(st.booleans()):
             del data[key]
         else:

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from mimics.batteries.spec import load_battery
@@ -58,6 +58,7 @@ def sound_scenario(scenario: Scenario) -> None:
 
 
 @FUZZ
+@example(text=SCENARIO_TOML.replace('generator = "line"', "generator = [1.0]"))  # was TypeError
 @given(text=st.one_of(mutated_toml(SCENARIO_TOML),
                       damaged_bytes(SCENARIO_TOML.encode()).map(
                           lambda b: b.decode("utf-8", "replace"))))
