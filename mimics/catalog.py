@@ -135,16 +135,32 @@ def _scenario_factory(text: str) -> tuple[Any, str]:
     return factory, label
 
 
-def load_scenario(name_or_path: str | Path, **params: Any) -> Scenario:
+def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
+                  **params: Any) -> Scenario:
     """Build a scenario from a built-in name, a ``.py`` file or a ``.toml`` file.
 
     ``params`` are the scenario's keyword parameters (``robots=60``); unknown
-    ones are errors naming the parameter and the ones that exist.
+    ones are errors naming the parameter and the ones that exist, and so are
+    NaN or infinite values and robot counts past the limit. The start state is
+    checked (:func:`mimics.world.start_state.validate_scenario`) unless
+    ``allow_overlap`` (or the scenario's ``settings.allow_overlap``) keeps
+    robots that start touching walls or each other.
     """
+    from mimics.world.limits import MAX_ROBOTS, MAX_SEED, check_finite, check_whole
+    from mimics.world.start_state import validate_scenario
+
     text = str(name_or_path)
+    for key, value in params.items():
+        check_finite(f"scenario parameter {key}", value)
+    if "robots" in params:
+        check_whole("scenario parameter robots", params["robots"], 1, MAX_ROBOTS)
+    if "seed" in params:
+        check_whole("scenario parameter seed", params["seed"], 0, MAX_SEED)
     if text.endswith(".toml"):
         from mimics.world.scenario_files import load_scenario_toml
 
+        if allow_overlap:
+            params = {**params, "allow_overlap": True}
         return load_scenario_toml(text, **params)
     factory, label = _scenario_factory(text)
     accepted = inspect.signature(factory).parameters
@@ -159,12 +175,18 @@ def load_scenario(name_or_path: str | Path, **params: Any) -> Scenario:
         raise
     except (TypeError, ValueError) as exc:
         raise ScenarioError(f"scenario {label!r}: {exc}") from exc
+    except Exception as exc:  # the user's code (or NumPy's MemoryError in it): one line
+        raise ScenarioError(f"scenario {label!r}: scenario() raised {type(exc).__name__}: "
+                            f"{exc}") from exc
     if not isinstance(built, Scenario):
         raise ScenarioError(f"scenario {label!r}: scenario() returned {type(built).__name__}, "
                             "expected a Scenario")
     defaults = {k: p.default for k, p in accepted.items()
                 if p.default is not inspect.Parameter.empty}
-    return _named(built, label, {**defaults, **params})
+    named = _named(built, label, {**defaults, **params})
+    validate_scenario(named, f"scenario {label!r}",
+                      allow_overlap=allow_overlap or named.settings.allow_overlap)
+    return named
 
 
 def _named(scenario: Scenario, label: str, params: dict[str, Any]) -> Scenario:

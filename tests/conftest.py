@@ -3,8 +3,14 @@
 from __future__ import annotations
 
 import pytest
+from hypothesis import settings
 
 from tests.system_packages import install_missing
+
+# Hypothesis: no examples database (nothing written to .hypothesis/, nothing to keep out of
+# git) and derandomized, so that CI runs the same examples every time.
+settings.register_profile("mimics", database=None, derandomize=True)
+settings.load_profile("mimics")
 
 
 def pytest_configure(config: pytest.Config) -> None:

@@ -21,6 +21,7 @@ from __future__ import annotations
 import contextlib
 import os
 import queue
+import re
 import tempfile
 import threading
 import time
@@ -36,6 +37,9 @@ from mimics.world.errors import MimicsError
 CAPACITY_REFRESH = 5.0
 #: Seconds to reach the scheduler and see a worker, by default.
 CONNECT_TIMEOUT = 30.0
+#: A scheduler address: an optional protocol, an ASCII host name or IP, and a port.
+ADDRESS = re.compile(r"((tcp|tls|ws|wss|ucx|inproc)://)?[A-Za-z0-9.\-_]+:[0-9]{1,5}"
+                     r"|((tcp|tls|ws|wss|ucx)://)?\[[0-9A-Fa-f:.]+\]:[0-9]{1,5}")
 
 
 class DaskExecutor:
@@ -62,6 +66,10 @@ class DaskExecutor:
             raise MimicsError("--dask needs dask.distributed: pip install 'mimics[cluster]'"
                               ) from None
         connect_timeout = CONNECT_TIMEOUT if connect_timeout is None else connect_timeout
+        if not ADDRESS.fullmatch(address):
+            # checked before Client(): a half-made Client hangs a minute at exit
+            raise MimicsError(f"--dask {address!r}: expected a scheduler address like "
+                              "tcp://host:8786")
         try:
             self.client = Client(address, timeout=connect_timeout, set_as_default=False)
         except (OSError, TimeoutError, ValueError) as exc:

@@ -45,6 +45,7 @@ from typing import Any
 
 from mimics.native import NATIVE_SUFFIXES
 from mimics.world.errors import MimicsError, read_input_text
+from mimics.world.limits import MAX_SEED
 
 BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
                 "record_every", "record_scans")
@@ -52,6 +53,7 @@ TOP_KEYS = ("battery", "scenarios")
 POLICIES = ("abort", "deactivate")
 ROBOT_LOGS = ("off", "auto", "on")
 DEFAULT_TIMEOUT = 300.0
+MAX_RUNS = 1_000_000  # runs of one battery (each is a folder on disk and a database row)
 _SAFE = re.compile(r"[^A-Za-z0-9._=+-]+")
 
 
@@ -231,6 +233,12 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     if not isinstance(name, str):
         raise fail(f"[battery] name: expected a string, got {name!r}")
     scenarios = _scenarios(data.get("scenarios"), base, fail)
+    count = len(algorithms) * len(seeds) * sum(
+        math.prod(len(v) if isinstance(v, list) else 1 for v in entry.params.values())
+        for entry in scenarios)
+    if count > MAX_RUNS:
+        raise fail(f"{count} runs (algorithms x scenarios x sweeps x seeds), over the limit of "
+                   f"{MAX_RUNS} per battery (expected fewer seeds or shorter sweeps)")
     return BatterySpec(algorithms=algorithms, scenarios=scenarios, seeds=seeds,
                        time=None if time is None else float(time), timeout=float(timeout),
                        policy=policy, robot_logs=robot_logs, record_every=every,
@@ -281,16 +289,20 @@ def _algorithms(value: Any, base: Path, fail: Any) -> tuple[str, ...]:
 
 def _seeds(value: Any, fail: Any) -> tuple[int, ...]:
     if isinstance(value, int) and not isinstance(value, bool):
-        if value < 1:
-            raise fail(f"[battery] seeds: expected a count >= 1 or a list of seeds, got {value}")
+        if not 1 <= value <= MAX_RUNS:
+            raise fail(f"[battery] seeds: expected a count from 1 to {MAX_RUNS} or a list of "
+                       f"seeds, got {value}")
         return tuple(range(1, value + 1))
+    if isinstance(value, list) and len(value) > MAX_RUNS:
+        raise fail(f"[battery] seeds: {len(value)} seeds, over the limit of {MAX_RUNS} runs")
     if (isinstance(value, list) and value
-            and all(isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in value)):
+            and all(isinstance(s, int) and not isinstance(s, bool) and 0 <= s <= MAX_SEED
+                    for s in value)):
         if len(set(value)) != len(value):
             raise fail(f"[battery] seeds: a seed is listed twice in {value}")
         return tuple(value)
     raise fail(f"[battery] seeds: expected a count >= 1 or a non-empty list of whole numbers "
-               f">= 0, got {value!r}")
+               f"from 0 to {MAX_SEED}, got {value!r}")
 
 
 def _scenarios(value: Any, base: Path, fail: Any) -> tuple[ScenarioEntry, ...]:

@@ -37,8 +37,9 @@ from mimics.engine.sensors import (
     update_odometry,
 )
 from mimics.engine.stall import StallDetector
-from mimics.engine.state import Status, TypeArrays, WorldState, steps_for
+from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.wall_index import WallIndex, build_wall_index
+from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
 _ESCAPED = int(Status.ESCAPED)  # a plain int: comparing arrays with an IntEnum is slow
@@ -80,11 +81,11 @@ class Simulation:
             raise ValueError(f"policy must be one of {POLICIES}, got {policy!r}")
         self.scenario = scenario
         self.controller: Controller = controller_from(algorithm, algorithm_name)
-        self.seed = int(seed)
+        self.seed = check_whole("seed", seed, 0, MAX_SEED)
         self.policy = policy
         settings = scenario.settings
         self.time_limit = settings.time_limit if time_limit is None else float(time_limit)
-        self.max_steps = steps_for(self.time_limit, settings.dt)
+        self.max_steps = check_steps(self.time_limit, settings.dt)
         self.wall_limit = wall_limit
         self.stop_when = stop_when
         self.observers = list(observers)

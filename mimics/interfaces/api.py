@@ -22,7 +22,8 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
              time: float | None = None, seed: int = 0, policy: Policy = "abort",
              out: str | Path | None = None, wall_limit: float | None = None,
              params: dict[str, Any] | None = None,
-             observers: tuple[Any, ...] = (), record_scans: bool = False) -> RunResult:
+             observers: tuple[Any, ...] = (), record_scans: bool = False,
+             allow_overlap: bool = False) -> RunResult:
     """Run one simulation and return its outcome; with ``out``, also write its folder.
 
     Args:
@@ -37,9 +38,12 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
         params: other scenario parameters.
         observers: extra observers (e.g. a live view).
         record_scans: with ``out``, also record the laser scans (scans.parquet).
+        allow_overlap: keep robots that start touching walls or each other, or outside
+            the map (by default the scenario is refused, naming them).
     """
     sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed, policy=policy,
-                  wall_limit=wall_limit, params=params, observers=observers)
+                  wall_limit=wall_limit, params=params, observers=observers,
+                  allow_overlap=allow_overlap)
     if out is None:
         if record_scans:
             raise MimicsError("record_scans: give out=FOLDER too (the scans go in the run folder)")

@@ -49,13 +49,21 @@ _STOP_KINDS = {"reached_goal": Status.REACHED_GOAL, "collision": Status.COLLIDED
                "escaped": Status.ESCAPED, "exception": Status.ERROR}
 
 
+MAX_FRAMES = 1_000_000  # frames of one replay (a day of video at 10 fps)
+
+
 def frame_times(duration: float, fps: float, speed: float) -> np.ndarray:
     """Simulated times of the frames: every ``speed / fps`` s from 0, plus the end."""
     if not fps > 0 or not speed > 0:
         raise MimicsError(f"replay: fps and speed must be positive, got fps={fps}, "
                           f"speed={speed}")
     step = speed / fps
-    count = math.floor(duration / step + _EPS) + 1
+    frames = duration / step
+    if not frames <= MAX_FRAMES:  # also NaN and inf
+        raise MimicsError(f"replay: {duration:g} s at {speed:g} simulated s per s and {fps:g} "
+                          f"fps is {frames:.3g} frames, over the limit of {MAX_FRAMES} (expected "
+                          "a higher speed or fewer fps)")
+    count = math.floor(frames + _EPS) + 1
     times = np.arange(count) * step
     if duration - times[-1] > _EPS:
         times = np.append(times, duration)

@@ -124,7 +124,7 @@ def check_readable(path: Path) -> None:
     """
     try:
         pq.read_metadata(path)
-    except (pa.ArrowException, OSError) as exc:
+    except (pa.ArrowException, OSError, UnicodeError) as exc:
         raise MimicsError(f"{path}: not a readable Parquet file, truncated or corrupt "
                           f"({one_line(exc)})") from None
 
@@ -149,7 +149,7 @@ def read_table(final: Path, parts: Path, schema: pa.Schema, columns: Sequence[st
     for path in files:
         try:
             tables.append(pq.read_table(path, columns=names, filters=filters, schema=schema))
-        except (pa.ArrowException, OSError) as exc:
+        except (pa.ArrowException, OSError, UnicodeError) as exc:
             raise MimicsError(f"{path}: not a readable Parquet file, truncated or corrupt "
                               f"({one_line(exc)})") from None
     if not tables:

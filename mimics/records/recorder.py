@@ -153,6 +153,12 @@ class RunRecorder:
         self._started = True
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
+            present = [name for name in RECORD_NAMES if (self.folder / name).exists()]
+            if present and not (self.folder / SCENARIO_TOML).is_file():
+                # not a run folder (every run writes scenario.toml first): the user's files
+                raise MimicsError(f"{self.folder}: holds {present[0]} but is not a run folder "
+                                  f"(no {SCENARIO_TOML}); nothing was removed: give a new or "
+                                  "empty folder, or an earlier run's folder")
             for name in RECORD_NAMES:  # summary.json first: an old one must not mark this run
                 path = self.folder / name
                 if path.is_dir():

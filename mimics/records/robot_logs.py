@@ -380,9 +380,11 @@ def read_robot_log(path: str | Path) -> RobotLog:
     """
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise MimicsError(f"{path}: cannot read ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise MimicsError(f"{path}: not a robot log (not UTF-8 text: {exc.reason})") from None
     head, sep, rest = text.partition("\n\n")
     names, _, rest = rest.partition("\n")
     units, _, rest = rest.partition("\n")

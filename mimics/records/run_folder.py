@@ -54,6 +54,7 @@ from mimics.records.layout import (
 from mimics.records.parts import check_readable, one_line, part_files, read_table
 from mimics.records.scans import SCANS_SCHEMA, ScanLayout, ScanRecord
 from mimics.records.scenario_record import read_scenario_record
+from mimics.records.summary import summary_rows
 from mimics.records.trajectory import TRAJECTORY_SCHEMA
 from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
@@ -91,6 +92,7 @@ class Run:
                 raise MimicsError(f"{path}: not a readable summary ({exc})") from None
             if not isinstance(data, dict):
                 raise MimicsError(f"{path}: not a readable summary (expected a JSON object)")
+            check_summary_types(data, path)
             return data
         run = self.info
         return {"status": "incomplete", "scenario": self.scenario.name,
@@ -204,6 +206,48 @@ class Run:
         n = self.robot_count
         if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < n:
             raise MimicsError(f"robot {i!r}: no such robot (the run has robots 0..{n - 1})")
+
+
+#: Keys of summary.json read as numbers (None allowed: a run with no speed, no wall limit).
+NUMBER_KEYS = ("robots", "sim_time", "wall_time", "steps", "sim_speed", "reached_goal",
+               "collisions", "robot_collisions", "wall_collisions", "escaped", "deadlocks",
+               "livelocks", "exceptions", "active_at_end", "time_limit", "wall_limit",
+               "deadlock_episodes", "livelock_episodes", "user_messages")
+NULLABLE_KEYS = ("sim_speed", "wall_limit", "active_at_end")
+#: Keys of summary.json read as tables of numbers (mean, min, max...; None allowed).
+TABLE_KEYS = ("user_code_time", "time_to_goal", "path_length", "path_efficiency")
+
+
+def check_summary_types(data: dict[str, Any], path: Path) -> None:
+    """Refuse a summary.json whose known keys hold values of the wrong type, in one line.
+
+    Raises:
+        MimicsError: naming the file, the key and what was expected.
+    """
+    def number(value: Any, nullable: bool = True) -> bool:
+        return ((nullable and value is None)
+                or (isinstance(value, int | float) and not isinstance(value, bool)))
+
+    for key in NUMBER_KEYS:
+        if key in data and not number(data[key], key in NULLABLE_KEYS):
+            raise MimicsError(f"{path}: not a readable summary ({key}: expected a number, got "
+                              f"{data[key]!r})")
+    for key in (*TABLE_KEYS, "records"):
+        table = data.get(key, {})
+        if not isinstance(table, dict) or (key != "records" and not all(
+                number(v) for v in table.values())):
+            raise MimicsError(f"{path}: not a readable summary ({key}: expected a table of "
+                              f"numbers, got {table!r})")
+    records = data.get("records", {})
+    for key in ("trajectory_rows", "step_time", "write_time"):
+        if key in records and not number(records[key]):
+            raise MimicsError(f"{path}: not a readable summary (records.{key}: expected a "
+                              f"number, got {records[key]!r})")
+    try:
+        summary_rows(data)  # what `mimics report` and summary.txt show must be showable
+    except (TypeError, ValueError, KeyError, AttributeError) as exc:
+        raise MimicsError(f"{path}: not a readable summary ({type(exc).__name__}: {exc})"
+                          ) from None
 
 
 def load_run(path: str | Path) -> Run:

@@ -4,6 +4,7 @@ API and batteries."""
 from __future__ import annotations
 
 import contextlib
+import math
 from pathlib import Path
 from typing import Any
 
@@ -11,21 +12,35 @@ from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.outcome import RunResult
 from mimics.engine.simulation import Policy, Simulation
 from mimics.records.recorder import RobotLogs, RunRecorder
+from mimics.records.resources import check_memory
 from mimics.world.errors import MimicsError
+from mimics.world.limits import MAX_ROBOTS, MAX_SEED, check_whole
 from mimics.world.scenario import Scenario
+from mimics.world.start_state import validate_scenario
 
 
 def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | None = None,
             time: float | None = None, seed: int = 0, policy: Policy = "abort",
             wall_limit: float | None = None, params: dict[str, Any] | None = None,
-            observers: tuple[Any, ...] = ()) -> Simulation:
-    """Build a :class:`Simulation` from names or objects, checking every argument."""
-    if robots is not None and (isinstance(robots, bool) or not isinstance(robots, int)
-                               or robots < 1):
-        raise MimicsError(f"robots: expected a whole number >= 1, got {robots!r}")
-    if time is not None and not (isinstance(time, int | float) and time > 0):
-        raise MimicsError(f"time: expected a positive number of simulated seconds, got {time!r}")
-    if wall_limit is not None and not wall_limit > 0:
+            observers: tuple[Any, ...] = (), allow_overlap: bool = False) -> Simulation:
+    """Build a :class:`Simulation` from names or objects, checking every argument.
+
+    Before anything is allocated: counts and the seed are checked against
+    :mod:`mimics.world.limits`, the start state against walls and other robots
+    (unless ``allow_overlap``), and the memory the run needs against what the
+    machine has (:func:`mimics.records.resources.check_memory`).
+
+    Raises:
+        MimicsError: one line naming the argument, the limit or the robots.
+    """
+    if robots is not None:
+        check_whole("robots", robots, 1, MAX_ROBOTS)
+    check_whole("seed", seed, 0, MAX_SEED)
+    if time is not None and not (isinstance(time, int | float) and not isinstance(time, bool)
+                                 and 0 < time < math.inf):
+        raise MimicsError(f"time: expected a positive finite number of simulated seconds, got "
+                          f"{time!r}")
+    if wall_limit is not None and not (isinstance(wall_limit, int | float) and wall_limit > 0):
         raise MimicsError(f"wall limit: expected a positive number of seconds, got {wall_limit!r}")
     if policy not in ("abort", "deactivate"):
         raise MimicsError(f"policy: expected abort or deactivate, got {policy!r}")
@@ -36,8 +51,11 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
         if params:
             raise MimicsError("robots/params apply to a scenario name or file, not a Scenario")
         built = scenario
+        validate_scenario(built, f"scenario {built.name!r}",
+                          allow_overlap=allow_overlap or built.settings.allow_overlap)
     else:
-        built = load_scenario(scenario, **params)
+        built = load_scenario(scenario, allow_overlap=allow_overlap, **params)
+    check_memory(built)
     if isinstance(algorithm, str | Path):
         name, module = find_algorithm(algorithm)
     else:

@@ -100,9 +100,12 @@ def read_scenario_record(path: Path) -> tuple[Scenario, dict[str, Any]]:
         MimicsError: naming the file, when it is missing, not TOML or not a run's record.
     """
     try:
-        data = tomllib.loads(Path(path).read_text())
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
     except OSError as exc:
         raise MimicsError(f"{path}: cannot read ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise MimicsError(f"{path}: not a run's scenario record (not UTF-8 text: "
+                          f"{exc.reason})") from None
     except tomllib.TOMLDecodeError as exc:
         raise MimicsError(f"{path}: not valid TOML ({exc})") from None
     if not isinstance(data.get("run"), dict):

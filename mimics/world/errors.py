@@ -6,7 +6,15 @@ from pathlib import Path
 
 
 class MimicsError(Exception):
-    """Base of every error mimics raises on purpose; the CLI prints it in one line, exit 2."""
+    """Base of every error mimics raises on purpose; the CLI prints it in one line, exit 2.
+
+    The message is one line whatever it quotes (a YAML parser's two-line
+    complaint, a file's text): runs of white space, newlines included, become
+    one space.
+    """
+
+    def __str__(self) -> str:
+        return " ".join(super().__str__().split())
 
 
 class ScenarioError(MimicsError, ValueError):

@@ -45,7 +45,8 @@ class Map:
         segs.setflags(write=False)
         object.__setattr__(self, "segments", segs)
         bounds = tuple(float(b) for b in self.bounds)
-        if len(bounds) != 4 or not (bounds[0] < bounds[2] and bounds[1] < bounds[3]):
+        if (len(bounds) != 4 or not np.all(np.isfinite(bounds))
+                or not (bounds[0] < bounds[2] and bounds[1] < bounds[3])):
             raise ScenarioError(f"map {self.name!r}: bounds must be (xmin, ymin, xmax, ymax) "
                                 f"with xmin < xmax and ymin < ymax, got {self.bounds!r}")
         object.__setattr__(self, "bounds", bounds)

@@ -34,7 +34,8 @@ from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
-from mimics.world.errors import ScenarioError
+from mimics.world.errors import ScenarioError, read_input_text
+from mimics.world.limits import MAX_BEAMS
 from mimics.world.tuning import heading_gains, speed_gains
 
 
@@ -140,9 +141,26 @@ class RobotType:
                 raise ScenarioError(f"robot type {self.name!r}: {name} must be a positive number, "
                                     f"got {value!r}")
         ranger = self.ranger
-        if ranger.beams < 0 or ranger.range < 0 or ranger.sigma < 0 or ranger.fov < 0:
-            raise ScenarioError(f"robot type {self.name!r}: ranger beams, range, fov and sigma "
-                                "must not be negative")
+        if (isinstance(ranger.beams, bool) or not isinstance(ranger.beams, int)
+                or not 0 <= ranger.beams <= MAX_BEAMS):
+            raise ScenarioError(f"robot type {self.name!r}: ranger beams: expected a whole "
+                                f"number from 0 to {MAX_BEAMS}, got {ranger.beams!r}")
+        groups = {"ranger": (ranger, ("fov", "range", "sigma")),
+                  "positioning": (self.positioning, ("sigma_position", "sigma_velocity",
+                                                     "sigma_acceleration")),
+                  "odometry": (self.odometry, ("sigma_translation", "sigma_rotation"))}
+        for group, (part, names) in groups.items():
+            for name in names:
+                value = getattr(part, name)
+                if not _finite(value) or value < 0:
+                    raise ScenarioError(f"robot type {self.name!r}: {group}.{name}: expected a "
+                                        f"finite number >= 0, got {value!r}")
+        for group in ("speed_pid", "heading_pid"):
+            for name in ("kp", "ki", "kd"):
+                value = getattr(getattr(self, group), name)
+                if not _finite(value):
+                    raise ScenarioError(f"robot type {self.name!r}: {group}.{name}: expected a "
+                                        f"finite number, got {value!r}")
         if ranger.fov > 2 * math.pi + 1e-9:
             raise ScenarioError(f"robot type {self.name!r}: ranger fov is in radians and at most "
                                 f"2*pi, got {ranger.fov}")
@@ -177,6 +195,11 @@ class RobotType:
         else:
             data["ranger"]["angles"] = list(self.ranger.angles)
         return data
+
+
+def _finite(value: object) -> bool:
+    return (isinstance(value, int | float) and not isinstance(value, bool)
+            and math.isfinite(value))
 
 
 def _ranger(name: str, fov_degrees: float, beams: int, range_m: float) -> RangerSpec:
@@ -339,9 +362,7 @@ def load_robot_types(path: str | Path) -> dict[str, RobotType]:
     """Read robot types from a TOML file with one ``[types.NAME]`` table per type."""
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text())
-    except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read ({exc.strerror})") from exc
+        data = tomllib.loads(read_input_text(path, "robot types", ScenarioError))
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{path}: not valid TOML ({exc})") from exc
     tables = data.get("types")

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from mimics.world.errors import ScenarioError
+from mimics.world.limits import MAX_ROBOTS, MAX_STEPS
 from mimics.world.maps import Map
 from mimics.world.robot_types import RobotType
 
@@ -39,20 +40,28 @@ class Settings:
     livelock_progress: float = 0.1  # ...of at least this many metres, while moving
     comm_range: float = math.inf  # m; robots farther apart do not see each other in comms
     inactive_as_obstacles: bool = True  # deactivated robots stay in place as obstacles
+    allow_overlap: bool = False  # keep robots that start touching a wall or each other
 
     def __post_init__(self) -> None:
         positive = ("dt", "time_limit", "goal_tolerance", "deadlock_window", "livelock_window")
         for name in positive:
             value = getattr(self, name)
-            if not _is_number(value) or not value > 0:
-                raise ScenarioError(f"settings.{name}: expected a positive number, got {value!r}")
+            if not _is_number(value) or not 0 < value < math.inf:
+                raise ScenarioError(f"settings.{name}: expected a positive number (finite), "
+                                    f"got {value!r}")
         for name in ("deadlock_distance", "livelock_progress", "comm_range"):
             value = getattr(self, name)
-            if not _is_number(value) or value < 0:
-                raise ScenarioError(f"settings.{name}: expected a number >= 0, got {value!r}")
-        for name in ("deactivate_on_deadlock", "inactive_as_obstacles"):
+            finite = name != "comm_range"  # an infinite range means no limit
+            if not _is_number(value) or value < 0 or (finite and value == math.inf):
+                raise ScenarioError(f"settings.{name}: expected a number >= 0"
+                                    f"{' (finite)' if finite else ''}, got {value!r}")
+        for name in ("deactivate_on_deadlock", "inactive_as_obstacles", "allow_overlap"):
             if not isinstance(getattr(self, name), bool):
                 raise ScenarioError(f"settings.{name}: expected true or false")
+        if self.time_limit / self.dt > MAX_STEPS:
+            raise ScenarioError(f"settings.time_limit: {self.time_limit:g} s at dt = {self.dt:g} "
+                                f"s is over the limit of {MAX_STEPS} steps (expected at most "
+                                f"{MAX_STEPS * self.dt:.6g} s)")
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], where: str = "settings") -> Settings:
@@ -100,6 +109,9 @@ class Scenario:
         type_index = np.asarray(self.type_index, dtype=np.int64).reshape(-1)
         if n == 0:
             raise ScenarioError(f"scenario {self.name!r}: it has no robots (expected at least 1)")
+        if n > MAX_ROBOTS:
+            raise ScenarioError(f"scenario {self.name!r}: {n} robots, over the limit of "
+                                f"{MAX_ROBOTS}")
         if len(goals) != n or len(type_index) != n:
             raise ScenarioError(f"scenario {self.name!r}: {n} stages, {len(goals)} goals and "
                                 f"{len(type_index)} type indices (expected one each per robot)")

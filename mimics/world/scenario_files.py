@@ -86,12 +86,24 @@ import numpy as np
 import tomli_w
 
 from mimics.world.errors import MimicsError, ScenarioError, read_input_text
+from mimics.world.limits import MAX_ROBOTS, MAX_SEED
 from mimics.world.map_files import load_map, map_from_dict
 from mimics.world.maps import Map
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES, RobotType, robot_type_from_dict
 from mimics.world.scenario import Scenario, Settings
+from mimics.world.start_state import (
+    TOUCH_EPS,
+    Bodies,
+    overlapping_robots,
+    start_problems,
+    touching_walls,
+    validate_scenario,
+)
 
-TOUCH_EPS = 1e-9  # m; contact this close counts as touching, as in the engine's collision check
+__all__ = ["TOUCH_EPS", "Bodies", "load_scenario_toml", "overlapping_robots", "random_placement",
+           "save_scenario_toml", "scenario_from_toml_text", "start_problems", "touching_walls",
+           "validate_scenario"]
+
 # "run" is the [run] table of a recorded scenario.toml; it is ignored on load.
 TOP_KEYS = ("name", "description", "map", "types", "robots", "settings", "run")
 MAP_SOURCES = ("file", "builtin", "segments")
@@ -105,148 +117,7 @@ GENERATOR_KEYS = {
                "max_tries"),
 }
 SWEEPABLE = ("robots", "seed")
-
-
-# -- geometry of the start-state checks ----------------------------------------
-
-@dataclass(frozen=True)
-class Bodies:
-    """Robot rectangles: centres ``(n, 2)``, headings, half length (along heading), half width."""
-
-    centers: np.ndarray
-    headings: np.ndarray
-    half_length: np.ndarray
-    half_width: np.ndarray
-
-    @classmethod
-    def of(cls, scenario: Scenario) -> Bodies:
-        """The rectangles of a scenario's robots at the start."""
-        sizes = np.array([(t.length / 2, t.width / 2) for t in scenario.types])[
-            scenario.type_index]
-        return cls(scenario.stages[:, :2], scenario.stages[:, 2], sizes[:, 0], sizes[:, 1])
-
-    @property
-    def radius(self) -> np.ndarray:
-        """Half diagonals: the reach of each rectangle from its centre."""
-        return np.hypot(self.half_length, self.half_width)
-
-
-def touching_walls(bodies: Bodies, segments: np.ndarray, grow: float = 0.0,
-                   eps: float = TOUCH_EPS) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs ``(robot, segment)`` where a rectangle (grown by ``grow``) touches a segment.
-
-    Exact: each candidate segment is clipped against the rectangle in the
-    rectangle's frame (Liang-Barsky); a segment inside the rectangle touches it.
-    """
-    n, segments = len(bodies.centers), np.asarray(segments, dtype=np.float64).reshape(-1, 4)
-    if n == 0 or len(segments) == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    hx, hy = bodies.half_length + grow + eps, bodies.half_width + grow + eps
-    reach = np.hypot(hx, hy)
-    lo = np.minimum(segments[:, :2], segments[:, 2:])
-    hi = np.maximum(segments[:, :2], segments[:, 2:])
-    robots, segs = [], []
-    chunk = max(1, 2_000_000 // len(segments))  # bounds the candidate matrix's memory
-    for start in range(0, n, chunk):
-        c = bodies.centers[start:start + chunk]
-        r = reach[start:start + chunk, None]
-        near = ((lo[None, :, 0] <= c[:, None, 0] + r) & (hi[None, :, 0] >= c[:, None, 0] - r)
-                & (lo[None, :, 1] <= c[:, None, 1] + r) & (hi[None, :, 1] >= c[:, None, 1] - r))
-        i, j = np.nonzero(near)
-        robots.append(i + start)
-        segs.append(j)
-    i, j = np.concatenate(robots), np.concatenate(segs)
-    cos, sin = np.cos(bodies.headings[i]), np.sin(bodies.headings[i])
-    rel = segments[j] - np.tile(bodies.centers[i], 2)
-    x1, y1 = rel[:, 0] * cos + rel[:, 1] * sin, -rel[:, 0] * sin + rel[:, 1] * cos
-    x2, y2 = rel[:, 2] * cos + rel[:, 3] * sin, -rel[:, 2] * sin + rel[:, 3] * cos
-    dx, dy = x2 - x1, y2 - y1
-    t0, t1 = np.zeros(len(i)), np.ones(len(i))
-    rejected = np.zeros(len(i), dtype=bool)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for p, q in ((-dx, x1 + hx[i]), (dx, hx[i] - x1), (-dy, y1 + hy[i]), (dy, hy[i] - y1)):
-            rejected |= (p == 0) & (q < 0)
-            ratio = q / p
-            t0 = np.where(p < 0, np.maximum(t0, ratio), t0)
-            t1 = np.where(p > 0, np.minimum(t1, ratio), t1)
-    hit = ~rejected & (t0 <= t1)
-    return i[hit], j[hit]
-
-
-def overlapping_robots(bodies: Bodies, eps: float = TOUCH_EPS) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs ``(i, j)``, ``i < j``, of robots whose rectangles touch (separating axis test)."""
-    n = len(bodies.centers)
-    if n < 2:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    reach = 2 * float(bodies.radius.max()) + eps
-    order = np.argsort(bodies.centers[:, 0], kind="stable")
-    xs = bodies.centers[order, 0]
-    ends = np.searchsorted(xs, xs + reach, side="right")  # sweep: neighbours within reach in x
-    counts = ends - np.arange(n) - 1
-    first = np.repeat(np.arange(n), counts)
-    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    a, b = order[first], order[first + 1 + offsets]
-    d = bodies.centers[b] - bodies.centers[a]
-    close = np.hypot(d[:, 0], d[:, 1]) <= bodies.radius[a] + bodies.radius[b] + eps
-    a, b, d = a[close], b[close], d[close]
-    ca, sa = np.cos(bodies.headings[a]), np.sin(bodies.headings[a])
-    cb, sb = np.cos(bodies.headings[b]), np.sin(bodies.headings[b])
-    separated = np.zeros(len(a), dtype=bool)
-    for ux, uy in ((ca, sa), (-sa, ca), (cb, sb), (-sb, cb)):
-        extent_a = (bodies.half_length[a] * np.abs(ux * ca + uy * sa)
-                    + bodies.half_width[a] * np.abs(-ux * sa + uy * ca))
-        extent_b = (bodies.half_length[b] * np.abs(ux * cb + uy * sb)
-                    + bodies.half_width[b] * np.abs(-ux * sb + uy * cb))
-        separated |= np.abs(d[:, 0] * ux + d[:, 1] * uy) > extent_a + extent_b + eps
-    pairs = np.sort(np.column_stack([a, b])[~separated], axis=1)
-    pairs = pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))] if len(pairs) else pairs
-    return pairs[:, 0], pairs[:, 1]
-
-
-def validate_scenario(scenario: Scenario, where: str = "scenario",
-                      labels: list[str] | None = None) -> None:
-    """Check the start state: robots inside the bounds, clear of walls and of each other,
-    goals inside the bounds.
-
-    Args:
-        scenario: the scenario to check.
-        where: what to name in messages (a file, a scenario name).
-        labels: how to name each robot (default ``robot i``).
-
-    Raises:
-        ScenarioError: the first problem found, in one line.
-    """
-    n = scenario.robot_count
-    names = labels or [f"robot {i}" for i in range(n)]
-    xmin, ymin, xmax, ymax = scenario.map.bounds
-    box = f"({xmin:g}, {ymin:g}, {xmax:g}, {ymax:g})"
-    x, y = scenario.stages[:, 0], scenario.stages[:, 1]
-    outside = np.flatnonzero((x < xmin) | (x > xmax) | (y < ymin) | (y > ymax))
-    if outside.size:
-        i = int(outside[0])
-        raise ScenarioError(f"{where}: {names[i]}: start ({x[i]:g}, {y[i]:g}) is outside the map "
-                            f"bounds {box}")
-    gx, gy = scenario.goals[:, 0], scenario.goals[:, 1]
-    with np.errstate(invalid="ignore"):
-        bad_goal = np.flatnonzero(scenario.has_goal & ((gx < xmin) | (gx > xmax) | (gy < ymin)
-                                                       | (gy > ymax)))
-    if bad_goal.size:
-        i = int(bad_goal[0])
-        raise ScenarioError(f"{where}: {names[i]}: goal ({gx[i]:g}, {gy[i]:g}) is outside the "
-                            f"map bounds {box}")
-    bodies = Bodies.of(scenario)
-    robot, segment = touching_walls(bodies, scenario.map.segments)
-    if robot.size:
-        i, k = int(robot[0]), int(segment[0])
-        x1, y1, x2, y2 = scenario.map.segments[k]
-        raise ScenarioError(f"{where}: {names[i]}: robot at ({x[i]:g}, {y[i]:g}) touches wall "
-                            f"{k} ({x1:g}, {y1:g})-({x2:g}, {y2:g}) at the start (expected it "
-                            "in free space)")
-    first, second = overlapping_robots(bodies)
-    if first.size:
-        i, j = int(first[0]), int(second[0])
-        raise ScenarioError(f"{where}: {names[i]} at ({x[i]:g}, {y[i]:g}) and {names[j]} at "
-                            f"({x[j]:g}, {y[j]:g}) overlap at the start (expected them apart)")
+MAX_RANDOM_ROBOTS = 10_000  # robots of one random generator
 
 
 def random_placement(count: int, robot_type: RobotType, map: Map, rng: np.random.Generator,
@@ -400,12 +271,15 @@ class _Reader:
             raise self.fail(name, f"expected a number, got {value!r}")
         return float(value)
 
-    def integer(self, name: str, minimum: int, default: int | None = None) -> int:
+    def integer(self, name: str, minimum: int, default: int | None = None,
+                maximum: int = MAX_ROBOTS) -> int:
         value = self.data.get(name, default)
         if value is None:
             raise self.src.error(self.key, f"missing key {name!r} (expected a whole number)")
         if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
             raise self.fail(name, f"expected a whole number >= {minimum}, got {value!r}")
+        if value > maximum:
+            raise self.fail(name, f"{value} is over the limit of {maximum}")
         return value
 
     def numbers(self, name: str, size: int, default: Any = None, what: str = "") -> Any:
@@ -534,7 +408,7 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         robots.labels.append(f"robots[{index}]")
         robots.entries.append(index)
         return
-    if kind not in GENERATOR_KEYS:
+    if not isinstance(kind, str) or kind not in GENERATOR_KEYS:
         raise src.error((*key, "generator"), f"unknown generator {kind!r} (expected one of "
                                               f"{', '.join(GENERATOR_KEYS)})")
     allowed = ("generator", "type", "yaw", "v", *GENERATOR_KEYS[kind])
@@ -550,6 +424,8 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         goals = _offset_goals(table, xy)
     elif kind == "grid":
         rows, columns = table.integer("rows", 1), table.integer("columns", 1)
+        if rows * columns > MAX_ROBOTS:
+            raise table.fail("rows", f"{rows} x {columns} robots, over the limit of {MAX_ROBOTS}")
         origin = np.array(table.numbers("origin", 2, what="[x, y]"))
         spacing = table.data.get("spacing")
         if _is_number(spacing):
@@ -561,7 +437,8 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         yaw = np.full(len(xy), table.number("yaw", 0.0))
         goals = _offset_goals(table, xy)
     else:
-        count = table.integer("count", 1)
+        # placing compares each new robot with every one placed: quadratic, hence its own limit
+        count = table.integer("count", 1, maximum=MAX_RANDOM_ROBOTS)
         region = (table.numbers("region", 4, what="[xmin, ymin, xmax, ymax]")
                   if table.has("region") else None)
         yaw_value = table.data.get("yaw", "random")
@@ -571,10 +448,10 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         for what, value in (("min_spacing", spacing), ("clearance", clearance)):
             if value is not None and value < 0:
                 raise table.fail(what, f"expected a distance >= 0 (m), got {value!r}")
-        own_seed = table.integer("seed", 0, 0)
+        own_seed = table.integer("seed", 0, 0, maximum=MAX_SEED)
         rng = np.random.default_rng([own_seed if seed is None else seed, index])
         taken = np.array([row[:2] for row in robots.rows]).reshape(-1, 2)
-        tries = table.integer("max_tries", 1, 2000)
+        tries = table.integer("max_tries", 1, 2000, maximum=1_000_000)
         try:
             poses = random_placement(count, robot_type, map, rng, region, spacing, clearance,
                                      fixed_yaw, taken, tries)
@@ -586,6 +463,9 @@ def _read_robot(src: _Source, index: int, data: Any, known: dict[str, RobotType]
         except ScenarioError as exc:
             raise src.error(key, str(exc)) from None
         xy, yaw = poses[:, :2], poses[:, 2]
+    if len(robots.rows) + len(xy) > MAX_ROBOTS:
+        raise src.error(key, f"{len(robots.rows) + len(xy)} robots so far, over the limit of "
+                             f"{MAX_ROBOTS}")
     for j in range(len(xy)):
         robots.rows.append([xy[j, 0], xy[j, 1], yaw[j], speed, goals[j, 0], goals[j, 1]])
         robots.types.append(name)

@@ -253,6 +253,8 @@ def run(
 
     Exceptions, hangs (past the timeout) and crashes of a run are recorded and
     the battery goes on. Stop it at any time; `mimics battery resume` goes on.
+    Exit status 0 when every run finished (whatever its outcome), 1 when some
+    could not (error, timeout, crashed: the count is printed), 2 for bad input.
     """
     from mimics.batteries.config import last_battery, remember_battery
     from mimics.batteries.driver import run_battery
@@ -333,6 +335,18 @@ def _finished(result: Any) -> None:
         _out().print(f"({result.adopted} run(s) had finished just before the battery stopped: "
                      "kept)", markup=False)
     _out().print(f"table: `mimics battery report {result.folder}`", markup=False)
+    from mimics.batteries.tasks import FAILED_STATES
+
+    failed = {state: result.counts.get(state, 0) for state in FAILED_STATES
+              if result.counts.get(state, 0)}
+    if failed:
+        total = sum(result.counts.values())
+        states = ", ".join(f"{n} {state}" for state, n in failed.items())
+        Console(stderr=True, highlight=False, soft_wrap=True).print(
+            f"mimics: {sum(failed.values())} of {total} runs could not finish ({states}): see "
+            f"`mimics battery status {result.folder}`, run them again with `mimics battery "
+            f"rerun-failed {result.folder}`", markup=False)
+        raise typer.Exit(1)  # exit status 1: some runs could not run (`mimics --help`)
 
 
 # -- status and report ---------------------------------------------------------------

@@ -6,6 +6,7 @@ is printed as one line on stderr and exits with status 2.
 
 from __future__ import annotations
 
+import functools
 import sys
 import tomllib
 from pathlib import Path
@@ -16,11 +17,27 @@ from rich.console import Console
 from rich.table import Table
 
 from mimics.interfaces.cli.output import fail, note
+from mimics.interfaces.cli.values import guard_values
 from mimics.world.errors import MimicsError
+
+HELP = """mimics: a fast multi-robot simulator for teaching, prototyping and batteries.
+
+\b
+Exit status (every command):
+  0    done as asked: a run ended by its end criteria (all robots finished,
+       time or wall-clock limit, stop predicate), whatever its collisions;
+       a battery whose runs all finished, whatever their outcomes
+  1    it ran, but failed: a run ended in error (user code raised under
+       --policy abort); battery runs that could not finish (error, timeout,
+       crashed), with their count
+  2    bad input: an option, a file or a name is wrong, or the run would
+       not fit in memory; one line `mimics: error: ...`, nothing started
+  130  interrupted (Ctrl-C); a battery keeps its finished runs
+"""
 
 app = typer.Typer(
     name="mimics",
-    help="mimics: a fast multi-robot simulator for teaching, prototyping and batteries.",
+    help=HELP,
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -31,6 +48,15 @@ list_app = typer.Typer(help="List built-in algorithms, scenarios or robot types.
 app.add_typer(list_app, name="list")
 
 console = Console()
+
+#: Exit statuses (see HELP and docs/reference/exit-status.md).
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+@app.callback()
+def root(ctx: typer.Context) -> None:
+    """Check every number and text given to any command before it runs (cli/values.py)."""
+    guard_values(ctx.find_root().command)
 
 
 def parse_params(items: list[str]) -> dict[str, Any]:
@@ -93,15 +119,22 @@ def run(
     video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
     record_scans: Annotated[bool, typer.Option("--record-scans", help="Also record the laser "
                                                "scans (scans.parquet, 1 mm steps).")] = False,
+    allow_overlap: Annotated[bool, typer.Option(
+        help="Keep robots that start touching a wall or each other, or outside the map "
+             "(reported, then run).")] = False,
 ) -> None:
-    """Run one simulation, print its summary and write its run folder."""
+    """Run one simulation, print its summary and write its run folder.
+
+    Exit status 0 when the run ended by its end criteria, 1 when it ended in
+    error (user code raised under --policy abort), 2 for bad input.
+    """
     from mimics.interfaces.cli.native import needs_child, run_in_child
 
     if needs_child(algorithm):  # compiled code may crash: run it in a child process
         raise typer.Exit(run_in_child(dict(
             scenario=scenario, algorithm=algorithm, robots=robots, time=time, seed=seed,
             out=out, policy=policy, param=param, wall_limit=wall_limit, robot_logs=robot_logs,
-            view=view, video=video)))
+            view=view, video=video, record_scans=record_scans, allow_overlap=allow_overlap)))
     from mimics.records.runner import prepare, run_to_folder
 
     if policy not in ("abort", "deactivate"):
@@ -114,6 +147,11 @@ def run(
         raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
     from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
 
+    if video is not None:
+        from mimics.interfaces.replay import VIDEO_SUFFIXES
+
+        if video.suffix.lower() not in VIDEO_SUFFIXES:  # checked before the run, not after
+            raise fail(f"--video {video}: expected a file ending in {', '.join(VIDEO_SUFFIXES)}")
     if view not in VIEW_CHOICES:
         raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
     live = make_live_view(view)
@@ -127,9 +165,18 @@ def run(
         sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed,
                       policy=policy,  # type: ignore[arg-type]
                       wall_limit=wall_limit, params=params,
-                      observers=(live,) if live is not None else ())
+                      observers=(live,) if live is not None else (),
+                      allow_overlap=allow_overlap)
     except MimicsError as exc:
         raise fail(str(exc)) from None
+    if allow_overlap:
+        from mimics.world.start_state import validate_scenario
+
+        kept = validate_scenario(sim.scenario, f"scenario {sim.scenario.name!r}",
+                                 allow_overlap=True)
+        if kept:
+            note(f"mimics: kept on purpose (--allow-overlap): {len(kept)} start problem(s), "
+                 f"first: {kept[0]}")
     folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
     result = run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans)
     print_summary(result.summary(), folder)
@@ -140,6 +187,8 @@ def run(
             export_replay(folder, video=video)
         except MimicsError as exc:
             raise fail(str(exc)) from None
+    if result.status == "error":
+        raise typer.Exit(EXIT_FAILED)
 
 
 def _compile_kernels() -> None:
@@ -210,12 +259,33 @@ _mount_subcommands()
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: runs the app and turns usage errors into one line and status 2."""
-    command = typer.main.get_command(app)
+    command = _command()
     try:
         code = command.main(args=argv, prog_name="mimics", standalone_mode=False)
     except MimicsError as exc:
         fail(str(exc))
-        return 2
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        fail("interrupted")
+        return EXIT_INTERRUPTED
+    except (MemoryError, OverflowError, RecursionError) as exc:
+        # Last resort: the specific checks (cli/values.py, mimics.world.limits,
+        # mimics.records.resources) should have refused the input before this.
+        fail(f"the input is too large for this machine or for the numbers it names "
+             f"({type(exc).__name__}: {_first_line(exc)}); use smaller values")
+        return EXIT_BAD_INPUT
+    except UnicodeError as exc:  # a name from a non-UTF-8 file system, or a file's bytes
+        fail(f"text that is not valid UTF-8 ({_first_line(exc)})")
+        return EXIT_BAD_INPUT
+    except OSError as exc:  # a path the system refuses (too long, a device, no permission)
+        where = f"{exc.filename}: " if exc.filename else ""
+        fail(f"{where}{exc.strerror or _first_line(exc)}")
+        return EXIT_BAD_INPUT
+    except ValueError as exc:
+        if not _raised_by_numpy(exc):
+            raise
+        fail(f"a value NumPy cannot use ({_first_line(exc)})")
+        return EXIT_BAD_INPUT
     except Exception as exc:
         # Typer vendors its own click: recognise its exceptions by their shape.
         name = type(exc).__name__
@@ -231,6 +301,26 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         raise
     return code if isinstance(code, int) else 0
+
+
+@functools.cache
+def _command() -> Any:
+    """The click command of ``app``, built once per process (building it takes ~50 ms)."""
+    return typer.main.get_command(app)
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__
+
+
+def _raised_by_numpy(exc: BaseException) -> bool:
+    """Whether the innermost frame of ``exc``'s traceback is in NumPy (or pandas, pyarrow)."""
+    tb = exc.__traceback__
+    while tb is not None and tb.tb_next is not None:
+        tb = tb.tb_next
+    name = tb.tb_frame.f_globals.get("__name__", "") if tb is not None else ""
+    return name.split(".")[0] in ("numpy", "pandas", "pyarrow")
 
 
 if __name__ == "__main__":

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from mimics.world.errors import MimicsError
+from mimics.world.errors import MimicsError, read_input_text
 from mimics.world.map_import.raster import occupied_mask, read_gray, segments_from_occupancy
 from mimics.world.maps import Map
 
@@ -49,9 +49,7 @@ def import_ros_map(path: str | Path, tolerance: float | None = None) -> Map:
     """
     path = Path(path)
     try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as exc:
-        raise MimicsError(f"{path}: cannot read ({exc.strerror})") from None
+        data = yaml.safe_load(read_input_text(path, "map"))
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f", line {mark.line + 1}" if mark is not None else ""

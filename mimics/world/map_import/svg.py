@@ -38,11 +38,15 @@ def _parse(path: Path) -> se.SVG:
     if not path.is_file():
         raise MimicsError(f"{path}: SVG file not found")
     try:
-        return se.SVG.parse(str(path), reify=True)
+        svg = se.SVG.parse(str(path), reify=True)
     except ParseError as exc:
         raise MimicsError(f"{path}: not a valid SVG (XML error: {exc})") from None
     except Exception as exc:  # svgelements raises assorted errors on odd input
         raise MimicsError(f"{path}: cannot read the SVG ({type(exc).__name__}: {exc})") from None
+    if not isinstance(svg, se.SVG):  # XML, but its root is not an <svg> of the SVG namespace
+        raise MimicsError(f"{path}: not an SVG drawing (its root element is not <svg> in the "
+                          "SVG namespace)")
+    return svg
 
 
 def _flatten(shape: se.Shape, tolerance_px: float) -> list[np.ndarray]:
