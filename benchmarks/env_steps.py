@@ -14,7 +14,11 @@ timed, resets apart. Printed per row: median env steps/s, median
 robot-steps/s (live agents summed over the steps, per second), the mean
 number of live agents (random actions crash robots, which then leave the
 episode and the world gets cheaper: read the steps/s with it), and the
-median reset time.
+median reset time. Also the steps per CPU-second of the process (all its
+threads): on a machine shared with other busy processes, wall-clock figures
+fall with the load, while CPU time counts only the work done; with one
+thread, steps per CPU-second is about what an idle machine gives per
+wall-clock second.
 
 The ``engine`` rows run the same random references through the engine alone
 (a team algorithm, ``Simulation.step()`` in a loop, same seeds): the
@@ -51,7 +55,7 @@ def measure_env(observation: str, steps: int, repeats: int) -> dict[str, Any]:
     low = np.array([env.action_space(a).low for a in names], dtype=np.float64)
     high = np.array([env.action_space(a).high for a in names], dtype=np.float64)
     row_of = {a: k for k, a in enumerate(names)}
-    speeds, robot_speeds, live_means, resets = [], [], [], []
+    speeds, cpu_speeds, robot_speeds, live_means, resets = [], [], [], [], []
     for episode in range(repeats + 1):
         rng = np.random.default_rng(episode)
         began = time.perf_counter()
@@ -59,7 +63,7 @@ def measure_env(observation: str, steps: int, repeats: int) -> dict[str, Any]:
         reset_time = time.perf_counter() - began
         live_total = 0
         done = 0
-        began = time.perf_counter()
+        began, cpu_began = time.perf_counter(), time.process_time()
         while done < steps and env.agents:
             agents = env.agents
             rows = [row_of[a] for a in agents]
@@ -67,15 +71,16 @@ def measure_env(observation: str, steps: int, repeats: int) -> dict[str, Any]:
             live_total += len(agents)
             env.step(actions)
             done += 1
-        elapsed = time.perf_counter() - began
+        elapsed, cpu = time.perf_counter() - began, time.process_time() - cpu_began
         if episode == 0:
             continue  # warm-up: caches, first-touch of the arrays
         speeds.append(done / elapsed)
+        cpu_speeds.append(done / cpu)
         robot_speeds.append(live_total / elapsed)
         live_means.append(live_total / done)
         resets.append(reset_time)
     env.close()
-    return _figures(speeds, robot_speeds, live_means, resets)
+    return _figures(speeds, cpu_speeds, robot_speeds, live_means, resets)
 
 
 def measure_engine(steps: int, repeats: int) -> dict[str, Any]:
@@ -86,7 +91,7 @@ def measure_engine(steps: int, repeats: int) -> dict[str, Any]:
 
     scenario = load_scenario(SCENARIO)
     max_speed = np.array([scenario.robot_type(i).max_speed for i in range(scenario.robot_count)])
-    speeds, robot_speeds, live_means, resets = [], [], [], []
+    speeds, cpu_speeds, robot_speeds, live_means, resets = [], [], [], [], []
     for episode in range(repeats + 1):
         rng = np.random.default_rng(episode)
 
@@ -100,26 +105,28 @@ def measure_engine(steps: int, repeats: int) -> dict[str, Any]:
         sim.start()
         reset_time = time.perf_counter() - began
         live_total = done = 0
-        began = time.perf_counter()
+        began, cpu_began = time.perf_counter(), time.process_time()
         while done < steps and sim.status == "running":
             live_total += int(np.count_nonzero(sim.state.active))
             sim.step()
             done += 1
-        elapsed = time.perf_counter() - began
+        elapsed, cpu = time.perf_counter() - began, time.process_time() - cpu_began
         if episode == 0:
             continue
         speeds.append(done / elapsed)
+        cpu_speeds.append(done / cpu)
         robot_speeds.append(live_total / elapsed)
         live_means.append(live_total / done)
         resets.append(reset_time)
-    return _figures(speeds, robot_speeds, live_means, resets)
+    return _figures(speeds, cpu_speeds, robot_speeds, live_means, resets)
 
 
-def _figures(speeds: list[float], robot_speeds: list[float], live: list[float],
-             resets: list[float]) -> dict[str, Any]:
+def _figures(speeds: list[float], cpu_speeds: list[float], robot_speeds: list[float],
+             live: list[float], resets: list[float]) -> dict[str, Any]:
     import numba
 
     return {"env_steps_per_s": statistics.median(speeds),
+            "env_steps_per_cpu_s": statistics.median(cpu_speeds),
             "robot_steps_per_s": statistics.median(robot_speeds),
             "mean_live_agents": statistics.mean(live),
             "reset_ms": 1000 * statistics.median(resets),
@@ -156,7 +163,8 @@ def main() -> None:
             print_table("" if len(rows) > 1 else
                         f"Cave, 100 robots, 180 beams, random actions, {args.steps} steps "
                         f"per episode, logging off", rows[-1:],
-                        ["form", "threads", "env_steps_per_s", "robot_steps_per_s",
+                        ["form", "threads", "env_steps_per_s", "env_steps_per_cpu_s",
+                         "robot_steps_per_s",
                          "mean_live_agents", "reset_ms", "meets_bar"], header=len(rows) == 1)
             print("    single runs:", figures["runs_env_steps_per_s"], flush=True)
     save("env_steps", {"scenario": SCENARIO, "steps": args.steps, "repeats": args.repeats,
