@@ -128,6 +128,10 @@ class MimicsParallelEnv(ParallelEnv):
                  terminate: TerminationFunction | None = None,
                  agents: list[int] | None = None, others: Any = None,
                  out: str | Path | None = None, render_mode: str | None = None) -> None:
+        if time is not None and (isinstance(time, bool) or not isinstance(time, int | float)
+                                 or not time > 0):
+            raise MimicsError(f"time: expected a positive number of simulated seconds, "
+                              f"got {time!r}")
         self.scenario = build_scenario(scenario, robots, params)
         n = self.scenario.robot_count
         types = [self.scenario.robot_type(i) for i in range(n)]

@@ -23,6 +23,8 @@ def _episode(env: Any, seed: int | None, steps: int = 30) -> list[tuple[dict, di
         chosen = {agent: actions.uniform(env.action_space(agent).low,
                                          env.action_space(agent).high) for agent in env.agents}
         observations, rewards, *_ = env.step(chosen)
+        assert all(env.observation_space(agent).contains(observation)
+                   for agent, observation in observations.items())
         seen.append((observations, rewards))
     return seen
 

@@ -207,6 +207,7 @@ def test_bad_actions_and_functions_are_one_line_errors(
     ({"heading": "left"}, "heading: expected 'relative' or 'absolute'"),
     ({"agents": [7]}, "agents: expected robot indices from 0 to 3"),
     ({"render_mode": "human"}, "render_mode"),
+    ({"time": -1.0}, "time: expected a positive number"),
 ])
 def test_bad_options_are_one_line_errors(four_robots: Scenario, options: dict,
                                          message: str) -> None:
