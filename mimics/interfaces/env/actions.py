@@ -59,26 +59,24 @@ def actions_to_rows(actions: dict[str, Any], index: dict[str, int],
     Actions of agents that have already finished are ignored (wrappers that
     keep stepping dead agents send them); unknown names are errors.
     """
-    robots, rows = [], []
-    for agent, action in actions.items():
-        if agent in live:
-            robots.append(index[agent])
-            rows.append(action)
-        elif agent not in index:
-            raise MimicsError(f"actions: unknown agent {agent!r} (agents are named "
+    names = [agent for agent in actions if agent in live]
+    if len(names) != len(actions):
+        unknown = next((agent for agent in actions if agent not in index), None)
+        if unknown is not None:
+            raise MimicsError(f"actions: unknown agent {unknown!r} (agents are named "
                               f"robot_0 ... robot_{len(index) - 1})")
-    if not robots:
+    if not names:
         return np.zeros(0, dtype=np.int64), np.zeros((0, 2))
+    rows = list(actions.values()) if len(names) == len(actions) else [actions[a] for a in names]
     try:
-        values = np.asarray(rows, dtype=np.float64).reshape(len(robots), 2)
+        values = np.asarray(rows, dtype=np.float64).reshape(len(names), 2)
     except (TypeError, ValueError):
         values = None
     if values is None or not np.all(np.isfinite(values)):
-        bad = next(agent for agent, action in actions.items() if agent in live
-                   and not _two_finite_numbers(action))
+        bad = next(agent for agent in names if not _two_finite_numbers(actions[agent]))
         raise MimicsError(f"actions[{bad!r}]: expected two finite numbers (speed, heading), "
                           f"got {actions[bad]!r}")
-    return np.asarray(robots, dtype=np.int64), values
+    return np.array([index[agent] for agent in names], dtype=np.int64), values
 
 
 def _two_finite_numbers(action: Any) -> bool:
