@@ -26,7 +26,10 @@ if TYPE_CHECKING:
     from mimics.interfaces.env.single import SingleRobotEnv
     from mimics.world.scenario import Scenario
 
-__all__ = ["GoalReward", "Transition", "gym_env", "parallel_env", "single_robot_env"]
+__all__ = ["GoalReward", "MimicsParallelEnv", "SingleRobotEnv", "Transition", "gym_env",
+           "parallel_env", "single_robot_env"]
+_CLASSES = {"GoalReward": "rewards", "Transition": "rewards", "MimicsParallelEnv": "parallel",
+            "SingleRobotEnv": "single"}
 
 
 def _module(name: str) -> Any:
@@ -63,6 +66,6 @@ gym_env = single_robot_env
 
 
 def __getattr__(name: str) -> Any:
-    if name in ("GoalReward", "Transition"):
-        return getattr(_module("rewards"), name)
+    if name in _CLASSES:  # imported on first use, like the functions' libraries
+        return getattr(_module(_CLASSES[name]), name)
     raise AttributeError(f"module 'mimics.env' has no attribute {name!r}")
