@@ -38,4 +38,6 @@ __all__ = [*_EXPORTS, "__version__"]
 def __getattr__(name: str) -> Any:
     if name in _EXPORTS:
         return getattr(importlib.import_module(_EXPORTS[name]), name)
+    if name == "env":  # learning environments; PettingZoo/Gymnasium load on first use
+        return importlib.import_module("mimics.env")
     raise AttributeError(f"module 'mimics' has no attribute {name!r}")
