@@ -130,12 +130,7 @@ class RobotType:
     odometry: OdometryNoise = field(default_factory=OdometryNoise)
 
     def __post_init__(self) -> None:
-        for name in ("width", "length", "tau_v", "tau_w"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-                raise ScenarioError(f"robot type {self.name!r}: {name} must be a positive number, "
-                                    f"got {value!r}")
-        for name in ("kv", "kw"):
+        for name in ("width", "length", "tau_v", "tau_w", "kv", "kw"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
                 raise ScenarioError(f"robot type {self.name!r}: {name} must be a positive number, "
@@ -155,6 +150,11 @@ class RobotType:
                 if not _finite(value) or value < 0:
                     raise ScenarioError(f"robot type {self.name!r}: {group}.{name}: expected a "
                                         f"finite number >= 0, got {value!r}")
+        if self.speed_pid is None:
+            object.__setattr__(self, "speed_pid", PidGains(*speed_gains(self.kv, self.tau_v)))
+        if self.heading_pid is None:
+            object.__setattr__(self, "heading_pid",
+                               PidGains(*heading_gains(self.kw, self.tau_w)))
         for group in ("speed_pid", "heading_pid"):
             for name in ("kp", "ki", "kd"):
                 value = getattr(getattr(self, group), name)
@@ -171,11 +171,6 @@ class RobotType:
             raise ScenarioError(f"robot type {self.name!r}: ranger angles must be {ranger.beams} "
                                 "increasing angles in [-pi, pi] radians (one per beam), got "
                                 f"{list(angles)}")
-        if self.speed_pid is None:
-            object.__setattr__(self, "speed_pid", PidGains(*speed_gains(self.kv, self.tau_v)))
-        if self.heading_pid is None:
-            object.__setattr__(self, "heading_pid",
-                               PidGains(*heading_gains(self.kw, self.tau_w)))
 
     @property
     def max_speed(self) -> float:
