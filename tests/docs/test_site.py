@@ -22,7 +22,7 @@ def test_site_builds_strict_offline_with_generated_cli_and_api_pages(tmp_path):
                            "--site-dir", str(tmp_path)], cwd=ROOT, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
 
-    for page in ("tutorials/first-algorithm", "reference/cli", "reference/api",
+    for page in ("tutorials/first-algorithm", "reference/cli", "reference/api", "examples",
                  "explanation/performance", "how-to/deadlocks"):
         assert (tmp_path / page / "index.html").is_file(), page
 
@@ -43,3 +43,13 @@ def test_site_builds_strict_offline_with_generated_cli_and_api_pages(tmp_path):
     html = (tmp_path / "reference/api/index.html").read_text()
     assert "Run one simulation and return its outcome" in html
     assert "The outcome of one simulation" in html
+
+    # the examples gallery is made from the examples themselves: each README and its figure
+    html = (tmp_path / "examples/index.html").read_text()
+    for folder in sorted((ROOT / "examples").glob("*/algorithm.py")):
+        name = folder.parent.name
+        title = (folder.parent / "README.md").read_text().splitlines()[0].lstrip("# ")
+        assert title in html, name
+        figure = tmp_path / "images" / "examples" / f"{name}.png"
+        assert figure.read_bytes() == (folder.parent / "figure.png").read_bytes(), name
+        assert f"images/examples/{name}.png" in html, name
