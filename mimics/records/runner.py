@@ -44,17 +44,7 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
         raise MimicsError(f"wall limit: expected a positive number of seconds, got {wall_limit!r}")
     if policy not in ("abort", "deactivate"):
         raise MimicsError(f"policy: expected abort or deactivate, got {policy!r}")
-    params = dict(params or {})
-    if robots is not None:
-        params["robots"] = robots
-    if isinstance(scenario, Scenario):
-        if params:
-            raise MimicsError("robots/params apply to a scenario name or file, not a Scenario")
-        built = scenario
-        validate_scenario(built, f"scenario {built.name!r}",
-                          allow_overlap=allow_overlap or built.settings.allow_overlap)
-    else:
-        built = load_scenario(scenario, allow_overlap=allow_overlap, **params)
+    built = build_scenario(scenario, robots=robots, params=params, allow_overlap=allow_overlap)
     check_memory(built)
     if isinstance(algorithm, str | Path):
         name, module = find_algorithm(algorithm)
@@ -62,6 +52,28 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
         name, module = getattr(algorithm, "__name__", "algorithm"), algorithm
     return Simulation(built, module, seed=seed, policy=policy, time_limit=time,
                       wall_limit=wall_limit, observers=observers, algorithm_name=name)
+
+
+def build_scenario(scenario: str | Path | Scenario, *, robots: int | None = None,
+                   params: dict[str, Any] | None = None, allow_overlap: bool = False) -> Scenario:
+    """The scenario from a name, a file or an object, its start state checked.
+
+    ``robots`` and ``params`` are scenario parameters, for names and files only.
+
+    Raises:
+        MimicsError: parameters given with a Scenario object, a bad parameter, or
+            robots starting in collision or outside the map (unless ``allow_overlap``).
+    """
+    params = dict(params or {})
+    if robots is not None:
+        params["robots"] = robots
+    if not isinstance(scenario, Scenario):
+        return load_scenario(scenario, allow_overlap=allow_overlap, **params)
+    if params:
+        raise MimicsError("robots/params apply to a scenario name or file, not a Scenario")
+    validate_scenario(scenario, f"scenario {scenario.name!r}",
+                      allow_overlap=allow_overlap or scenario.settings.allow_overlap)
+    return scenario
 
 
 def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs = "auto",

@@ -41,7 +41,7 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from mimics.catalog import find_algorithm, load_scenario
+from mimics.catalog import find_algorithm
 from mimics.engine.controllers import Controller, controller_from
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
@@ -59,7 +59,7 @@ from mimics.interfaces.env.rewards import (
     Transition,
 )
 from mimics.records.recorder import RunRecorder
-from mimics.records.runner import prepare
+from mimics.records.runner import build_scenario, prepare
 from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
 
@@ -71,19 +71,6 @@ _TRUNCATING = ("time_limit", "wall_limit")  # end states that cut live agents sh
 def agent_name(robot: int) -> str:
     """The agent of robot ``robot``."""
     return f"robot_{robot}"
-
-
-def build_scenario(scenario: str | Path | Scenario, robots: int | None,
-                   params: dict[str, Any] | None) -> Scenario:
-    """The scenario from a name, file or object, with ``robots`` and other parameters."""
-    params = dict(params or {})
-    if robots is not None:
-        params["robots"] = robots
-    if isinstance(scenario, Scenario):
-        if params:
-            raise MimicsError("robots/params apply to a scenario name or file, not a Scenario")
-        return scenario
-    return load_scenario(scenario, **params)
 
 
 def others_controller(others: Any) -> Controller | None:
@@ -132,7 +119,7 @@ class MimicsParallelEnv(ParallelEnv):
                                  or not time > 0):
             raise MimicsError(f"time: expected a positive number of simulated seconds, "
                               f"got {time!r}")
-        self.scenario = build_scenario(scenario, robots, params)
+        self.scenario = build_scenario(scenario, robots=robots, params=params)
         n = self.scenario.robot_count
         types = [self.scenario.robot_type(i) for i in range(n)]
         controlled = np.zeros(n, dtype=bool)

@@ -80,16 +80,8 @@ def write_mcap(run: Run, trajectory: Trajectory, target: Path, resolution: float
                             storage_plugin=StoragePlugin.MCAP)
         writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
         with writer:
-            connections: dict[str, Any] = {}
-            for stamped in run_messages(messages, run, trajectory, resolution, scans):
-                connection = connections.get(stamped.topic)
-                if connection is None:
-                    connection = writer.add_connection(stamped.topic,
-                                                       stamped.message.__msgtype__,
-                                                       typestore=messages.store)
-                    connections[stamped.topic] = connection
-                writer.write(connection, stamped.time, messages.serialize(stamped.message))
-                counts.messages[stamped.topic] += 1
+            _write_messages(writer, run_messages(messages, run, trajectory, resolution, scans),
+                            messages, counts, latching=False)
         os.replace(bag / "bag.mcap", target)
     return counts
 
@@ -102,18 +94,26 @@ def write_bag(run: Run, trajectory: Trajectory, target: Path, resolution: float,
     with _temporary_folder(target) as folder:
         path = folder / "run.bag"
         with Ros1Writer(path) as writer:
-            connections: dict[str, Any] = {}
-            for stamped in run_messages(messages, run, trajectory, resolution, scans):
-                connection = connections.get(stamped.topic)
-                if connection is None:
-                    connection = writer.add_connection(
-                        stamped.topic, stamped.message.__msgtype__, typestore=messages.store,
-                        latching=1 if stamped.topic in LATCHED else None)
-                    connections[stamped.topic] = connection
-                writer.write(connection, stamped.time, messages.serialize(stamped.message))
-                counts.messages[stamped.topic] += 1
+            _write_messages(writer, run_messages(messages, run, trajectory, resolution, scans),
+                            messages, counts, latching=True)
         os.replace(path, target)
     return counts
+
+
+def _write_messages(writer: Any, stream: Iterable[Stamped], messages: Messages,
+                    counts: ExportCounts, *, latching: bool) -> None:
+    """Write ``stream`` through a rosbags writer, one connection per topic (ROS 1 bags
+    mark the latched topics)."""
+    connections: dict[str, Any] = {}
+    for stamped in stream:
+        connection = connections.get(stamped.topic)
+        if connection is None:
+            extra = ({"latching": 1 if stamped.topic in LATCHED else None} if latching else {})
+            connection = writer.add_connection(stamped.topic, stamped.message.__msgtype__,
+                                               typestore=messages.store, **extra)
+            connections[stamped.topic] = connection
+        writer.write(connection, stamped.time, messages.serialize(stamped.message))
+        counts.messages[stamped.topic] += 1
 
 
 @contextmanager
