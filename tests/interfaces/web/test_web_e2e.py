@@ -16,6 +16,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import imageio.v3 as imageio
+import numpy as np
 import pytest
 
 from tests.system_packages import require
@@ -158,6 +160,18 @@ def test_rectangle_undo_redo_move_a_vertex_delete_and_import(
     playwright_api.expect(message(page)).to_have_text(
         "imported plan.svg: 4 walls (not saved yet)", timeout=30_000)
     assert not (root / "maps" / "plan.txt").exists()
+    # a ROS map_server YAML and its image in the workspace: the same importer as the CLI's
+    image = np.full((20, 30), 254, dtype=np.uint8)
+    image[5:10, 10:15] = 0  # one occupied block
+    imageio.imwrite(root / "maps" / "floor.pgm", image)
+    (root / "maps" / "floor.yaml").write_text(
+        "image: floor.pgm\nresolution: 0.05\norigin: [-1.0, -2.0, 0.0]\n"
+        "occupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n")
+    expected = len(load_map(root / "maps" / "floor.yaml").segments)
+    page.get_by_label("File to import").set_input_files(str(root / "maps" / "floor.yaml"))
+    page.get_by_role("button", name="Import", exact=True).click()
+    playwright_api.expect(message(page)).to_have_text(
+        f"imported floor.yaml: {expected} walls (not saved yet)", timeout=30_000)
 
 
 def test_place_a_line_of_robots_save_and_mimics_run_runs_it(

@@ -38,7 +38,7 @@ export class MapEditor {
       element("input", { type: "number", step: "0.5", value: String(this.bounds[k]),
         "aria-label": label, onchange: () => this.setBounds() }));
     this.importFile = element("input", { type: "file", "aria-label": "File to import",
-      accept: ".svg,.png,.pgm,.bmp,.txt,.map,.segments,.toml,.json" });
+      accept: ".svg,.png,.pgm,.bmp,.yaml,.yml,.txt,.map,.segments,.toml,.json" });
     this.resolutionInput = element("input", { type: "number", step: "0.01", value: "0.05",
       "aria-label": "Resolution (m/px)" });
     this.scaleInput = element("input", { type: "number", step: "0.001", value: "",
@@ -64,6 +64,8 @@ export class MapEditor {
       element("p", { class: "hint" }, "Click to place points; a polyline ends with a "
         + "double-click or Enter; Esc cancels. Wheel zooms, right-drag pans."),
       element("h2", {}, "Import"), this.importFile,
+      element("p", { class: "hint" }, "A ROS map_server YAML is read from the workspace's "
+        + "maps/ folder, beside the image it names."),
       element("label", {}, "image resolution (m/px) ", this.resolutionInput),
       element("label", {}, "image origin (m) ", this.originInput),
       element("label", {}, "SVG scale (m/unit) ", this.scaleInput),
@@ -329,8 +331,13 @@ export class MapEditor {
     if (lower.endsWith(".svg") && this.scaleInput.value) {
       options.scale = Number(this.scaleInput.value);
     }
-    const data = await guarded(() => api.post("/api/maps/import", file,
-      { filename: file.name, options: JSON.stringify(options) }));
+    // A ROS map YAML names its image: both are read from the workspace's maps/ folder.
+    const fromWorkspace = /\.ya?ml$/.test(lower);
+    const data = await guarded(() => (fromWorkspace
+      ? api.post("/api/maps/import-file", undefined,
+        { path: `maps/${file.name}`, options: JSON.stringify(options) })
+      : api.post("/api/maps/import", file,
+        { filename: file.name, options: JSON.stringify(options) })));
     if (!data) return;
     this.load(data);
     this.pathInput.value = `maps/${file.name.replace(/\.[^.]+$/, "")}.txt`;
