@@ -178,9 +178,11 @@ def status(request: Request, path: str) -> dict[str, Any]:
     finished = state.total - state.left
     failed_jobs = [j for j in request.app.state.jobs.all("battery")
                    if j.label == path and j.state == "failed"]
+    # A battery this server started counts as running from its start to its job's end:
+    # between the database's creation and the driver's lock it has no lock holder yet.
     return {"path": path, "total": state.total, "finished": finished, "counts": state.counts,
-            "running": state.pid is not None, "rate": state.rate, "eta": state.eta,
-            "errors": [list(e) for e in state.errors], "runs": rows,
+            "running": state.pid is not None or bool(starting), "rate": state.rate,
+            "eta": state.eta, "errors": [list(e) for e in state.errors], "runs": rows,
             "starting": False, "job_error": failed_jobs[-1].error if failed_jobs else ""}
 
 

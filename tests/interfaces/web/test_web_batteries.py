@@ -88,3 +88,32 @@ def test_battery_refusals(client: TestClient, workspace: Path) -> None:
     assert client.get("/api/batteries/status", params={"path": "../x"}).status_code == 400
     assert client.get("/api/batteries/plot", params={"path": "batteries/b",
                                                      "name": "x.png"}).status_code == 400
+
+
+def test_a_battery_between_its_database_and_its_lock_reads_as_running(
+        client: TestClient, workspace: Path) -> None:
+    """The driver writes battery.db, then takes its lock: a page polling in between must
+    keep polling (it stopped at 'stopped; 4 pending' before, and never saw the end)."""
+    import threading
+
+    from mimics.batteries.spec import spec_from_dict
+    from mimics.batteries.store import BatteryStore
+
+    folder = workspace / "batteries" / "between"
+    spec = spec_from_dict({"battery": {"algorithms": ["go_to_goal"], "seeds": 2, "time": 0.5},
+                           "scenarios": [{"name": "line", "robots": [1, 2]}]})
+    BatteryStore.create(folder, spec).close()  # the database, no lock holder yet
+    release = threading.Event()
+    jobs = client.app.state.jobs  # type: ignore[attr-defined]
+    jobs.start("battery", lambda job: release.wait(30), label="batteries/between")
+    try:
+        status = client.get("/api/batteries/status", params={"path": "batteries/between"}).json()
+        assert status["total"] == 4 and status["finished"] == 0 and not status["starting"]
+        assert status["running"]
+    finally:
+        release.set()
+    end = time.monotonic() + 10
+    while jobs.running("battery") and time.monotonic() < end:
+        time.sleep(0.05)
+    status = client.get("/api/batteries/status", params={"path": "batteries/between"}).json()
+    assert not status["running"]  # the job ended and nobody holds the lock: stopped

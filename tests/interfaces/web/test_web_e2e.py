@@ -19,16 +19,14 @@ from typing import Any
 import imageio.v3 as imageio
 import numpy as np
 import pytest
+import uvicorn
+from playwright import sync_api as playwright_api
 
+from mimics.interfaces.cli import main
+from mimics.interfaces.web.app import create_app
+from mimics.records.run_folder import load_run
+from mimics.world.map_files import load_map
 from tests.system_packages import require
-
-playwright_api = pytest.importorskip("playwright.sync_api")
-uvicorn = pytest.importorskip("uvicorn")
-
-from mimics.interfaces.cli import main  # noqa: E402
-from mimics.interfaces.web.app import create_app  # noqa: E402
-from mimics.records.run_folder import load_run  # noqa: E402
-from mimics.world.map_files import load_map  # noqa: E402
 
 
 @pytest.fixture(scope="module")
