@@ -53,7 +53,9 @@ export class RunPage {
       element("button", { type: "button", onclick: () => this.showPlot() }, "Trajectories plot"),
       this.plotBox);
     this.canvas = element("canvas", { "aria-label": "Replay canvas" });
-    this.playButton = element("button", { type: "button", onclick: () => this.play() }, "Play");
+    // disabled until a run's frames are loaded, so a click never falls into the gap
+    this.playButton = element("button", { type: "button", disabled: true,
+      onclick: () => this.play() }, "Play");
     this.pauseButton = element("button", { type: "button", onclick: () => this.pause() },
       "Pause");
     this.scrub = element("input", { type: "range", min: "0", max: "0", value: "0", step: "1",
@@ -95,6 +97,7 @@ export class RunPage {
 
   async open(path) {
     this.pause();
+    this.playButton.disabled = true;
     say(`loading ${path}...`);
     const [meta, buffer] = await Promise.all([
       guarded(() => api.get("/api/runs/meta", { path })),
@@ -124,6 +127,7 @@ export class RunPage {
     this.drawTimebar();
     window.history.replaceState(null, "", `#/runs?path=${encodeURIComponent(path)}`);
     say(`${path}: ${this.data.frames} frames of ${meta.robots} robots`);
+    this.playButton.disabled = false;
   }
 
   play() {
