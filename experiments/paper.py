@@ -77,11 +77,15 @@ def comparison(name: str, table: pd.DataFrame) -> str:
     for what, value, unit, source in PAPER[name]:
         if unit == "s":
             ratio = f"{value / mean:,.0f}x" if mean > 0 else "-"
-            lines.append(f"| {what} | {source} | {mean:.2f} ± {half:.2f} s, "
+            lines.append(f"| {what} | {source} | {mean:.3g} ± {half:.2g} s, "
                          f"{sim.mean() / mean:.3g} s_sim/s | {ratio} |")
         else:
             lines.append(f"| {what} | {value:g} ({source}) | "
                          f"{int(done['collisions'].sum())} in {len(done)} runs | |")
+    span = float(table["ended"].max() - table["started"].min())
+    lines += ["", f"The whole battery: {len(table)} runs in {span:.1f} s of wall time "
+                  f"({span / max(len(table), 1) * 1000:.1f} ms a run, workers and recording "
+                  f"included)."]
     if name == "figure2":
         lines += ["", _linearity(done)]
     totals = {c: int(done[c].sum()) for c in ("collisions", "deadlocks", "livelocks", "escaped")}
