@@ -132,7 +132,7 @@ class RobotType:
     def __post_init__(self) -> None:
         for name in ("width", "length", "tau_v", "tau_w", "kv", "kw"):
             value = getattr(self, name)
-            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+            if not (_finite(value) and value > 0):
                 raise ScenarioError(f"robot type {self.name!r}: {name} must be a positive number, "
                                     f"got {value!r}")
         ranger = self.ranger

@@ -55,3 +55,21 @@ def fail_robot_1(robot: Any) -> tuple[float, float]:
     if robot.id == 1 and robot.time > 0.45:
         return 1 / 0, 0.0
     return 0.2, robot.heading
+
+
+class ScanCapture:
+    """An observer keeping, at every step, the engine's scans of the robots then active."""
+
+    def __init__(self) -> None:
+        self.seen: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
+
+    def on_start(self, sim: Simulation) -> None:
+        self.on_step(sim)
+
+    def on_step(self, sim: Simulation) -> None:
+        state = sim.state
+        for robot in np.flatnonzero(state.active):
+            beams = sim.scenario.robot_type(int(robot)).ranger.beams
+            if beams:
+                self.seen[(state.step, int(robot))] = (state.scan[robot, :beams].copy(),
+                                                      state.scan_hit[robot, :beams].copy())

@@ -24,30 +24,13 @@ from mimics.world.errors import MimicsError
 from mimics.world.maps import Map
 from mimics.world.robot_types import PIONEER_2DX, PIONEER_3AT, RangerSpec
 from mimics.world.scenario import Scenario, Settings
+from tests.records.helpers import ScanCapture
 
 NOISY_3AT = dataclasses.replace(PIONEER_3AT, name="noisy3AT", ranger=dataclasses.replace(
     PIONEER_3AT.ranger, sigma=0.05))
 LONG_RANGE = dataclasses.replace(PIONEER_2DX, name="long", ranger=RangerSpec(
     name="100 m", fov=np.pi, beams=31, range=100.0))
 BLIND = dataclasses.replace(PIONEER_2DX, name="blind", ranger=RangerSpec())
-
-
-class ScanCapture:
-    """An observer keeping, at every step, the engine's scans of the robots then active."""
-
-    def __init__(self) -> None:
-        self.seen: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
-
-    def on_start(self, sim: Simulation) -> None:
-        self.on_step(sim)
-
-    def on_step(self, sim: Simulation) -> None:
-        state = sim.state
-        for robot in np.flatnonzero(state.active):
-            beams = sim.scenario.robot_type(int(robot)).ranger.beams
-            if beams:
-                self.seen[(state.step, int(robot))] = (state.scan[robot, :beams].copy(),
-                                                      state.scan_hit[robot, :beams].copy())
 
 
 def mixed_scenario() -> Scenario:

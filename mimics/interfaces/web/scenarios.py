@@ -97,12 +97,12 @@ def list_all(request: Request) -> dict[str, Any]:
     """The workspace's scenario files, the built-in scenarios, robot types and settings."""
     workspace: Workspace = request.app.state.workspace
     files = sorted(workspace.relative(p) for p in workspace.folder("scenarios").rglob("*.toml"))
+    defaults = {f.name: getattr(Settings(), f.name) for f in fields(Settings)}
     return {"files": files,
             "builtin": [{"name": n, "description": d} for n, d in list_scenarios()],
             "robot_types": {name: asdict(t) for name, t in BUILTIN_ROBOT_TYPES.items()},
-            "settings": {f.name: getattr(Settings(), f.name) for f in fields(Settings)
-                         if isinstance(getattr(Settings(), f.name), bool | float | int)
-                         and math.isfinite(float(getattr(Settings(), f.name)))}}
+            "settings": {name: value for name, value in defaults.items()
+                         if isinstance(value, bool | float | int) and math.isfinite(value)}}
 
 
 @router.get("/file")

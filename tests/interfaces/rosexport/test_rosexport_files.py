@@ -31,24 +31,10 @@ from mimics.scenarios.line import scenario as line
 from mimics.world.maps import Map
 from mimics.world.robot_types import SWARMBOT
 from mimics.world.scenario import Scenario, Settings
+from tests.records.helpers import ScanCapture
 from tests.system_packages import require
 
 ROBOTS = 3
-
-
-class ScanCapture:
-    """Observer: the engine's scans (ranges, hit owners) of active robots at every step."""
-
-    def __init__(self) -> None:
-        self.seen: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
-
-    def on_start(self, sim: Simulation) -> None:
-        self.on_step(sim)
-
-    def on_step(self, sim: Simulation) -> None:
-        for robot in np.flatnonzero(sim.state.active):
-            self.seen[(sim.state.step, int(robot))] = (sim.state.scan[robot].copy(),
-                                                      sim.state.scan_hit[robot].copy())
 
 
 @pytest.fixture(scope="module")
