@@ -13,7 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from mimics.engine.state import WorldState, steps_for
+from mimics.engine.state import WorldState
+from mimics.world.limits import steps_for
 from mimics.world.scenario import Settings
 
 

@@ -6,7 +6,6 @@ objects user code sees are views into these rows (``robot_view.py``).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, fields
 from enum import IntEnum
 from functools import cached_property
@@ -169,8 +168,3 @@ class WorldState:
     def goal_distance(self) -> np.ndarray:
         """Distance from each robot's true position to its goal (NaN without a goal)."""
         return np.hypot(self.goal[:, 0] - self.pose[:, 0], self.goal[:, 1] - self.pose[:, 1])
-
-
-def steps_for(duration: float, dt: float) -> int:
-    """Whole number of steps covering ``duration``, robust to float error (21.8/0.1 -> 218)."""
-    return max(0, math.ceil(duration / dt - 1e-9))

@@ -17,8 +17,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from mimics.engine.ranger import FAN_COLUMNS
-from mimics.engine.state import steps_for
 from mimics.world.errors import MimicsError
+from mimics.world.limits import steps_for
 from mimics.world.scenario import Scenario
 
 FLOAT = 8  # bytes of a float64 or an int64

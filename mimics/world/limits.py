@@ -68,6 +68,11 @@ def check_finite(name: str, value: Any) -> Any:
     return value
 
 
+def steps_for(duration: float, dt: float) -> int:
+    """Whole number of steps covering ``duration``, robust to float error (21.8/0.1 -> 218)."""
+    return max(0, math.ceil(duration / dt - 1e-9))
+
+
 def check_steps(time_limit: float, dt: float) -> int:
     """The step count of a run of ``time_limit`` s at ``dt`` s, if it is within MAX_STEPS.
 
@@ -82,4 +87,4 @@ def check_steps(time_limit: float, dt: float) -> int:
     if steps > MAX_STEPS:
         raise MimicsError(f"time: {time_limit:g} s at dt = {dt:g} s is {steps:.3g} steps, over "
                           f"the limit of {MAX_STEPS} (expected at most {MAX_STEPS * dt:.6g} s)")
-    return max(0, math.ceil(steps - 1e-9))
+    return steps_for(time_limit, dt)

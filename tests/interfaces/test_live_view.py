@@ -5,7 +5,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from mimics.engine.state import Status, TypeArrays, WorldState, steps_for
+from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.interfaces.live_view import (
     LiveView,
     TrailBuffer,
@@ -13,6 +13,7 @@ from mimics.interfaces.live_view import (
     make_live_view,
 )
 from mimics.world.errors import MimicsError
+from mimics.world.limits import steps_for
 from mimics.world.maps import Map
 from mimics.world.robot_types import RangerSpec, RobotType
 from mimics.world.scenario import Scenario, Settings
