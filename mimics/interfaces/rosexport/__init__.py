@@ -49,10 +49,10 @@ def export_run(folder: str | Path, *, mcap: str | Path | None = None,
             required but were not recorded, no output is given, the
             resolution is not positive or an output cannot be written.
     """
-    from mimics.interfaces.rosexport.grid import check_resolution
     from mimics.interfaces.rosexport.source import Trajectory
     from mimics.interfaces.rosexport.writer import DEFAULT_RESOLUTION, write_bag, write_mcap
     from mimics.records.run_folder import load_run
+    from mimics.world.occupancy import check_resolution
 
     if mcap is None and bag is None:
         raise MimicsError("export: nothing to write (give --mcap FILE and/or --bag FILE)")
