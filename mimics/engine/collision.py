@@ -196,8 +196,9 @@ def _collide_kernel(b: Bodies, check: np.ndarray, walls: SegmentGrid, robots: Ro
         wall_segment[i] = -1
         if not check[i]:
             continue
-        wall = _lowest_wall(b, i, walls)
-        other = _lowest_robot(b, i, robots)
+        # int64: the prange index is typed uint64 in the parallel copy, a second compile
+        wall = _lowest_wall(b, np.int64(i), walls)
+        other = _lowest_robot(b, np.int64(i), robots)
         wall_segment[i] = wall
         if other >= 0:
             with_whom[i] = other

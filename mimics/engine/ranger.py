@@ -47,7 +47,6 @@ The geometry (see :func:`ray_segment_distance`):
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 from typing import NamedTuple
 
@@ -639,8 +638,9 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         p = lists[ORDER, q]
         if p < walls:
             s = listed[p]
-            _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], WALL,
-                           distance[p], limit, layout, work, best_o)
+            # np.int64: a literal WALL would compile _sweep_segment a second time
+            _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3],
+                           np.int64(WALL), distance[p], limit, layout, work, best_o)
         else:
             r = lists[SEEN, p - walls]
             _sweep_robot(ox, oy, corners, centers, r, distance[p], radius[r], limit, layout,
@@ -785,9 +785,12 @@ def beam_fans(offsets: np.ndarray) -> np.ndarray:
 def kernels_cached() -> bool:
     """False when Numba's on-disk cache lacks the ray kernel: the first run compiles it.
 
-    Looks in Numba's default cache folder beside this file; with
-    ``NUMBA_CACHE_DIR`` set it cannot tell and answers True.
+    Looks in the folder Numba itself caches this module's kernels in (beside
+    this file, or under ``NUMBA_CACHE_DIR`` when set).
     """
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return True
-    return any((Path(__file__).parent / "__pycache__").glob("ranger._cast_kernel-*.nbi"))
+    return any(_cache_folder().glob("ranger._cast_kernel-*.nbi"))
+
+
+def _cache_folder() -> Path:
+    """Where Numba caches this module's kernels (its own locator's choice)."""
+    return Path(_cast_kernel._cache._cache_path)

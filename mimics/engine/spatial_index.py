@@ -156,14 +156,16 @@ def _build_csr(segments: np.ndarray, origin: np.ndarray, shape: np.ndarray,
     pad = grid_pad(origin, shape, cell)
     start = np.zeros(ncell + 1, dtype=np.int64)
     none = np.empty(0, dtype=np.int64)
+    # np.bool_: literal True/False would compile _index_segment twice
     for s in range(segments.shape[0]):
-        _index_segment(segments[s], origin, shape, cell, pad, s, start, none, none, False)
+        _index_segment(segments[s], origin, shape, cell, pad, s, start, none, none, np.bool_(False))
     for c in range(ncell):
         start[c + 1] += start[c]
     items = np.empty(start[ncell], dtype=np.int64)
     cursor = start[:ncell].copy()
     for s in range(segments.shape[0]):
-        _index_segment(segments[s], origin, shape, cell, pad, s, start, items, cursor, True)
+        _index_segment(segments[s], origin, shape, cell, pad, s, start, items, cursor,
+                       np.bool_(True))
     return start, items
 
 

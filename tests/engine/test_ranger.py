@@ -1,6 +1,8 @@
 """Ray casting: hand-computed hits, the naive reference, shapely, thread counts."""
 
 import math
+import os
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -309,9 +311,11 @@ def test_kernels_cached_reads_numbas_cache_folder(tmp_path, monkeypatch):
 
     cast_rays(RangerQuery(np.zeros((1, 2)), np.zeros(1), np.zeros((1, 1)), np.ones(1),
                           np.full(1, -1)), build_wall_index(np.zeros((0, 4)), BOUNDS, 1.0))
-    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
     assert ranger.kernels_cached()  # the kernel just ran with cache=True
-    monkeypatch.setattr(ranger, "__file__", str(tmp_path / "ranger.py"))
+    cache_dir = os.environ.get("NUMBA_CACHE_DIR")
+    expected = Path(cache_dir) if cache_dir else Path(ranger.__file__).parent / "__pycache__"
+    assert expected in (ranger._cache_folder(), *ranger._cache_folder().parents)
+    monkeypatch.setattr(ranger, "_cache_folder", lambda: tmp_path)
     assert not ranger.kernels_cached()  # an empty folder: a fresh install
 
 

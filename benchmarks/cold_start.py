@@ -1,0 +1,170 @@
+"""Time from a fresh ``mimics run`` to its first simulated step, with Numba's cache empty or warm.
+
+    python benchmarks/cold_start.py [--repeats 3] [--quick] [--results benchmarks/results.json]
+
+Runs the README's command, ``mimics run line go_to_goal --robots 60 --seed 1``,
+in fresh interpreters, each one as a user would (``python -m mimics``):
+
+* cold: every run gets a fresh, empty ``NUMBA_CACHE_DIR``, as on a machine just
+  after ``pip install`` (the CLI's first-run compile included);
+* warm: runs sharing one cache folder, filled by an untimed run first.
+
+For each it prints the median (and range) of the wall time to the end of the
+run's first step and of the whole command, and the CPU time (user + sys) of
+the child, ``getrusage(RUSAGE_CHILDREN)``: on a shared machine wall time is
+noisy, CPU time less so. The first step is timed by a small wrapper around
+``Simulation.step`` inside the child (the last simulation a run starts is the
+user's; the CLI's first-run compile runs a tiny one before it). One more cold
+run records every Numba compile (``numba.core.event``) and prints the
+per-kernel table: seconds per kernel and signature, nested compiles included
+in their caller's time. Targets (issue 21): cold <= 10 s, warm <= 1.5 s.
+Merges the figures into benchmarks/results.json under ``cold_start``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+from common import RESULTS, save
+
+COMMAND = ["run", "line", "go_to_goal", "--robots", "60", "--seed", "1"]
+COLD_TARGET_S, WARM_TARGET_S = 10.0, 1.5
+
+# Runs inside the child: the CLI as `python -m mimics` would, plus a clock on the first
+# step of each simulation and, if asked, a listener on Numba's compile events.
+CHILD = r"""
+import atexit, json, sys, time
+out, events = sys.argv[1], sys.argv[2] == "1"
+sys.argv = ["mimics", *sys.argv[3:]]
+firsts, compiles, open_ = [], [], []
+if events:
+    from numba.core import event
+
+    class Timer(event.Listener):
+        def on_start(self, ev):
+            open_.append(time.monotonic())
+
+        def on_end(self, ev):
+            began = open_.pop()
+            d = ev.data["dispatcher"]
+            compiles.append({"kernel": d.py_func.__module__ + "." + d.py_func.__qualname__,
+                             "args": str(ev.data["args"]), "depth": len(open_),
+                             "s": time.monotonic() - began})
+
+    event.register("numba:compile", Timer())
+from mimics.engine.simulation import Simulation
+
+step = Simulation.step
+
+def timed_step(self):
+    more = step(self)
+    if not getattr(self, "_bench_stepped", False):
+        self._bench_stepped = True
+        firsts.append(time.monotonic())
+    return more
+
+Simulation.step = timed_step
+
+@atexit.register
+def _dump():
+    with open(out, "w") as f:
+        json.dump({"first_steps": firsts, "compiles": compiles}, f)
+
+from mimics.interfaces.cli.program import app
+app()
+"""
+
+
+def one_run(cache: Path, folder: Path, command: list[str], events: bool = False
+            ) -> dict[str, Any]:
+    """Wall and CPU seconds of one ``mimics run`` in a fresh interpreter using ``cache``."""
+    dump = folder / "child.json"
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    began = time.monotonic()
+    subprocess.run([sys.executable, "-c", CHILD, str(dump), "1" if events else "0", *command,
+                    "--out", str(folder / "run")], check=True, env=env,
+                   stdout=subprocess.DEVNULL)
+    wall = time.monotonic() - began
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    child = json.loads(dump.read_text())
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return {"first_step_s": child["first_steps"][-1] - began, "whole_s": wall, "cpu_s": cpu,
+            "compiles": child["compiles"]}
+
+
+def summary(runs: list[dict[str, Any]]) -> dict[str, Any]:
+    """Medians and ranges of the runs' figures."""
+    out: dict[str, Any] = {"runs": len(runs)}
+    for key in ("first_step_s", "whole_s", "cpu_s"):
+        values = [r[key] for r in runs]
+        out[key] = statistics.median(values)
+        out[key + "_range"] = [min(values), max(values)]
+    return out
+
+
+def kernel_table(compiles: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """One row per kernel and signature, slowest first."""
+    rows = [{"kernel": c["kernel"].removeprefix("mimics.engine."), "depth": c["depth"],
+             "s": round(c["s"], 3), "args": c["args"]} for c in compiles]
+    return sorted(rows, key=lambda r: -r["s"])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--quick", action="store_true",
+                        help="one run of each, 0.1 s simulated (a smoke run)")
+    parser.add_argument("--threads", type=int, default=None, help="NUMBA_NUM_THREADS")
+    parser.add_argument("--no-logging", action="store_true", help="ignored (runs always log)")
+    parser.add_argument("--results", type=Path, default=RESULTS)
+    args = parser.parse_args()
+    if args.threads is not None:
+        os.environ["NUMBA_NUM_THREADS"] = str(args.threads)
+    command = COMMAND + (["--time", "0.1"] if args.quick else [])
+    repeats = 1 if args.quick else args.repeats
+    cold: list[dict[str, Any]] = []
+    warm: list[dict[str, Any]] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        shared = root / "warm-cache"
+        one_run(shared, root, command)  # fills the shared cache, untimed
+        for k in range(repeats):  # alternated, so that load changes hit both alike
+            cold.append(one_run(root / f"cold-cache-{k}", root, command))
+            warm.append(one_run(shared, root, command))
+        table = kernel_table(one_run(root / "cold-cache-events", root, command,
+                                     events=True)["compiles"])
+    cold_s, warm_s = summary(cold), summary(warm)
+    print(f"mimics {' '.join(command)}  (medians of {repeats}, fresh processes)")
+    for name, s, target in (("cold", cold_s, COLD_TARGET_S), ("warm", warm_s, WARM_TARGET_S)):
+        lo, hi = s["first_step_s_range"]
+        print(f"  {name}: first step {s['first_step_s']:.2f} s ({lo:.2f}-{hi:.2f}), whole "
+              f"command {s['whole_s']:.2f} s, child CPU {s['cpu_s']:.2f} s; target first "
+              f"step <= {target:g} s: {'met' if s['first_step_s'] <= target else 'NOT met'}")
+    top = [r for r in table if r["depth"] == 0]
+    print(f"Numba compiles of one cold run: {len(table)} (kernel, signature) pairs, "
+          f"{sum(r['s'] for r in top):.2f} s in top-level calls")
+    print(f"  {'s':>6} depth  kernel")
+    for row in table:
+        print(f"  {row['s']:>6.2f} {row['depth']:>5}  {row['kernel']}")
+    save("cold_start", {"command": "mimics " + " ".join(command), "repeats": repeats,
+                        "cold": {**cold_s, "target_s": COLD_TARGET_S,
+                                 "met": cold_s["first_step_s"] <= COLD_TARGET_S},
+                        "warm": {**warm_s, "target_s": WARM_TARGET_S,
+                                 "met": warm_s["first_step_s"] <= WARM_TARGET_S},
+                        "compiles": table}, args.results)
+
+
+if __name__ == "__main__":
+    main()
