@@ -5,12 +5,13 @@
 
 Runs, each as its own script (each row in a fresh process): ``cave.py``,
 ``hospital.py``, ``line_1000.py``, ``threads.py``, ``cave_tiling.py``,
-``beam_scaling.py`` and ``call_overhead.py``, passing ``--quick`` (short
+``beam_scaling.py``, ``call_overhead.py`` and ``cold_start.py``, passing ``--quick`` (short
 simulated times, one timed run per row: a smoke run, not figures to quote),
 ``--no-logging``, ``--threads`` and ``--results`` on. Their own output is
 shown as they go; then one table: benchmark, form, robots, s_sim/s,
 robot-steps/s, rays/s, peak RSS, and the target with whether it is met, plus
-the thread speedup and determinism, the beam fit and the per-call cost. All
+the thread speedup and determinism, the beam fit, the per-call cost and the
+time to the first step with an empty and a warm Numba cache. All
 figures are merged into the results file (default benchmarks/results.json).
 Nothing is asserted: the figures are for people to read.
 """
@@ -30,7 +31,8 @@ from common import RESULTS
 HERE = Path(__file__).parent
 SCRIPTS = {"cave": "cave.py", "hospital": "hospital.py", "line_1000": "line_1000.py",
            "threads": "threads.py", "cave_tiling": "cave_tiling.py",
-           "beam_scaling": "beam_scaling.py", "call_overhead": "call_overhead.py"}
+           "beam_scaling": "beam_scaling.py", "call_overhead": "call_overhead.py",
+           "cold_start": "cold_start.py"}
 SPEED_TARGETS = {("cave", "per-robot"): 20.0, ("cave", "team"): 100.0,
                  ("hospital", "per-robot"): 0.5, ("hospital", "team"): 2.0}
 
@@ -145,6 +147,13 @@ def main() -> None:
             print(f"per-robot call overhead ({row['algorithm']}, {row['scenario']}, "
                   f"{row['robots']} robots): {row['us_per_call']:.2f} us per call "
                   f"({row['inside_us_per_call']:.2f} us inside the call)")
+    if "cold_start" in succeeded:
+        section = results["cold_start"]
+        for name in ("cold", "warm"):
+            row = section[name]
+            print(f"{name} start ({section['command']}): first step {row['first_step_s']:.2f} s, "
+                  f"whole command {row['whole_s']:.2f} s, child CPU {row['cpu_s']:.2f} s; "
+                  f"target <= {row['target_s']:g} s: {'met' if row['met'] else 'NOT met'}")
     if failed:
         print(f"FAILED: {', '.join(failed)} (see their output above)")
     print(f"figures merged into {args.results}")

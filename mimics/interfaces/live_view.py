@@ -23,13 +23,15 @@ import math
 import os
 import sys
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from mimics.engine.state import Status
-from mimics.interfaces.render import WorldRenderer, beam_segments
 from mimics.world.errors import MimicsError
+
+if TYPE_CHECKING:  # matplotlib costs ~0.5 s to import: only a shown view needs it
+    from mimics.interfaces.render import WorldRenderer
 
 #: Representation times accepted by ``mimics run --view``: seconds between frames.
 MODES: dict[str, float] = {"step": 0.0, "1s": 1.0, "10s": 10.0}
@@ -157,6 +159,8 @@ class LiveView:
 
             figure = plt.figure(num=f"mimics: {title}")
             self._window = plt
+        from mimics.interfaces.render import WorldRenderer
+
         self.renderer = WorldRenderer.create(
             scenario.map.segments, scenario.map.bounds, types.half_length, types.half_width,
             state.goal, width_px=self.width_px, figure=figure, title=title)
@@ -209,6 +213,8 @@ class LiveView:
         beams = None
         i = self.beams_of
         if i is not None and state.status[i] == Status.ACTIVE and sim.types.beam_count[i] > 0:
+            from mimics.interfaces.render import beam_segments
+
             beams = beam_segments(state.pose[i, :2], state.pose[i, 2],
                                   sim.types.beam_offsets[i], state.scan[i])
         trails = None if self._trails is None else self._trails.segments(state.pose[:, :2])

@@ -45,10 +45,9 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
 import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
@@ -65,6 +64,9 @@ from mimics.records.layout import (
 )
 from mimics.records.parts import part_files, read_table
 from mimics.records.trajectory import TRAJECTORY_SCHEMA
+
+if TYPE_CHECKING:  # pandas costs ~0.3 s to import: only the log reader needs it
+    import pandas as pd
 from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
 
@@ -399,6 +401,8 @@ def read_robot_log(path: str | Path) -> RobotLog:
     rows = list(csv.reader(io.StringIO(body.rstrip("\n")), delimiter=";"))
     if any(len(row) != len(LOG_COLUMNS) for row in rows):
         raise MimicsError(f"{path}: a table row does not have {len(LOG_COLUMNS)} fields")
+    import pandas as pd
+
     table = pd.DataFrame(rows, columns=list(LOG_COLUMNS))
     for name in LOG_COLUMNS[:-2]:
         table[name] = table[name].astype(np.float64)
