@@ -158,7 +158,7 @@ def run(
     from mimics.engine.ranger import kernels_cached
 
     if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (about 25 s, once)")
+        note("mimics: first run: compiling the simulation kernels (once, up to about 20 s)")
         _compile_kernels()
     try:
         params = parse_params(param or [])

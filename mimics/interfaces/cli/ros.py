@@ -72,7 +72,7 @@ def ros_command(
     from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
 
     if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (about 25 s, once)")
+        note("mimics: first run: compiling the simulation kernels (once, up to about 20 s)")
         _compile_kernels()
     params = {"robots": robots} if robots is not None else {}
     folder = out or Path("runs") / f"{Path(scenario).stem}-ros-s{seed}"
