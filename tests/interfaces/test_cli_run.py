@@ -33,3 +33,10 @@ def test_warm_cache_says_nothing_about_compiling(tmp_path, monkeypatch):
 
 def test_compile_kernels_runs_a_tiny_simulation():
     cli._compile_kernels()  # compiled already in this process: quick, and must not raise
+
+
+def test_first_run_compile_leaves_the_ray_kernel_in_numbas_cache():
+    """The compile runs robots without a ranger here and the scanning run in a second
+    process; the ray kernel must then be in the disk cache the next run reads."""
+    cli._compile_kernels()
+    assert ranger.kernels_cached()
