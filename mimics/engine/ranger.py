@@ -83,7 +83,6 @@ DX, DY, NEAR, FAR = 0, 1, 2, 3
 # rows of a scan's list array: the robots listed, each item's ring, the order of the sweep
 SEEN, RING, ORDER = 0, 1, 2
 FAN_COLUMNS = 10  # a row of ``beam_fans``
-EMPTY = 3.0  # the kind of a cone that holds no beam (``_open_cones``)
 
 
 #: ``(base angle, spacing, count, margin, 1 / spacing)`` of evenly spaced beams (``_layout``)
@@ -535,58 +534,6 @@ def _outside_view(a: int, b: int, kind: float) -> bool:
     return common != 0 if kind == 1.0 else (kind == 2.0 and common == 3)
 
 
-@njit(cache=True, inline="always")
-def _run_cone(work: np.ndarray, first: int, last: int, layout: Layout) -> Cone:
-    """The cone from beam ``first``'s direction counterclockwise to beam ``last``'s.
-
-    Its kind (see ``_field_of_view``) comes from a bound of its width: the
-    beams' spacing plus their deviation from even spacing (the layout's margin).
-    """
-    width = (last - first + 2.0 * layout[3]) * layout[1]
-    kind = 1.0 if width < math.pi - 1e-6 else (2.0 if width < TAU - 1e-6 else 0.0)
-    return (work[DX, first], work[DY, first], work[DX, last], work[DY, last], kind)
-
-
-@njit(cache=True, inline="always")
-def _open_cones(work: np.ndarray, threshold: float, layout: Layout
-                ) -> tuple[int, Cone, Cone, Cone]:
-    """The runs of blocks of beams not all hit nearer than ``threshold``, as cones.
-
-    Up to three: further runs are merged into the third, whose cone then
-    covers them too (a wider cone culls less, never wrongly). Returns how
-    many runs there are (0: every beam is hit nearer) and the cones (unused
-    ones are ``EMPTY``).
-    """
-    used = int(layout[2])
-    runs, start, third = 0, -1, 0
-    c0 = c1 = c2 = (0.0, 0.0, 0.0, 0.0, EMPTY)
-    for b in range((used + BLOCK - 1) // BLOCK + 1):
-        is_open = b * BLOCK < used and work[FAR, b] >= threshold
-        if is_open and start < 0:
-            start = b
-        elif not is_open and start >= 0:
-            first, last = start * BLOCK, min(b * BLOCK, used) - 1
-            if runs == 0:
-                c0 = _run_cone(work, first, last, layout)
-            elif runs == 1:
-                c1 = _run_cone(work, first, last, layout)
-            else:  # the third run, and every later one merged into it
-                third = first if runs == 2 else third
-                c2 = _run_cone(work, third, last, layout)
-            runs += 1
-            start = -1
-    return runs, c0, c1, c2
-
-
-@njit(cache=True, inline="always")
-def _unseen(ax: float, ay: float, bx: float, by: float, clearance: float, cone: Cone) -> bool:
-    """Whether the convex hull of ``a`` and ``b`` (grown by ``clearance``) is outside ``cone``."""
-    if cone[4] == EMPTY:
-        return True
-    return _outside_view(_beyond_edges(ax, ay, clearance, cone),
-                         _beyond_edges(bx, by, clearance, cone), cone[4])
-
-
 @njit(cache=True)
 def _by_distance(distance: np.ndarray, count: int, limit: float, lists: np.ndarray) -> int:
     """Put the indices of ``distance[:count]`` within ``limit`` in ``lists[ORDER]``, roughly
@@ -688,31 +635,14 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
             found += 1
     # walls and robots together, nearest first: farther ones then skip the beams already
     # hit (most beams of a crowded scan end on a neighbour, in front of the walls)
-    # at each new ring, the runs of beams still open to it: what lies outside their cones
-    # is hidden (most walls and robots in view, late in the sweep), no span needed
-    ring, runs = -1, 1
-    c0 = c1 = c2 = cone
     for q in range(_by_distance(distance, walls + found, limit, lists)):
         p = lists[ORDER, q]
-        if layout[1] > 0.0 and lists[RING, p] != ring:
-            ring = lists[RING, p]
-            runs, c0, c1, c2 = _open_cones(work, _below(ring * limit / RINGS), layout)
-            if runs == 0:
-                break  # every beam is hit nearer than what is left
         if p < walls:
             s = listed[p]
-            ax, ay, bx, by = segs[s, 0] - ox, segs[s, 1] - oy, segs[s, 2] - ox, segs[s, 3] - oy
-            if (_unseen(ax, ay, bx, by, 0.0, c0) and _unseen(ax, ay, bx, by, 0.0, c1)
-                    and _unseen(ax, ay, bx, by, 0.0, c2)):
-                continue
             _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3], WALL,
                            distance[p], limit, layout, work, best_o)
         else:
             r = lists[SEEN, p - walls]
-            cx, cy, size = centers[r, 0] - ox, centers[r, 1] - oy, radius[r]
-            if (_unseen(cx, cy, cx, cy, size, c0) and _unseen(cx, cy, cx, cy, size, c1)
-                    and _unseen(cx, cy, cx, cy, size, c2)):
-                continue
             _sweep_robot(ox, oy, corners, centers, r, distance[p], radius[r], limit, layout,
                          work, best_o)
     if certain < limit:  # beyond the sweep's reach: walk the fine grid
