@@ -460,3 +460,19 @@ def test_crowded_scans_equal_every_beams_own_nearest_hit_bit_for_bit(seed, n, m,
     want_ranges, want_owners = beam_by_beam(query, walls, robots)
     assert ranges.tobytes() == want_ranges.tobytes()
     np.testing.assert_array_equal(owners, want_owners)
+
+
+def test_a_beam_through_the_corner_of_two_facing_sides():
+    """Sides meeting at a corner are tested one per beam, both near the corner."""
+    robots = robots_grid([[2.0, 0.0]], [0.0], [0.5], [0.5])
+    walls = build_wall_index(np.zeros((0, 4)), BOUNDS, reach=8.0)
+    # from (0, 2) the rear side (x = 1.5) and the left side (y = 0.5) face the sensor;
+    # the middle beam points at their shared corner (1.5, 0.5)
+    query = RangerQuery(np.array([[0.0, 2.0]]), np.array([-math.pi / 4]),
+                        np.linspace(-1.0, 1.0, 91)[None, :], np.array([8.0]), np.array([-1]))
+    ranges, owners = cast_rays(query, walls, robots)
+    assert ranges[0, 45] == pytest.approx(1.5 * math.sqrt(2.0), abs=1e-12)
+    assert owners[0, 45] == 0
+    want_ranges, want_owners = beam_by_beam(query, walls, robots)
+    assert ranges.tobytes() == want_ranges.tobytes()
+    np.testing.assert_array_equal(owners, want_owners)
