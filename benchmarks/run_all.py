@@ -5,7 +5,7 @@
 
 Runs, each as its own script (each row in a fresh process): ``cave.py``,
 ``hospital.py``, ``line_1000.py``, ``threads.py``, ``cave_tiling.py``,
-``beam_scaling.py`` and ``call_overhead.py``, passing ``--quick`` (short
+``beam_scaling.py``, ``call_overhead.py`` and ``swarm.py``, passing ``--quick`` (short
 simulated times, one timed run per row: a smoke run, not figures to quote),
 ``--no-logging``, ``--threads`` and ``--results`` on. Their own output is
 shown as they go; then one table: benchmark, form, robots, s_sim/s,
@@ -30,7 +30,8 @@ from common import RESULTS
 HERE = Path(__file__).parent
 SCRIPTS = {"cave": "cave.py", "hospital": "hospital.py", "line_1000": "line_1000.py",
            "threads": "threads.py", "cave_tiling": "cave_tiling.py",
-           "beam_scaling": "beam_scaling.py", "call_overhead": "call_overhead.py"}
+           "beam_scaling": "beam_scaling.py", "call_overhead": "call_overhead.py",
+           "swarm": "swarm.py"}
 SPEED_TARGETS = {("cave", "per-robot"): 20.0, ("cave", "team"): 100.0,
                  ("hospital", "per-robot"): 0.5, ("hospital", "team"): 2.0}
 
@@ -88,6 +89,18 @@ def table_rows(results: dict[str, Any], names: list[str]) -> list[dict[str, Any]
                             "met": ratio["target_met"]})
             else:
                 out.append({**row, "benchmark": label, "target": "(reference)", "met": None})
+    if "swarm" in names:
+        section = results["swarm"]
+        summary = section["summary"]
+        for row in section["rows"]:
+            if row["robots"] == summary["largest"]:
+                out.append({**row, "benchmark": "swarm",
+                            "target": f">= 2 s_sim/s, < 2 GB, us/rs x{summary['flatness']:.2f}"
+                                      " <= 1.3",
+                            "met": summary["sim_speed_met"] and summary["rss_met"]
+                            and summary["flatness_met"]})
+            else:
+                out.append({**row, "benchmark": "swarm", "target": "(reference)", "met": None})
     if "beam_scaling" in names:
         fit = results["beam_scaling"]["fit"]
         for row in results["beam_scaling"]["rows"]:
