@@ -3,8 +3,10 @@
 Each beam that reads less than the sensor's range pushes the robot away
 along it, the harder the nearer the obstacle (``SEEN * range - reading``). The
 robot heads along the sum of the pushes, driving at full speed times how well
-it faces that way; with nothing in sight it stops where it is. A packed swarm
-spreads out until every robot is out of its neighbours' sensor range.
+it faces that way when its front beams (within ``FRONT``) see nothing, else
+turning on the spot; with nothing in sight it stops where it is. A packed
+swarm spreads out until no beam sees a neighbour (eight beams leave gaps, and
+robots can still bump: the beams behind do not stop the one behind them).
 """
 
 import numpy as np
@@ -12,6 +14,8 @@ import numpy as np
 # a beam reading beyond this share of its range sees nothing: the sensor noise
 # (e-puck: 3 mm of 0.1 m) must not set a lone robot creeping
 SEEN = 0.85
+# drive only when the beams this close to the heading see nothing (else turn on the spot)
+FRONT = np.pi / 3
 
 
 def step(robot):
@@ -25,4 +29,6 @@ def step(robot):
     if not (px != 0.0 or py != 0.0):
         return 0.0, robot.heading
     turn = np.arctan2(py, px)
-    return robot.type.max_speed * max(np.cos(turn), 0.0), robot.heading + turn
+    clear = bool(np.all((push <= 0.0) | (np.abs(angles) >= FRONT)))
+    speed = robot.type.max_speed * max(np.cos(turn), 0.0) if clear else 0.0
+    return speed, robot.heading + turn

@@ -7,7 +7,7 @@ and stops when nothing is in range.
 
 import numpy as np
 
-from mimics.algorithms.dispersion import SEEN
+from mimics.algorithms.dispersion import FRONT, SEEN
 
 
 def team_step(team):
@@ -21,5 +21,6 @@ def team_step(team):
     seen = (px != 0.0) | (py != 0.0)
     turn = np.arctan2(py, px)
     theta = team.pose[:, 2]
-    speed = np.where(seen, team.max_speed * np.maximum(np.cos(turn), 0.0), 0.0)
+    clear = np.all((push <= 0.0) | ~(np.abs(angles) < FRONT), axis=1)  # NaN pads: clear
+    speed = np.where(seen & clear, team.max_speed * np.maximum(np.cos(turn), 0.0), 0.0)
     return speed, np.where(seen, theta + turn, theta)
