@@ -5,9 +5,10 @@
 
 Runs, each as its own script (each row in a fresh process): ``cave.py``,
 ``hospital.py``, ``line_1000.py``, ``threads.py``, ``cave_tiling.py``,
-``beam_scaling.py``, ``call_overhead.py`` and ``cold_start.py``, passing ``--quick`` (short
-simulated times, one timed run per row: a smoke run, not figures to quote),
-``--no-logging``, ``--threads`` and ``--results`` on. Their own output is
+``beam_scaling.py``, ``call_overhead.py``, ``cold_start.py`` and ``swarm.py``,
+passing ``--quick`` (short simulated times, one timed run per row: a smoke
+run, not figures to quote), ``--no-logging``, ``--threads`` and ``--results``
+on. Their own output is
 shown as they go; then one table: benchmark, form, robots, s_sim/s,
 robot-steps/s, rays/s, peak RSS, and the target with whether it is met, plus
 the thread speedup and determinism, the beam fit, the per-call cost and the
@@ -32,7 +33,7 @@ HERE = Path(__file__).parent
 SCRIPTS = {"cave": "cave.py", "hospital": "hospital.py", "line_1000": "line_1000.py",
            "threads": "threads.py", "cave_tiling": "cave_tiling.py",
            "beam_scaling": "beam_scaling.py", "call_overhead": "call_overhead.py",
-           "cold_start": "cold_start.py"}
+           "cold_start": "cold_start.py", "swarm": "swarm.py"}
 SPEED_TARGETS = {("cave", "per-robot"): 20.0, ("cave", "team"): 100.0,
                  ("hospital", "per-robot"): 0.5, ("hospital", "team"): 2.0}
 
@@ -90,6 +91,18 @@ def table_rows(results: dict[str, Any], names: list[str]) -> list[dict[str, Any]
                             "met": ratio["target_met"]})
             else:
                 out.append({**row, "benchmark": label, "target": "(reference)", "met": None})
+    if "swarm" in names:
+        section = results["swarm"]
+        summary = section["summary"]
+        for row in section["rows"]:
+            if row["robots"] == summary["largest"]:
+                out.append({**row, "benchmark": "swarm",
+                            "target": f">= 2 s_sim/s, < 2 GB, us/rs x{summary['flatness']:.2f}"
+                                      " <= 1.3",
+                            "met": summary["sim_speed_met"] and summary["rss_met"]
+                            and summary["flatness_met"]})
+            else:
+                out.append({**row, "benchmark": "swarm", "target": "(reference)", "met": None})
     if "beam_scaling" in names:
         fit = results["beam_scaling"]["fit"]
         for row in results["beam_scaling"]["rows"]:

@@ -1,0 +1,64 @@
+"""Swarm: 100 to 10,000 e-pucks dispersing (``swarm`` scenario, ``dispersion_team``).
+
+    python benchmarks/swarm.py [--robots 100 300 1000 3000 10000] [--time 10] [--repeats 3]
+                               [--no-logging] [--threads N] [--quick]
+
+Targets (issue 21, part 4; 2 cores, logging on like ``mimics run``):
+10,000 robots at >= 2 s_sim/s with peak RSS under 2 GB, and the cost per
+robot-step (µs) within 1.3x from 100 to 10,000 robots. The arena grows with
+the team (same density). Each size runs in a fresh process (its own peak
+RSS): one warm-up run, then the median of ``--repeats`` runs. Rows merge into
+benchmarks/results.json under ``swarm``.
+"""
+
+from __future__ import annotations
+
+from common import (
+    base_spec,
+    benchmark_parser,
+    meta,
+    parse_or_serve_child,
+    print_table,
+    row_from,
+    run_child,
+    save,
+)
+
+TARGET_SIM_SPEED = 2.0  # s_sim/s at 10,000 robots
+TARGET_RSS_MB = 2048.0  # at 10,000 robots
+TARGET_FLATNESS = 1.3  # largest / smallest µs per robot-step
+
+
+def main() -> None:
+    parser = benchmark_parser(__doc__, time=10.0, quick_time=1.0)
+    parser.add_argument("--robots", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000])
+    parser.add_argument("--algorithm", default="dispersion_team")
+    args = parse_or_serve_child(parser)
+    if args is None:
+        return
+    print(f"swarm, {args.algorithm}, {args.time:g} s simulated per run, median of "
+          f"{args.repeats}, logging {'on' if args.logging else 'off'}")
+    columns = ["robots", "sim_speed", "robot_steps_per_s", "us_per_robot_step", "peak_rss_mb"]
+    print_table("", [], columns)
+    rows = []
+    for n in args.robots:
+        spec = base_spec(args, algorithm=args.algorithm, scenario="swarm",
+                         params={"robots": n, "time_limit": args.time})
+        rows.append(row_from("swarm", "team", run_child(__file__, spec, args.threads),
+                             algorithm=args.algorithm))
+        print_table("", rows[-1:], columns, header=False)
+    cost = [r["us_per_robot_step"] for r in rows]
+    flatness = max(cost) / min(cost)
+    largest = max(rows, key=lambda r: r["robots"])
+    summary = {"flatness": flatness, "flatness_met": flatness <= TARGET_FLATNESS,
+               "largest": largest["robots"],
+               "sim_speed_met": largest["sim_speed"] >= TARGET_SIM_SPEED,
+               "rss_met": largest["peak_rss_mb"] < TARGET_RSS_MB}
+    print(f"  cost per robot-step max/min {flatness:.2f}x (target <= {TARGET_FLATNESS}); "
+          f"{largest['robots']} robots: {largest['sim_speed']:.2f} s_sim/s (target >= "
+          f"{TARGET_SIM_SPEED}), {largest['peak_rss_mb']:.0f} MB (target < {TARGET_RSS_MB:.0f})")
+    save("swarm", {"meta": meta(args), "rows": rows, "summary": summary}, args.results)
+
+
+if __name__ == "__main__":
+    main()
