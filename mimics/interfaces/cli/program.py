@@ -158,7 +158,7 @@ def run(
     from mimics.engine.ranger import kernels_cached
 
     if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (once, up to about 20 s)")
+        note("mimics: first run: compiling the simulation kernels (once, about 30 s)")
         _compile_kernels()
     try:
         params = parse_params(param or [])
@@ -181,14 +181,19 @@ def run(
     result = run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans)
     print_summary(result.summary(), folder)
     if video is not None:
-        from mimics.interfaces.replay import export_replay
-
-        try:
-            export_replay(folder, video=video)
-        except MimicsError as exc:
-            raise fail(str(exc)) from None
+        export_video(folder, video)
     if result.status == "error":
         raise typer.Exit(EXIT_FAILED)
+
+
+def export_video(folder: Path, video: Path) -> None:
+    """``--video``: the finished run's replay as a video file (exit 2 if it cannot be made)."""
+    from mimics.interfaces.replay import export_replay
+
+    try:
+        export_replay(folder, video=video)
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
 
 
 def _compile_kernels() -> None:

@@ -35,6 +35,11 @@ def ros_command(
     map_resolution: Annotated[float, typer.Option(help="Metres per cell of /map.")] = 0.05,
     robot_logs: Annotated[str, typer.Option(help="Per-robot text logs: auto, on or off.")]
     = "auto",
+    param: Annotated[list[str] | None, typer.Option(help="Scenario parameter NAME=VALUE "
+                                                         "(repeatable), as for mimics run.")]
+    = None,
+    view: Annotated[str, typer.Option(help="Live view: step, 1s, 10s or off.")] = "off",
+    video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
 ) -> None:
     """Run a simulation as a ROS node: robots are driven by commands received from ROS.
 
@@ -47,7 +52,8 @@ def ros_command(
     and message packages) and a running master (ROS_MASTER_URI). See
     docs/how-to/ros.md.
     """
-    from mimics.interfaces.cli.program import print_summary
+    from mimics.interfaces.cli.program import export_video, parse_params, print_summary
+    from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
 
     if robots is not None and robots < 1:
         raise fail(f"--robots: expected a whole number >= 1, got {robots}")
@@ -60,6 +66,14 @@ def ros_command(
                    f"got {map_resolution}")
     if robot_logs not in ("auto", "on", "off"):
         raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
+    if view not in VIEW_CHOICES:
+        raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
+    try:
+        params = parse_params(param or [])
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    if robots is not None:
+        params["robots"] = robots
     from mimics.interfaces.ros.system_ros import require_master, require_ros
 
     try:
@@ -72,18 +86,21 @@ def ros_command(
     from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
 
     if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (once, up to about 20 s)")
+        note("mimics: first run: compiling the simulation kernels (once, about 30 s)")
         _compile_kernels()
-    params = {"robots": robots} if robots is not None else {}
+    live = make_live_view(view)
     folder = out or Path("runs") / f"{Path(scenario).stem}-ros-s{seed}"
     try:
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
                                 map_resolution=map_resolution)
         result = run_ros(scenario, folder, options=options, params=params, time=time,
-                         seed=seed, robot_logs=robot_logs)  # type: ignore[arg-type]
+                         seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
+                         observers=(live,) if live is not None else ())
     except MimicsError as exc:
         raise fail(str(exc)) from None
     print_summary(result.summary(), folder)
+    if video is not None:
+        export_video(folder, video)
     if result.status == "error" and "LockstepTimeout" in result.error:
         fail(result.error)
         raise typer.Exit(1)

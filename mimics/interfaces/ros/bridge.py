@@ -137,7 +137,7 @@ class RosBridge:
 
 def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
             params: dict[str, Any] | None = None, time: float | None = None, seed: int = 0,
-            robot_logs: RobotLogs = "auto") -> RunResult:
+            robot_logs: RobotLogs = "auto", observers: tuple[Any, ...] = ()) -> RunResult:
     """Run ``scenario`` as a ROS node driven by ROS controllers; record it into ``folder``.
 
     Args:
@@ -148,6 +148,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
         time: simulated seconds (default: the scenario's).
         seed: the run's seed.
         robot_logs: per-robot text logs, as for ``mimics run``.
+        observers: more observers of the run (a live view, say), as for ``prepare``.
 
     Raises:
         MimicsError: when ROS is not installed, no master answers, a scenario
@@ -172,7 +173,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     built = load_scenario(scenario, **(params or {}))
     inbox = Inbox(built.robot_count, options.lockstep)
     references = RosReferences(inbox, built.stages[:, 2], options.timeout)
-    sim = prepare(built, references.controller(), time=time, seed=seed)
+    sim = prepare(built, references.controller(), time=time, seed=seed, observers=observers)
     if not rospy.core.is_initialized():
         rospy.init_node(NODE_NAME, disable_signals=True)
     bridge = RosBridge(sim, inbox, options)

@@ -181,3 +181,44 @@ def test_realtime_keeps_wall_clock_pace_and_uses_the_last_command(ros_env, tmp_p
     last = table[(table["robot"] == 1) & (table["step"] == table["step"].max())]
     assert float(last["v_ref"].iloc[0]) == pytest.approx(script.TWIST_SPEED)
     assert float(last["v"].iloc[0]) > 0.5 * script.TWIST_SPEED  # it did drive
+
+
+def test_params_shape_the_scenario_and_the_view_and_video_come_as_for_run(ros_env, tmp_path):
+    """``--param`` reaches the scenario as in ``mimics run`` (spacing and distance
+    change the start and the goals), ``--view`` without a display says so and
+    runs on, ``--video`` writes the run's replay."""
+    import imageio
+
+    from mimics.interfaces.live_view import no_display_notice
+    from mimics.records.runner import prepare, run_to_folder
+
+    params = ("--param", "spacing=2.5", "--param", "distance=4.0")
+    node = [SYSTEM_PYTHON, str(EXAMPLES / "go_to_goal_node.py"), "--robots", "3"]
+    folder, video = tmp_path / "ros", tmp_path / "run.mp4"
+    bridge, output = with_node(ros_env, node, "line", "--robots", "3", *params, "--seed", "2",
+                               "--out", str(folder), "--robot-logs", "off",
+                               "--view", "1s", "--video", str(video))
+    assert bridge.returncode == 0, bridge.stderr + output
+    assert no_display_notice("1s") in bridge.stderr
+    outcome = summary(folder)
+    assert (outcome["status"], outcome["reached_goal"]) == ("completed", 3)
+    ros_run = trajectory(folder)
+    start = ros_run[ros_run["step"] == ros_run["step"].min()].sort_values("robot")
+    np.testing.assert_allclose(start["y"], [2.5, 5.0, 7.5], atol=1e-9)  # spacing 2.5
+    reference = prepare("line", "go_to_goal", robots=3, seed=2,
+                        params={"spacing": 2.5, "distance": 4.0})
+    run_to_folder(reference, tmp_path / "python", robot_logs="off")
+    assert_same_run(ros_run, trajectory(tmp_path / "python"))
+    reader = imageio.get_reader(video, format="FFMPEG")
+    first, second = reader.get_data(0), reader.get_data(1)
+    reader.close()
+    assert first.ndim == 3 and first.shape == second.shape
+
+
+def test_bad_params_exit_2_naming_the_option(ros_env, tmp_path):
+    done = mimics_ros(ros_env, "line", "--param", "spacing", "--out", str(tmp_path / "run"))
+    assert done.returncode == 2
+    assert "--param 'spacing': expected NAME=VALUE" in done.stderr
+    done = mimics_ros(ros_env, "line", "--view", "sometimes", "--out", str(tmp_path / "run"))
+    assert done.returncode == 2 and "--view: expected one of" in done.stderr
+    assert not (tmp_path / "run").exists()
