@@ -161,7 +161,7 @@ def ray_segment_distance(ox: float, oy: float, dx: float, dy: float, x1: float, 
     return max(near, 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _cell_exit(grid_start: float, index: int, cell: float, origin: float,
                delta: float) -> float:
     """Ray parameter where it leaves cell ``index`` of one grid axis (inf if parallel)."""
@@ -224,7 +224,7 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
     return best_t, best_o
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _consider(ox: float, oy: float, work: np.ndarray, j: int, x1: float, y1: float,
               x2: float, y2: float, o: int, limit: float, best_o: np.ndarray) -> None:
     """Let segment ``(x1, y1, x2, y2)`` of owner ``o`` improve beam ``j``'s hit."""
@@ -234,13 +234,13 @@ def _consider(ox: float, oy: float, work: np.ndarray, j: int, x1: float, y1: flo
         best_o[j] = o
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _below(distance: float) -> float:
     """A distance shrunk past rounding: beams hitting nearer than it surely skip a segment."""
     return distance - 1e-9 * (1.0 + distance)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
                  o: int, limit: float, work: np.ndarray, best_o: np.ndarray) -> float:
     """Let one segment improve the ``BLOCK`` beams from ``start``; their farthest hit after.
@@ -281,7 +281,7 @@ def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: flo
     return far
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: float, x2: float,
                  y2: float, o: int, nearest: float, limit: float, work: np.ndarray,
                  best_o: np.ndarray) -> None:
@@ -296,7 +296,7 @@ def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: flo
                                         best_o)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def fast_atan2(y: float, x: float) -> float:
     """``atan2(y, x)`` within 1.15e-5 rad, much faster than libm's.
 
@@ -321,14 +321,14 @@ def fast_atan2(y: float, x: float) -> float:
     return -r if y < 0.0 else r
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _relative(angle: float, layout: Layout) -> float:
     """``angle`` less the first beam's, in ``[0, 2 pi)`` (up to rounding)."""
     rel = angle - layout[0]
     return rel - TAU * math.floor(rel * (1.0 / TAU))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
     """Beams whose angle less the first beam's lies in ``[rel, rel + span]``, with margin.
 
@@ -344,7 +344,7 @@ def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
     return first, last
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _turns(rel: float, span: float, layout: Layout) -> tuple[bool, bool]:
     """Whether ``[rel, rel + span]`` may also overlap the beams one turn back, one turn on.
 
@@ -357,7 +357,7 @@ def _turns(rel: float, span: float, layout: Layout) -> tuple[bool, bool]:
             rel + TAU <= (count + margin) * spacing)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _turn(k: int, back: bool) -> float:
     """The ``k``-th shift to try: 0, then -2 pi if ``back``, then +2 pi."""
     return 0.0 if k == 0 else (-TAU if back and k == 1 else TAU)
@@ -397,9 +397,8 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
             _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, work, best_o)
 
 
-# small helpers are left to LLVM to inline: Numba's own inline="always" compiled the
-# ray kernel 23% slower (29.9 to 22.9 s CPU cold) for the same speed and the same bits
-@njit(cache=True)
+# inlined: called for every robot in view, its call would cost more than a hidden check
+@njit(cache=True, inline="always")
 def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray, r: int,
                  gap: float, radius: float, limit: float, layout: Layout, work: np.ndarray,
                  best_o: np.ndarray) -> None:
@@ -440,7 +439,7 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
                         corners[r, e + 1, 0], corners[r, e + 1, 1], r, limit, work, best_o)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _facing_sides(ox: float, oy: float, corners: np.ndarray, r: int) -> int:
     """Bit ``e`` set: robot ``r``'s side ``e`` faces the sensor (or nearly: on its line).
 
@@ -512,7 +511,7 @@ def _field_of_view(offsets: np.ndarray) -> Cone:
             1.0 if width < math.pi - 1e-6 else 2.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _beyond_edges(px: float, py: float, clearance: float, cone: Cone) -> int:
     """Bits 0 and 1: ``p`` lies more than ``clearance`` beyond edge 0, 1.
 
@@ -527,7 +526,7 @@ def _beyond_edges(px: float, py: float, clearance: float, cone: Cone) -> int:
     return bits
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _outside_view(a: int, b: int, kind: float) -> bool:
     """Whether a convex set whose extreme points have edge bits ``a`` and ``b`` is unseen."""
     common = a & b

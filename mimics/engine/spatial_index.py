@@ -71,7 +71,7 @@ def grid_pad(origin: np.ndarray, shape: np.ndarray, cell: float) -> float:
     return PAD_RELATIVE * span
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def clip_to_slab(start: float, delta: float, lo: float, hi: float, s0: float,
                  s1: float) -> tuple[float, float]:
     """Narrow ``[s0, s1]``, parameters of ``start + s * delta``, to ``lo <= . <= hi``.
