@@ -6,6 +6,15 @@ passes a path instead: a ``.py`` file (an algorithm, or a scenario defining
 ``scenario(**params)``), a ``.c``/``.cpp`` algorithm (compiled on first use, see
 :mod:`mimics.native`) or a declarative ``.toml`` scenario.
 
+An algorithm may also be ``SCHEME:COMMAND``, a kind of algorithm that an
+installed part provides: ``ros:go_to_goal_node.py --robots {robots}`` is a
+ROS controller node (:mod:`mimics.interfaces.ros.node_algorithm`). Schemes are
+the entry points of the group ``mimics.algorithm_schemes``, found at first
+use, so that this module and the batteries never import the parts that provide
+them. A scheme object has ``name``, ``resolve(command, base)`` (the command
+with its paths made absolute), ``label(command)`` and ``algorithm(command)``
+(the display name and a fresh controller).
+
 >>> sorted(name for name, _ in list_algorithms())[:2]
 ['deployment', 'deployment_team']
 """
@@ -14,6 +23,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib
+import importlib.metadata
 import importlib.util
 import inspect
 import pkgutil
@@ -74,13 +84,38 @@ def list_algorithms() -> list[tuple[str, str]]:
             for name in _builtin_names(mimics.algorithms)]
 
 
+SCHEME_GROUP = "mimics.algorithm_schemes"
+
+
+def algorithm_scheme(text: str) -> tuple[Any, str] | None:
+    """The scheme object and command of a ``SCHEME:COMMAND`` algorithm, else None.
+
+    Raises:
+        AlgorithmError: ``SCHEME:`` looks like a scheme that no installed part provides.
+    """
+    name, colon, command = text.partition(":")
+    if not colon or len(name) < 2 or not name.isidentifier():  # "C:\\..." is a path
+        return None
+    providers = {point.name: point for point in importlib.metadata.entry_points(group=SCHEME_GROUP)}
+    if name not in providers:
+        known = ", ".join(f"{n}:" for n in sorted(providers)) or "none installed"
+        raise AlgorithmError(f"algorithm {text!r}: unknown kind {name + ':'!r} (known: {known}; "
+                             "is mimics installed with pip?)")
+    return providers[name].load(), command.strip()
+
+
 def find_algorithm(name_or_path: str | Path) -> tuple[str, Any]:
-    """The algorithm's display name and module, from a built-in name or a file path.
+    """The algorithm's display name and module, from a built-in name, a file path or a scheme.
 
     A C or C++ file gives a ready controller instead of a module (compiled on
-    first use, then found in the cache): a fresh one per call.
+    first use, then found in the cache): a fresh one per call; so does a
+    ``SCHEME:COMMAND`` algorithm.
     """
     text = str(name_or_path)
+    scheme = algorithm_scheme(text)
+    if scheme is not None:
+        provider, command = scheme
+        return provider.algorithm(command)  # type: ignore[no-any-return]
     if _looks_like_path(text):
         path = Path(text)
         if path.suffix.lower() in NATIVE_SUFFIXES:

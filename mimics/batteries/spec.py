@@ -137,7 +137,7 @@ class BatterySpec:
         """Every run, in order: algorithm, scenario, parameter point, seed."""
         runs = []
         for algorithm in self.algorithms:
-            label = Path(algorithm).stem if _is_path(algorithm) else algorithm
+            label = algorithm_label(algorithm)
             for entry in self.scenarios:
                 for point in entry.points():
                     runs.extend(RunSpec(algorithm, label, entry.ref, entry.name, point, seed)
@@ -264,6 +264,28 @@ def _resolve(name: str, base: Path) -> str:
     return str((path if path.is_absolute() else base / path).resolve())
 
 
+def _resolve_algorithm(name: str, base: Path) -> str:
+    """As :func:`_resolve`; a ``SCHEME:COMMAND`` algorithm's paths made absolute by its scheme."""
+    from mimics.catalog import algorithm_scheme
+
+    scheme = algorithm_scheme(name)
+    if scheme is None:
+        return _resolve(name, base)
+    provider, command = scheme
+    return f"{provider.name}:{provider.resolve(command, base)}"
+
+
+def algorithm_label(ref: str) -> str:
+    """An algorithm's name in run listings and folder names."""
+    from mimics.catalog import algorithm_scheme
+
+    scheme = algorithm_scheme(ref)
+    if scheme is not None:
+        provider, command = scheme
+        return str(provider.label(command))
+    return Path(ref).stem if _is_path(ref) else ref
+
+
 def _algorithms(value: Any, base: Path, fail: Any) -> tuple[str, ...]:
     from mimics.catalog import find_algorithm
     from mimics.engine.controllers import controller_from
@@ -275,14 +297,14 @@ def _algorithms(value: Any, base: Path, fail: Any) -> tuple[str, ...]:
                    f"{value!r}")
     refs: list[str] = []
     for name in value:
-        ref = _resolve(name, base)
-        if ref in refs:
-            raise fail(f"[battery] algorithms: {name!r} is listed twice")
         try:
+            ref = _resolve_algorithm(name, base)
             label, module = find_algorithm(ref)
             controller_from(module, label)
         except MimicsError as exc:
             raise fail(f"[battery] algorithms: {exc}") from None
+        if ref in refs:
+            raise fail(f"[battery] algorithms: {name!r} is listed twice")
         refs.append(ref)
     return tuple(refs)
 

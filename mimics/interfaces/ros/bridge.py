@@ -17,6 +17,7 @@ wall time ``start + t_k + dt``; the next step uses the latest commands.
 from __future__ import annotations
 
 import time as wall
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -81,8 +82,12 @@ class RosBridge:
         self._dt = sim.scenario.settings.dt
         self._wall_start = 0.0
 
-    def wait_for_nodes(self, robots: np.ndarray) -> None:
+    def wait_for_nodes(self, robots: np.ndarray,
+                       check: Callable[[], None] | None = None) -> None:
         """Wait until each robot's ``odom`` has a subscriber and its commands a publisher.
+
+        ``check`` is called while waiting; it raises to give up early (the
+        controller's process has exited, say).
 
         Raises:
             MimicsError: naming the first robot still unconnected after the time-out.
@@ -90,6 +95,8 @@ class RosBridge:
         deadline = wall.monotonic() + self.options.timeout
         waiting = robots.tolist()
         while waiting:
+            if check is not None:
+                check()
             waiting = [i for i in waiting
                        if self.odometry.publishers[i].get_num_connections() == 0
                        or self.commands.publishers_connected(i) == 0]
@@ -135,6 +142,24 @@ class RosBridge:
             part.close()
 
 
+def join_ros() -> None:
+    """Make ROS importable and this process the node ``/mimics`` (once per process).
+
+    Raises:
+        MimicsError: when ROS is not installed, no master answers at
+            ``ROS_MASTER_URI``, or this process's node has already been shut down.
+    """
+    require_ros()
+    import rospy
+
+    if rospy.core.is_shutdown_requested() or rospy.core.is_shutdown():
+        raise MimicsError("this process's ROS node has been shut down; rospy cannot start "
+                          "another one in the same process")
+    if not rospy.core.is_initialized():
+        require_master()
+        rospy.init_node(NODE_NAME, disable_signals=True)
+
+
 def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
             params: dict[str, Any] | None = None, time: float | None = None, seed: int = 0,
             robot_logs: RobotLogs = "auto", observers: tuple[Any, ...] = ()) -> RunResult:
@@ -174,8 +199,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     inbox = Inbox(built.robot_count, options.lockstep)
     references = RosReferences(inbox, built.stages[:, 2], options.timeout)
     sim = prepare(built, references.controller(), time=time, seed=seed, observers=observers)
-    if not rospy.core.is_initialized():
-        rospy.init_node(NODE_NAME, disable_signals=True)
+    join_ros()
     bridge = RosBridge(sim, inbox, options)
     try:
         bridge.wait_for_nodes(np.flatnonzero(sim.state.active))
