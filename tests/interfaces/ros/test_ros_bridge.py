@@ -7,6 +7,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 from types import ModuleType
 
@@ -106,7 +107,17 @@ def test_roscpp_example_drives_five_robots(ros_env, tmp_path):
     outcome = summary(folder)
     assert (outcome["status"], outcome["reached_goal"], outcome["collisions"]) == (
         "completed", 5, 0)
-    assert_same_run(trajectory(folder), built_in_go_to_goal(tmp_path / "python", 5, 3))
+    reference = built_in_go_to_goal(tmp_path / "python", 5, 3)
+    assert_same_run(trajectory(folder), reference)
+    # the same binary as a `ros:` algorithm: mimics starts a master and the node itself
+    own = tmp_path / "ros_algorithm"
+    done = subprocess.run([sys.executable, "-m", "mimics", "run", "line",
+                           f"ros:{binary} {{robots}}", "--robots", "5", "--seed", "3", "--out",
+                           str(own), "--robot-logs", "off"], capture_output=True, text=True,
+                          timeout=120, check=False)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert summary(own)["algorithm"] == "ros-go_to_goal_node"
+    assert_same_run(trajectory(own), reference)
 
 
 def test_no_master_is_one_line_naming_ros_master_uri(tmp_path):
