@@ -43,7 +43,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from mimics.native import NATIVE_SUFFIXES
+from mimics.batteries.references import algorithm_label, check_algorithms, is_path, resolve
 from mimics.world.errors import MimicsError, read_input_text
 from mimics.world.limits import MAX_SEED
 
@@ -161,10 +161,6 @@ def _text(value: Any) -> str:
     return json.dumps(value) if isinstance(value, list | dict) else str(value)
 
 
-def _is_path(name: str) -> bool:
-    return name.endswith((".py", ".toml", *NATIVE_SUFFIXES)) or "/" in name or "\\" in name
-
-
 # -- reading and checking ------------------------------------------------------
 
 def load_battery(path: str | Path) -> BatterySpec:
@@ -206,7 +202,7 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     if not isinstance(table, dict):
         raise fail("missing [battery] table (with at least `algorithms`)")
     _no_unknown(table, BATTERY_KEYS, "[battery]", fail)
-    algorithms = _algorithms(table.get("algorithms"), base, fail)
+    algorithms = check_algorithms(table.get("algorithms"), base, fail)
     seeds = _seeds(table.get("seeds", 1), fail)
     time = table.get("time")
     if time is not None and not (_is_number(time) and time > 0 and math.isfinite(time)):
@@ -256,59 +252,6 @@ def _no_unknown(table: dict[str, Any], known: tuple[str, ...], where: str, fail:
             raise fail(f"{where}: unknown key {key!r} (expected one of: {', '.join(known)})")
 
 
-def _resolve(name: str, base: Path) -> str:
-    """A built-in name as is; a path made absolute relative to ``base``."""
-    if not _is_path(name):
-        return name
-    path = Path(name).expanduser()
-    return str((path if path.is_absolute() else base / path).resolve())
-
-
-def _resolve_algorithm(name: str, base: Path) -> str:
-    """As :func:`_resolve`; a ``SCHEME:COMMAND`` algorithm's paths made absolute by its scheme."""
-    from mimics.catalog import algorithm_scheme
-
-    scheme = algorithm_scheme(name)
-    if scheme is None:
-        return _resolve(name, base)
-    provider, command = scheme
-    return f"{provider.name}:{provider.resolve(command, base)}"
-
-
-def algorithm_label(ref: str) -> str:
-    """An algorithm's name in run listings and folder names."""
-    from mimics.catalog import algorithm_scheme
-
-    scheme = algorithm_scheme(ref)
-    if scheme is not None:
-        provider, command = scheme
-        return str(provider.label(command))
-    return Path(ref).stem if _is_path(ref) else ref
-
-
-def _algorithms(value: Any, base: Path, fail: Any) -> tuple[str, ...]:
-    from mimics.catalog import find_algorithm
-    from mimics.engine.controllers import controller_from
-
-    if isinstance(value, str):
-        value = [value]
-    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
-        raise fail(f"[battery] algorithms: expected a non-empty list of names or .py paths, got "
-                   f"{value!r}")
-    refs: list[str] = []
-    for name in value:
-        try:
-            ref = _resolve_algorithm(name, base)
-            label, module = find_algorithm(ref)
-            controller_from(module, label)
-        except MimicsError as exc:
-            raise fail(f"[battery] algorithms: {exc}") from None
-        if ref in refs:
-            raise fail(f"[battery] algorithms: {name!r} is listed twice")
-        refs.append(ref)
-    return tuple(refs)
-
-
 def _seeds(value: Any, fail: Any) -> tuple[int, ...]:
     if isinstance(value, int) and not isinstance(value, bool):
         if not 1 <= value <= MAX_RUNS:
@@ -336,12 +279,12 @@ def _scenarios(value: Any, base: Path, fail: Any) -> tuple[ScenarioEntry, ...]:
         name = table.get("name")
         if not isinstance(name, str) or not name:
             raise fail(f"{where}: missing `name` (a built-in scenario or a .py/.toml path)")
-        ref = _resolve(name, base)
+        ref = resolve(name, base)
         params = {key: v for key, v in table.items() if key != "name"}
         for key, v in params.items():
             if isinstance(v, list) and not v:
                 raise fail(f"{where} ({name}): {key}: an empty list sweeps nothing")
-        entry = ScenarioEntry(ref, Path(ref).stem if _is_path(ref) else ref, params)
+        entry = ScenarioEntry(ref, Path(ref).stem if is_path(ref) else ref, params)
         _check_scenario(entry, f"{where} ({name})", fail)
         if entry in entries:
             raise fail(f"{where}: the same scenario and parameters are listed twice")
