@@ -126,6 +126,8 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--quick", action="store_true",
                         help="one run of each, 0.1 s simulated (a smoke run)")
+    parser.add_argument("--warm-only", action="store_true",
+                        help="only the warm runs (no cold runs, no compile table; not saved)")
     parser.add_argument("--threads", type=int, default=None, help="NUMBA_NUM_THREADS")
     parser.add_argument("--no-logging", action="store_true", help="ignored (runs always log)")
     parser.add_argument("--results", type=Path, default=RESULTS)
@@ -141,8 +143,16 @@ def main() -> None:
         shared = root / "warm-cache"
         one_run(shared, root, command)  # fills the shared cache, untimed
         for k in range(repeats):  # alternated, so that load changes hit both alike
-            cold.append(one_run(root / f"cold-cache-{k}", root, command))
+            if not args.warm_only:
+                cold.append(one_run(root / f"cold-cache-{k}", root, command))
             warm.append(one_run(shared, root, command))
+        if args.warm_only:
+            warm_s = summary(warm)
+            lo, hi = warm_s["first_step_s_range"]
+            print(f"warm: first step {warm_s['first_step_s']:.2f} s ({lo:.2f}-{hi:.2f}), whole "
+                  f"command {warm_s['whole_s']:.2f} s, child CPU {warm_s['cpu_s']:.2f} s "
+                  f"(median of {repeats}); target first step <= {WARM_TARGET_S:g} s")
+            return
         table = kernel_table(one_run(root / "cold-cache-events", root, command,
                                      events=True)["compiles"])
     cold_s, warm_s = summary(cold), summary(warm)

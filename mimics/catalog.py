@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import hashlib
 import importlib
-import importlib.metadata
 import importlib.util
 import inspect
 import pkgutil
@@ -96,6 +95,8 @@ def algorithm_scheme(text: str) -> tuple[Any, str] | None:
     name, colon, command = text.partition(":")
     if not colon or len(name) < 2 or not name.isidentifier():  # "C:\\..." is a path
         return None
+    import importlib.metadata  # lazily: 20 ms, and only algorithms with a scheme need it
+
     providers = {point.name: point for point in importlib.metadata.entry_points(group=SCHEME_GROUP)}
     if name not in providers:
         known = ", ".join(f"{n}:" for n in sorted(providers)) or "none installed"

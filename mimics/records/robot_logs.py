@@ -49,7 +49,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pyarrow as pa
-import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
 from mimics.engine.state import Status
@@ -185,6 +184,7 @@ def _batch_tables(folder: Path, batch: list[int], robot_count: int,
                   ) -> tuple[pa.Table, pa.Table]:
     """The trajectory and events rows of the robots in ``batch``: from the tables given,
     else read from ``folder`` (no filter when the batch is every robot of the run)."""
+    import pyarrow.compute as pc  # lazily: 60 ms to import
     wanted = pc.field("robot").isin(batch) if len(batch) < robot_count else None
     if trajectory is None:
         trajectory = read_table(folder / TRAJECTORY, folder / TRAJECTORY_PARTS,
@@ -294,6 +294,7 @@ def _lines(batch: _BatchLogs, start: int, stop: int) -> tuple[memoryview, np.nda
     Returns the lines as one UTF-8 block and the offset where each line starts
     (one more for the end), both counted from row ``start``.
     """
+    import pyarrow.compute as pc  # lazily: 60 ms to import
     if stop == start:
         return memoryview(b""), np.zeros(1, dtype=np.int32)
     rows = batch.order[start:stop]
@@ -315,6 +316,7 @@ def _texts(values: np.ndarray) -> pa.Array:
     consecutive rows (a robot standing still) is formatted once when that
     saves work. Values are compared bit for bit: ``-0.0`` prints apart from ``0.0``.
     """
+    import pyarrow.compute as pc  # lazily: 60 ms to import
     bits = values.view(np.int64)
     new = np.empty(values.size, dtype=bool)
     new[:1] = True
@@ -326,6 +328,7 @@ def _texts(values: np.ndarray) -> pa.Array:
 
 def _time_texts(time: np.ndarray, steps: np.ndarray) -> pa.Array:
     """The time column as text, each step's time formatted once (all its robots share it)."""
+    import pyarrow.compute as pc  # lazily: 60 ms to import
     if time.size == 0 or steps.min() < 0:
         return _texts(time)
     present = np.zeros(int(steps.max()) + 1, dtype=bool)
