@@ -5,7 +5,7 @@
 Runs each workload once after a short warm-up (Numba's cache loaded), with
 logging on as in the benchmarks, under pyinstrument (``pip install -e
 '.[bench]'``), and writes one text profile per workload to ``--out``.
-Compiled kernels show up as the frame that calls them (``_cast_kernel``,
+Compiled kernels show up as the frame that calls them (``_cast_rows``,
 ``_collide_kernel``): pyinstrument samples Python frames only.
 """
 

@@ -21,9 +21,14 @@ What keeps that cost down:
 The order of the sweep changes no result: a hit replaces another only when
 nearer, or as near with a lower owner. Beyond the walls' sweep reach (maps
 too big for the near lists), beams walk the fine walls grid cell by cell
-(Amanatides-Woo) until their first hit. Scanning robots run in parallel
-(``prange``); each row is computed from its own inputs only, so the results
-are the same bit for bit whatever the number of threads.
+(Amanatides-Woo) until their first hit. Scanning robots run in parallel:
+chunks of rows, interleaved over Numba's thread count, one part on the calling
+thread and the others on Python threads, as the kernel releases the GIL
+(``nogil``). Not a ``prange`` kernel: its parallel wrapper took a fifth of the
+first-run compile, and OpenMP's threads spin between steps, which on a busy
+machine starves the Python side of the step. Each row is computed from its
+own inputs only, so the results are the same bit for bit whatever the number
+of threads.
 
 The geometry (see :func:`ray_segment_distance`):
 
@@ -47,11 +52,12 @@ The geometry (see :func:`ray_segment_distance`):
 from __future__ import annotations
 
 import math
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, parallel_chunksize, prange
+from numba import get_num_threads, njit
 
 from mimics.engine.robot_index import RobotIndex, coerce_robot_index
 from mimics.engine.spatial_index import SegmentGrid, cell_span, clip_to_slab, coerce_array
@@ -569,7 +575,7 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     """Fill one scanning robot's ``ranges`` and hit ``owners``.
 
     The walls come as the fields of a ``WallIndex`` (``grid``, ``near``,
-    ``reach``): parallel kernels take no nested tuples. ``work`` and ``best_o``
+    ``reach``). ``work`` and ``best_o``
     are scratch space of whole blocks of beams, ``distance`` and ``lists`` of the
     walls and robots listed (``_list_capacity``), reused from one robot to the next.
     """
@@ -656,22 +662,22 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         owners[j] = best_o[j]
 
 
-@njit(parallel=True, cache=True)
-def _cast_kernel(query: RangerQuery, grid: SegmentGrid,
-                 near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
-                 hit_owner: np.ndarray) -> None:
-    """Fill ``ranges`` and ``hit_owner`` row by row (one scanning robot per row).
+@njit(cache=True, nogil=True)
+def _cast_rows(query: RangerQuery, grid: SegmentGrid, near: SegmentGrid, reach: float,
+               robots: RobotIndex, ranges: np.ndarray, hit_owner: np.ndarray, part: int,
+               parts: int) -> None:
+    """Fill rows of ``ranges`` and ``hit_owner``: chunks ``part``, ``part + parts``, ...
 
     Work items are chunks of ``CHUNK_ROBOTS`` rows sharing one scratch space.
     """
     k, beams = query.offsets.shape
     padded = (beams + BLOCK - 1) // BLOCK * BLOCK
     capacity = _list_capacity(near, robots)
-    for chunk in prange((k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS):
-        work = np.empty((4, padded))
-        best_o = np.empty(padded, dtype=np.int64)
-        distance = np.empty(capacity)
-        lists = np.empty((3, capacity), dtype=np.int64)
+    work = np.empty((4, padded))
+    best_o = np.empty(padded, dtype=np.int64)
+    distance = np.empty(capacity)
+    lists = np.empty((3, capacity), dtype=np.int64)
+    for chunk in range(part, (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS, parts):
         for i in range(chunk * CHUNK_ROBOTS, min(k, (chunk + 1) * CHUNK_ROBOTS)):
             _scan_row(query, i, grid, near, reach, robots, ranges[i], hit_owner[i], work, best_o,
                       distance, lists)
@@ -751,10 +757,28 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
         out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
     ranges, hit_owner = out
     if k and beams:
-        # small chunks, taken in turn: robots' costs differ, equal halves would idle a thread
-        with parallel_chunksize(1):
-            _cast_kernel(query, walls.grid, walls.near, walls.reach, robots, ranges, hit_owner)
+        args = (query, walls.grid, walls.near, walls.reach, robots, ranges, hit_owner)
+        parts = min(get_num_threads(), (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS)
+        if parts <= 1:
+            _cast_rows(*args, 0, 1)
+        else:  # interleaved chunks: neighbouring robots cost alike, so the parts balance
+            pool = _pool(parts - 1)
+            others = [pool.submit(_cast_rows, *args, p, parts) for p in range(1, parts)]
+            _cast_rows(*args, 0, parts)
+            for other in others:
+                other.result()
     return ranges, hit_owner
+
+
+_pools: dict[int, ThreadPoolExecutor] = {}
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    """Threads that run kernel parts beside the caller (the kernels release the GIL)."""
+    pool = _pools.get(workers)
+    if pool is None:
+        pool = _pools[workers] = ThreadPoolExecutor(workers, thread_name_prefix="mimics-rays")
+    return pool
 
 
 def offset_units(offsets: np.ndarray) -> np.ndarray:
@@ -788,9 +812,9 @@ def kernels_cached() -> bool:
     Looks in the folder Numba itself caches this module's kernels in (beside
     this file, or under ``NUMBA_CACHE_DIR`` when set).
     """
-    return any(_cache_folder().glob("ranger._cast_kernel-*.nbi"))
+    return any(_cache_folder().glob("ranger._cast_rows-*.nbi"))
 
 
 def _cache_folder() -> Path:
     """Where Numba caches this module's kernels (its own locator's choice)."""
-    return Path(_cast_kernel._cache._cache_path)
+    return Path(_cast_rows._cache._cache_path)
