@@ -52,6 +52,7 @@ The geometry (see :func:`ray_segment_distance`):
 from __future__ import annotations
 
 import math
+import os
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import NamedTuple
@@ -771,6 +772,8 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
 
 
 _pools: dict[int, ThreadPoolExecutor] = {}
+# a forked child has none of its parent's threads: it makes its own pools
+os.register_at_fork(after_in_child=_pools.clear)
 
 
 def _pool(workers: int) -> ThreadPoolExecutor:

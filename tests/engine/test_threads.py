@@ -35,3 +35,27 @@ def test_one_thread_and_all_threads_give_the_same_run(name, algorithm):
     one = run_digest(scenario, algorithm, 1)
     many = run_digest(scenario, algorithm, numba.config.NUMBA_NUM_THREADS)
     assert one == many
+
+
+def _digest_in_child(queue, scenario, threads):
+    queue.put(run_digest(scenario, deployment_team, threads))
+
+
+@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads")
+def test_a_forked_process_runs_on_threads_of_its_own():
+    """A fork copies the ray kernel's thread pool but none of its threads: the child
+    must start its own (a stale pool would wait for ever)."""
+    import multiprocessing
+
+    scenario = load_scenario("obstacle_room", robots=24)
+    here = run_digest(scenario, deployment_team, 2)  # the parent's pool exists now
+    context = multiprocessing.get_context("fork")
+    queue = context.Queue()
+    child = context.Process(target=_digest_in_child, args=(queue, scenario, 2))
+    child.start()
+    try:
+        assert queue.get(timeout=120) == here
+    finally:
+        child.join(10)
+        if child.is_alive():
+            child.kill()
