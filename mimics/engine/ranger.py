@@ -784,6 +784,25 @@ def _pool(workers: int) -> ThreadPoolExecutor:
     return pool
 
 
+def compile_ray_kernel() -> None:
+    """Compile (or load from the cache) the ray kernel for the engine's argument types.
+
+    It runs on a query of no robot: no map, index or other kernel is needed,
+    so a second process can compile it alone while the first compiles the
+    rest (``mimics run``'s first-run compile). The arrays are those the
+    engine passes: C-contiguous and writeable, of the canonical dtypes.
+    """
+    none = np.zeros((0, 2))
+    query = RangerQuery(none, np.zeros(0), np.zeros((0, 1)), np.zeros(0), np.zeros(0, np.int64),
+                        np.zeros((0, 1, 2)), np.zeros((0, FAN_COLUMNS)))
+    grid = SegmentGrid(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(2), 1.0,
+                       np.ones(2, np.int64), np.zeros(2, np.int64), np.zeros(0, np.int64))
+    robots = RobotIndex(np.zeros((0, 5, 2)), np.zeros(0), none, np.zeros(2), 1.0,
+                        np.ones(2, np.int64), np.zeros(2, np.int64), np.zeros(0, np.int64), 0.0)
+    _cast_rows(query, grid, grid, 0.0, robots, np.zeros((0, 1)), np.zeros((0, 1), np.int64),
+               0, 1)
+
+
 def offset_units(offsets: np.ndarray) -> np.ndarray:
     """``(..., 2)``: the cosine and sine of each beam offset (NaN for unused slots)."""
     return np.ascontiguousarray(np.stack([np.cos(offsets), np.sin(offsets)], axis=-1))

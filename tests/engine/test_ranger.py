@@ -476,3 +476,17 @@ def test_a_beam_through_the_corner_of_two_facing_sides():
     want_ranges, want_owners = beam_by_beam(query, walls, robots)
     assert ranges.tobytes() == want_ranges.tobytes()
     np.testing.assert_array_equal(owners, want_owners)
+
+
+def test_the_ray_kernel_compiled_alone_is_the_one_runs_call():
+    """``compile_ray_kernel`` (the first-run compile's second process) must type its
+    arguments as a simulation does, else each run would compile the kernel again."""
+    from mimics.algorithms import go_to_goal
+    from mimics.catalog import load_scenario
+    from mimics.engine import ranger
+    from mimics.engine.simulation import Simulation
+
+    Simulation(load_scenario("obstacle_room", robots=12), go_to_goal, seed=1,
+               time_limit=0.3).run()
+    ranger.compile_ray_kernel()
+    assert len(ranger._cast_rows.signatures) == 1, ranger._cast_rows.signatures

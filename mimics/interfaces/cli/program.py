@@ -226,12 +226,10 @@ def _compile_kernels() -> None:
 
 
 def _compile_with_ranger() -> None:
-    """The second process of :func:`_compile_kernels`: a tiny run that scans."""
-    from mimics.algorithms import go_to_goal
-    from mimics.engine.simulation import Simulation
-    from mimics.scenarios.line import scenario as line
+    """The second process of :func:`_compile_kernels`: the ray kernel alone."""
+    from mimics.engine.ranger import compile_ray_kernel
 
-    Simulation(line(robots=2), go_to_goal, seed=0, time_limit=0.2).run()
+    compile_ray_kernel()
 
 
 @list_app.command("algorithms")
