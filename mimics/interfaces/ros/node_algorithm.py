@@ -29,6 +29,7 @@ from __future__ import annotations
 import atexit
 import multiprocessing.util
 import os
+import re
 import shlex
 import shutil
 import signal
@@ -98,7 +99,7 @@ class NodeCommand:
     @property
     def text(self) -> str:
         """The command as an algorithm reference takes it (after ``ros:``)."""
-        return shlex.join([str(self.program), *self.args])
+        return " ".join(_quoted(word) for word in (str(self.program), *self.args))
 
     @property
     def label(self) -> str:
@@ -111,6 +112,14 @@ class NodeCommand:
                 for arg in self.args]
         start = [system_python()] if self.program.suffix == ".py" else []
         return [*start, str(self.program), *args]
+
+
+def _quoted(word: str) -> str:
+    """``word`` quoted for the shell only if it must be (``{robots}`` stays as it is)."""
+    return word if _PLAIN.fullmatch(word) else shlex.quote(word)
+
+
+_PLAIN = re.compile(r"[\w@%+=:,./{}-]+")
 
 
 class _NodeRun:

@@ -155,3 +155,16 @@ def test_killing_mimics_mid_run_kills_its_node_and_master(node_folder: Path) -> 
     while processes_marked(mark) and time.monotonic() < deadline:
         time.sleep(0.1)
     assert processes_marked(mark) == []
+
+
+def test_battery_new_writes_a_ros_algorithm_with_its_program_made_absolute(
+        node_folder: Path) -> None:
+    done = mimics("battery", "new", "--algorithm", f"ros:{NODE} --robots {{robots}}",
+                  "--scenario", "line", "--seeds", "2", "--no-input", "--output",
+                  "sub/battery.toml", cwd=node_folder)
+    assert done.returncode == 0, done.stdout + done.stderr
+    import tomllib
+
+    written = tomllib.loads((node_folder / "sub" / "battery.toml").read_text())
+    assert written["battery"]["algorithms"] == [
+        f"ros:{node_folder / NODE} --robots {{robots}}"]
