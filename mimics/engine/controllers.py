@@ -121,9 +121,14 @@ class PerRobotController(Controller):
         times: list[float] = []
         done: list[int] = []
         references: list[tuple[float, float]] = []
+        isfinite = math.isfinite
+        plain = self._factory is None  # one function for every robot (the usual case)
         for i in ids.tolist():
-            instance = instances[i]
-            step = instance.step if instance is not None else self._step_fn
+            if plain:
+                step = self._step_fn
+            else:
+                instance = instances[i]
+                step = instance.step if instance is not None else self._step_fn
             robot = robots[i]
             start = clock()
             try:
@@ -140,7 +145,7 @@ class PerRobotController(Controller):
             except (TypeError, ValueError):
                 failures.append(_not_two_numbers(i, now, output))
                 continue
-            if math.isfinite(speed) and math.isfinite(heading):
+            if isfinite(speed) and isfinite(heading):
                 done.append(i)
                 references.append((speed, heading))
             else:

@@ -51,7 +51,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, parallel_chunksize, prange
+from numba import get_num_threads, njit, parallel_chunksize, prange
 
 from mimics.engine.robot_index import RobotIndex, coerce_robot_index
 from mimics.engine.spatial_index import SegmentGrid, cell_span, clip_to_slab, coerce_array
@@ -751,9 +751,16 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
         out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
     ranges, hit_owner = out
     if k and beams:
-        # small chunks, taken in turn: robots' costs differ, equal halves would idle a thread
-        with parallel_chunksize(1):
+        if k <= CHUNK_ROBOTS or get_num_threads() == 1:
+            # one work item, or one thread: the chunk size changes nothing (and the
+            # context costs about as much as scanning one robot)
             _cast_kernel(query, walls.grid, walls.near, walls.reach, robots, ranges, hit_owner)
+        else:
+            # small chunks, taken in turn: robots' costs differ, equal halves would idle a
+            # thread
+            with parallel_chunksize(1):
+                _cast_kernel(query, walls.grid, walls.near, walls.reach, robots, ranges,
+                             hit_owner)
     return ranges, hit_owner
 
 

@@ -284,9 +284,13 @@ class Simulation:
         """Mark robots ``ids`` that left the map or are ``distance`` from their goal."""
         state = self.state
         xmin, ymin, xmax, ymax = self.scenario.map.bounds
-        x, y = state.pose[ids, 0], state.pose[ids, 1]
+        everyone = ids.size == state.n  # ids is then 0..n-1: views, not gathering copies
+        pose = state.pose if everyone else state.pose[ids]
+        x, y = pose[:, 0], pose[:, 1]
         outside = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
-        reached = distance[ids] <= self.scenario.settings.goal_tolerance
+        reached = (distance if everyone else distance[ids]) <= self.scenario.settings.goal_tolerance
+        if not (outside.any() or reached.any()):  # the usual step: nobody arrives or leaves
+            return
         for i in ids[outside].tolist():
             self._mark(i, Status.ESCAPED, "Escaped map", "escaped")
         for i in ids[reached & ~outside].tolist():

@@ -57,14 +57,23 @@ class StallDetector:
         self._distances[slot_l] = distance
         self._count += 1
         candidates = active & ~np.isnan(distance)
+        check_deadlock = self._count > self.deadlock_steps and np.count_nonzero(candidates)
+        check_livelock = self._count > self.livelock_steps
+        if not (check_deadlock or check_livelock or state.in_deadlock.any()
+                or state.in_livelock.any()):
+            # no window is full yet and nobody is stalled (a run's first seconds): every
+            # flag below would be all False and the stall state would stay all False
+            quiet = np.zeros(state.n, dtype=bool)
+            quiet.flags.writeable = False  # one array for the four flags: read-only
+            return StallFlags(quiet, quiet, quiet, quiet)
         none = np.zeros(state.n, dtype=bool)
 
         deadlocked = none.copy()
-        if self._count > self.deadlock_steps and np.count_nonzero(candidates):
+        if check_deadlock:
             deadlocked = self._deadlocked(now, candidates)
 
         livelocked = none.copy()
-        if self._count > self.livelock_steps:
+        if check_livelock:
             oldest = self._distances[self._count % len(self._distances)]
             no_progress = distance > oldest - self.settings.livelock_progress
             livelocked = candidates & no_progress & ~deadlocked
