@@ -102,6 +102,9 @@ class Simulation:
         self.walls: WallIndex = build_wall_index(scenario.map.segments, scenario.map.bounds,
                                                  float(np.max(types.max_range, initial=0.0)))
         self._robot_cell = index_cell(types.max_range, types.half_length, types.half_width)
+        # fixed for the run: computed once, not at every step
+        self._robot_radius = np.hypot(types.half_length, types.half_width)
+        self._has_ranger = types.beam_count > 0
         self.status = "running"
         self.error = ""
         self.wall_time = 0.0
@@ -210,7 +213,7 @@ class Simulation:
             self._grid = index_robots(np.ascontiguousarray(state.pose[:, :2]),
                                       np.ascontiguousarray(state.pose[:, 2]),
                                       self.types.half_length, self.types.half_width, solid,
-                                      self._robot_cell)
+                                      self._robot_cell, self._robot_radius)
             self._grid_key = key
         return self._grid
 
@@ -218,7 +221,7 @@ class Simulation:
         """Ranger, positioning, comms and messages for the robots about to act."""
         state = self.state
         self._comms = None
-        ids = np.flatnonzero(state.active & (self.types.beam_count > 0))
+        ids = (state.active & self._has_ranger).nonzero()[0]
         if ids.size:
             # every robot scanning (the usual case): whole arrays, no gathering copies
             rows = slice(None) if ids.size == state.n else ids
