@@ -177,7 +177,8 @@ def index_robots(centers: np.ndarray, headings: np.ndarray, half_length: np.ndar
     if radius is None:
         radius = np.hypot(half_length, half_width)
     origin, shape, size, start, items = _bucket(centers, include, cell)
-    max_radius = float(np.max(radius, where=include, initial=0.0))
+    # = np.max(radius, where=include, initial=0.0), without its Python wrappers
+    max_radius = float(np.maximum.reduce(radius, where=include, initial=0.0))
     return RobotIndex(_corners(centers, headings, half_length, half_width), radius, centers,
                       origin, float(size), shape, start, items, max_radius)
 

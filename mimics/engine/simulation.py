@@ -292,7 +292,7 @@ class Simulation:
         x, y = pose[:, 0], pose[:, 1]
         outside = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
         reached = (distance if everyone else distance[ids]) <= self.scenario.settings.goal_tolerance
-        if not (outside.any() or reached.any()):  # the usual step: nobody arrives or leaves
+        if not (np.count_nonzero(outside) or np.count_nonzero(reached)):  # the usual step
             return
         for i in ids[outside].tolist():
             self._mark(i, Status.ESCAPED, "Escaped map", "escaped")

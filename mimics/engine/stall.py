@@ -57,26 +57,31 @@ class StallDetector:
         self._distances[slot_l] = distance
         self._count += 1
         candidates = active & ~np.isnan(distance)
-        check_deadlock = self._count > self.deadlock_steps and np.count_nonzero(candidates)
-        check_livelock = self._count > self.livelock_steps
-        if not (check_deadlock or check_livelock or state.in_deadlock.any()
-                or state.in_livelock.any()):
-            # no window is full yet and nobody is stalled (a run's first seconds): every
-            # flag below would be all False and the stall state would stay all False
+        count = np.count_nonzero
+        # None: nobody (an all-False mask not made); a full window is checked only then
+        deadlocked: np.ndarray | None = None
+        livelocked: np.ndarray | None = None
+        if self._count > self.deadlock_steps and count(candidates):
+            found = self._deadlocked(now, candidates)
+            deadlocked = found if count(found) else None
+        if self._count > self.livelock_steps:
+            oldest = self._distances[self._count % len(self._distances)]
+            found = candidates & (distance > oldest - self.settings.livelock_progress)
+            if deadlocked is not None:
+                found &= ~deadlocked
+            livelocked = found if count(found) else None
+        if (deadlocked is None and livelocked is None and not count(state.in_deadlock)
+                and not count(state.in_livelock)):
+            # nobody stalled, before or now (nearly every step): every flag below would
+            # be all False and the stall state would stay all False
             quiet = np.zeros(state.n, dtype=bool)
             quiet.flags.writeable = False  # one array for the four flags: read-only
             return StallFlags(quiet, quiet, quiet, quiet)
         none = np.zeros(state.n, dtype=bool)
-
-        deadlocked = none.copy()
-        if check_deadlock:
-            deadlocked = self._deadlocked(now, candidates)
-
-        livelocked = none.copy()
-        if check_livelock:
-            oldest = self._distances[self._count % len(self._distances)]
-            no_progress = distance > oldest - self.settings.livelock_progress
-            livelocked = candidates & no_progress & ~deadlocked
+        if deadlocked is None:
+            deadlocked = none
+        if livelocked is None:
+            livelocked = none
 
         flags = StallFlags(
             deadlock_started=deadlocked & ~state.in_deadlock,

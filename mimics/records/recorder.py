@@ -196,7 +196,7 @@ class RunRecorder:
         began = time.perf_counter()
         state = sim.state
         active = state.active
-        started = np.flatnonzero(self._was_active)
+        started = self._was_active.nonzero()[0]  # = np.flatnonzero, minus its wrapper
         if state.step % self.every == 0:
             self._trajectory.add(state, started)
             if self._scans is not None:

@@ -76,8 +76,9 @@ class TrajectoryBuffer:
             return
         # Kept transposed, one row per column (pose as x, y, theta rows): the table's
         # columns are then contiguous rows of the concatenation, not strided copies.
-        if ids.size == state.n:
-            block = tuple(getattr(state, name).T.copy() for name in _BLOCK_ARRAYS)
+        if ids.size == state.n:  # spelled out: the _BLOCK_ARRAYS, without a generator
+            block = (state.pose.T.copy(), state.velocity.T.copy(), state.measured_pose.T.copy(),
+                     state.reference.T.copy(), state.status.T.copy(), state.user_time.T.copy())
         else:
             block = tuple(np.take(getattr(state, name).T, ids, axis=-1) for name in _BLOCK_ARRAYS)
         if state.step != self._last_step:
