@@ -12,7 +12,7 @@ def step(robot):
     goal = robot.goal  # read once: it is a property
     if goal is None:
         return 0.0, robot.heading
-    x, y, theta = robot.pose
+    x, y, theta = robot.pose.tolist()  # Python floats: the same values, quicker to add
     gx, gy = goal
     heading = np.arctan2(gy - y, gx - x)
     alignment = np.cos(heading - theta)

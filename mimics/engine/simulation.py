@@ -25,7 +25,7 @@ import numpy as np
 from mimics.engine.collision import Bodies, collide
 from mimics.engine.controllers import Controller, UserFailure, controller_from
 from mimics.engine.dynamics import move_robots
-from mimics.engine.messages import MessageBus
+from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
 from mimics.engine.ranger import RangerQuery, trace_beams
 from mimics.engine.robot_index import RobotIndex, index_cell, index_robots
@@ -105,6 +105,7 @@ class Simulation:
         # fixed for the run: computed once, not at every step
         self._robot_radius = np.hypot(types.half_length, types.half_width)
         self._has_ranger = types.beam_count > 0
+        self._all_beams: tuple[np.ndarray, ...] | None = None  # every robot's beams (_sense)
         self.status = "running"
         self.error = ""
         self.wall_time = 0.0
@@ -154,8 +155,8 @@ class Simulation:
         state = self.state
         active = state.active
         ids = active.nonzero()[0]  # = flatnonzero, without its Python wrappers
-        _clear_messages(state.user_message, active)
-        _clear_messages(state.system_message, active)
+        clear_messages(state.user_message, active)
+        clear_messages(state.system_message, active)
         failures = self.controller.compute(self, ids)
         self.timing.add(state.user_time[ids])
         failed = self._handle_failures(failures)
@@ -226,12 +227,14 @@ class Simulation:
             # every robot scanning (the usual case): whole arrays, no gathering copies
             rows = slice(None) if ids.size == state.n else ids
             types = self.types
-            query = RangerQuery(
-                origins=np.ascontiguousarray(state.pose[rows, :2]),
-                headings=np.ascontiguousarray(state.pose[rows, 2]),
-                offsets=types.beam_offsets[rows], max_range=types.max_range[rows],
-                robot=ids.astype(np.int64, copy=False), offset_units=types.beam_units[rows],
-                fans=types.beam_fans[rows])
+            if ids.size != state.n or self._all_beams is None:  # else the same as last time
+                beams = (types.beam_offsets[rows], types.max_range[rows],
+                         ids.astype(np.int64, copy=False), types.beam_units[rows],
+                         types.beam_fans[rows])
+                self._all_beams = beams if ids.size == state.n else None
+            query = RangerQuery(np.ascontiguousarray(state.pose[rows, :2]),
+                                np.ascontiguousarray(state.pose[rows, 2]),
+                                *(beams if self._all_beams is None else self._all_beams))
             if ids.size == state.n:  # the kernel writes straight into the state
                 trace_beams(query, self.walls, self._robot_index(), (state.scan, state.scan_hit))
             else:
@@ -393,13 +396,3 @@ class Simulation:
                 observer.on_end(self, result)
         return False
 
-
-def _clear_messages(messages: list[str], active: np.ndarray) -> None:
-    """Empty the messages of active robots (inactive ones keep their last words).
-
-    Most entries are already empty: scan in C and touch only the others.
-    """
-    if any(messages):
-        for i in [i for i, text in enumerate(messages) if text]:
-            if active[i]:
-                messages[i] = ""
