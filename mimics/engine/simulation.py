@@ -158,7 +158,7 @@ class Simulation:
         clear_messages(state.user_message, active)
         clear_messages(state.system_message, active)
         failures = self.controller.compute(self, ids)
-        self.timing.add(state.user_time[ids])
+        self.timing.add(state.user_time if ids.size == state.n else state.user_time[ids])
         failed = self._handle_failures(failures)
         moving = ids[~np.isin(ids, failed)] if failed.size else ids
         self._move(moving)
@@ -272,7 +272,7 @@ class Simulation:
         if ids.size == 0:
             return
         check = np.zeros(state.n, dtype=bool)
-        check[ids] = True
+        check[slice(None) if ids.size == state.n else ids] = True  # all: no fancy indexing
         robots = self._robot_index()
         bodies = Bodies(robots.centers, np.ascontiguousarray(state.pose[:, 2]),
                         self.types.half_length, self.types.half_width)
