@@ -37,7 +37,7 @@ from mimics.engine.sensors import (
     update_odometry,
 )
 from mimics.engine.stall import StallDetector
-from mimics.engine.state import Status, TypeArrays, WorldState
+from mimics.engine.state import Status, TypeArrays, WorldState, none_leaves_or_arrives
 from mimics.engine.wall_index import WallIndex, build_wall_index
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
@@ -289,14 +289,15 @@ class Simulation:
     def _check_goals_and_bounds(self, ids: np.ndarray, distance: np.ndarray) -> None:
         """Mark robots ``ids`` that left the map or are ``distance`` from their goal."""
         state = self.state
-        xmin, ymin, xmax, ymax = self.scenario.map.bounds
         everyone = ids.size == state.n  # ids is then 0..n-1: views, not gathering copies
-        pose = state.pose if everyone else state.pose[ids]
+        pose, near = (state.pose, distance) if everyone else (state.pose[ids], distance[ids])
+        xmin, ymin, xmax, ymax = bounds = self.scenario.map.bounds
+        tolerance = self.scenario.settings.goal_tolerance
+        if not ids.size or none_leaves_or_arrives(pose, near, bounds, tolerance):
+            return  # the usual step
         x, y = pose[:, 0], pose[:, 1]
         outside = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
-        reached = (distance if everyone else distance[ids]) <= self.scenario.settings.goal_tolerance
-        if not (np.count_nonzero(outside) or np.count_nonzero(reached)):  # the usual step
-            return
+        reached = near <= tolerance
         for i in ids[outside].tolist():
             self._mark(i, Status.ESCAPED, "Escaped map", "escaped")
         for i in ids[reached & ~outside].tolist():
