@@ -5,14 +5,16 @@
 
 Runs, each as its own script (each row in a fresh process): ``cave.py``,
 ``hospital.py``, ``line_1000.py``, ``threads.py``, ``cave_tiling.py``,
-``beam_scaling.py``, ``call_overhead.py``, ``cold_start.py`` and ``swarm.py``,
+``beam_scaling.py``, ``call_overhead.py``, ``cold_start.py``, ``swarm.py`` and
+``battery_overhead.py``,
 passing ``--quick`` (short simulated times, one timed run per row: a smoke
 run, not figures to quote), ``--no-logging``, ``--threads`` and ``--results``
 on. Their own output is
 shown as they go; then one table: benchmark, form, robots, s_sim/s,
 robot-steps/s, rays/s, peak RSS, and the target with whether it is met, plus
 the thread speedup and determinism, the beam fit, the per-call cost and the
-time to the first step with an empty and a warm Numba cache. All
+time to the first step with an empty and a warm Numba cache, and the
+battery's per-run costs and runs/s (Figure 2 subset). All
 figures are merged into the results file (default benchmarks/results.json).
 Nothing is asserted: the figures are for people to read.
 """
@@ -33,7 +35,8 @@ HERE = Path(__file__).parent
 SCRIPTS = {"cave": "cave.py", "hospital": "hospital.py", "line_1000": "line_1000.py",
            "threads": "threads.py", "cave_tiling": "cave_tiling.py",
            "beam_scaling": "beam_scaling.py", "call_overhead": "call_overhead.py",
-           "cold_start": "cold_start.py", "swarm": "swarm.py"}
+           "cold_start": "cold_start.py", "swarm": "swarm.py",
+           "battery_overhead": "battery_overhead.py"}
 SPEED_TARGETS = {("cave", "per-robot"): 20.0, ("cave", "team"): 100.0,
                  ("hospital", "per-robot"): 0.5, ("hospital", "team"): 2.0}
 
@@ -167,6 +170,16 @@ def main() -> None:
             print(f"{name} start ({section['command']}): first step {row['first_step_s']:.2f} s, "
                   f"whole command {row['whole_s']:.2f} s, child CPU {row['cpu_s']:.2f} s; "
                   f"target <= {row['target_s']:g} s: {'met' if row['met'] else 'NOT met'}")
+    if "battery_overhead" in succeeded:
+        section = results["battery_overhead"]
+        for row in section["rows"]:
+            print(f"battery run, {row['robots']} robots (ms): build {row['build']:.1f}, steps "
+                  f"{row['steps']:.1f}, recording {row['recording']:.1f}, rest of the worker "
+                  f"{row['worker_other']:.1f}, parent {row['parent']:.1f}")
+        total = section["summary"]
+        print(f"battery ({total['runs']} runs of the Figure 2 battery): {total['seconds']:.1f} s, "
+              f"{total['runs_per_s']:.2f} runs/s; 1,800 runs in about "
+              f"{total['full_battery_s']:.0f} s (target <= 30 s)")
     if failed:
         print(f"FAILED: {', '.join(failed)} (see their output above)")
     print(f"figures merged into {args.results}")

@@ -9,10 +9,11 @@ import numpy as np
 
 def step(robot):
     """Head for the goal; full speed when facing it, slower the more it is off."""
-    if robot.goal is None:
+    goal = robot.goal  # read once: it is a property
+    if goal is None:
         return 0.0, robot.heading
-    x, y, theta = robot.pose
-    gx, gy = robot.goal
+    x, y, theta = robot.pose.tolist()  # Python floats: the same values, quicker to add
+    gx, gy = goal
     heading = np.arctan2(gy - y, gx - x)
     alignment = np.cos(heading - theta)
     return robot.type.max_speed * max(alignment, 0.0), heading

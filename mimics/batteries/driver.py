@@ -219,21 +219,29 @@ def _loop(store: BatteryStore, spec: BatterySpec, executor: Executor, queue: deq
     (store.folder / RUNS_DIR).mkdir(exist_ok=True)
     active: dict[int, Task] = {}
     finished = 0
-    while queue or active:
+    arrived: list[tuple[Task, Outcome]] = []
+    while queue or active or arrived:
+        # idle workers get their next run first; the runs that came back are put in
+        # place after, while the workers are busy again
         while queue and executor.free() > 0:
             run_id = queue.popleft()
             attempt = store.start(run_id)
             task = store.task(run_id, attempt, spec, tmp / f"{run_id:05d}-a{attempt}-{token}")
             store.set_worker(run_id, executor.submit(task))
             active[run_id] = task
+        for task, outcome in arrived:
+            finish(store, task, outcome)
+            finished += 1
+            bar.advance(outcome.state)
+        arrived = []
+        if not (queue or active):
+            break
         for outcome in executor.poll(0.5):
             task = active.get(outcome.run_id)
             if task is None or task.attempt != outcome.attempt:
                 continue
             del active[outcome.run_id]
-            finish(store, task, outcome)
-            finished += 1
-            bar.advance(outcome.state)
+            arrived.append((task, outcome))
     return finished
 
 

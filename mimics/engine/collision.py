@@ -265,8 +265,11 @@ def collide(bodies: Bodies, check: np.ndarray, walls: SegmentGrid,
     finite poses; ``walls`` and ``robots`` as the kernels take them.
     """
     n = len(bodies.centers)
-    with_whom = np.full(n, NONE, dtype=np.int64)
-    wall_segment = np.full(n, -1, dtype=np.int64)
+    if n and check.shape[0] == n:  # the kernel writes every entry: no filling first
+        with_whom, wall_segment = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+    else:
+        with_whom = np.full(n, NONE, dtype=np.int64)
+        wall_segment = np.full(n, -1, dtype=np.int64)
     if n:
         _collide_kernel(bodies, check, walls, robots, with_whom, wall_segment)
     return with_whom, wall_segment

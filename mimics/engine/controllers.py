@@ -120,10 +120,16 @@ class PerRobotController(Controller):
         # sees references or call times, so nothing can tell the difference.
         times: list[float] = []
         done: list[int] = []
-        references: list[tuple[float, float]] = []
+        speeds: list[float] = []  # two flat lists: NumPy reads them faster than pairs
+        headings: list[float] = []
+        isfinite = math.isfinite
+        plain = self._factory is None  # one function for every robot (the usual case)
         for i in ids.tolist():
-            instance = instances[i]
-            step = instance.step if instance is not None else self._step_fn
+            if plain:
+                step = self._step_fn
+            else:
+                instance = instances[i]
+                step = instance.step if instance is not None else self._step_fn
             robot = robots[i]
             start = clock()
             try:
@@ -140,14 +146,19 @@ class PerRobotController(Controller):
             except (TypeError, ValueError):
                 failures.append(_not_two_numbers(i, now, output))
                 continue
-            if math.isfinite(speed) and math.isfinite(heading):
+            if isfinite(speed) and isfinite(heading):
                 done.append(i)
-                references.append((speed, heading))
+                speeds.append(speed)
+                headings.append(heading)
             else:
                 failures.append(_not_finite(i, now, speed, heading))
         state.user_time[ids] = times
-        if done:
-            state.reference[done] = references
+        if len(done) == state.n:  # every robot, in order: whole columns
+            state.reference[:, 0] = speeds
+            state.reference[:, 1] = headings
+        elif done:
+            state.reference[done, 0] = speeds
+            state.reference[done, 1] = headings
         return failures
 
 

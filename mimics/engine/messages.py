@@ -54,3 +54,14 @@ class MessageBus:
                     continue
             self._inboxes.setdefault(target, []).append((sender, message))
         self._outgoing = []
+
+
+def clear_messages(messages: list[str], active: np.ndarray) -> None:
+    """Empty the messages of active robots (inactive ones keep their last words).
+
+    Most entries are already empty: scan in C and touch only the others.
+    """
+    if any(messages):
+        for i in [i for i, text in enumerate(messages) if text]:
+            if active[i]:
+                messages[i] = ""

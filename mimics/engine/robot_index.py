@@ -165,15 +165,20 @@ def build_robot_index(centers: np.ndarray, headings: np.ndarray, half_length: np
 
 
 def index_robots(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
-                 half_width: np.ndarray, include: np.ndarray, cell: float) -> RobotIndex:
+                 half_width: np.ndarray, include: np.ndarray, cell: float,
+                 radius: np.ndarray | None = None) -> RobotIndex:
     """:func:`build_robot_index` without the checks, for the engine's own arrays.
 
     The arrays must be C-contiguous float64 (``include`` bool), of matching
     lengths, with finite poses where ``include`` is set, and ``cell > 0``.
+    ``radius``: ``np.hypot(half_length, half_width)`` when the caller keeps it
+    (sizes do not change during a run).
     """
-    radius = np.hypot(half_length, half_width)
+    if radius is None:
+        radius = np.hypot(half_length, half_width)
     origin, shape, size, start, items = _bucket(centers, include, cell)
-    max_radius = float(np.max(radius, where=include, initial=0.0))
+    # = np.max(radius, where=include, initial=0.0), without its Python wrappers
+    max_radius = float(np.maximum.reduce(radius, where=include, initial=0.0))
     return RobotIndex(_corners(centers, headings, half_length, half_width), radius, centers,
                       origin, float(size), shape, start, items, max_radius)
 

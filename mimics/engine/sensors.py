@@ -29,9 +29,9 @@ def measure_positioning(state: WorldState, types: TypeArrays, rng: np.random.Gen
     # Without noise the measured values are plain copies: skip the temporaries.
     if "sigma_position" in noise:
         state.measured_pose[:, :2] = _noisy(rng, state.pose[:, :2], types.sigma_position)
-    else:
-        state.measured_pose[:, :2] = state.pose[:, :2]
-    state.measured_pose[:, 2] = state.pose[:, 2]
+        state.measured_pose[:, 2] = state.pose[:, 2]
+    else:  # the whole pose in one copy
+        state.measured_pose[:] = state.pose
     if "sigma_velocity" in noise:
         state.measured_velocity[:] = _noisy(rng, state.velocity, types.sigma_velocity)
     else:

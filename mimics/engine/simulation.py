@@ -25,7 +25,7 @@ import numpy as np
 from mimics.engine.collision import Bodies, collide
 from mimics.engine.controllers import Controller, UserFailure, controller_from
 from mimics.engine.dynamics import move_robots
-from mimics.engine.messages import MessageBus
+from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
 from mimics.engine.ranger import RangerQuery, trace_beams
 from mimics.engine.robot_index import RobotIndex, index_cell, index_robots
@@ -37,7 +37,7 @@ from mimics.engine.sensors import (
     update_odometry,
 )
 from mimics.engine.stall import StallDetector
-from mimics.engine.state import Status, TypeArrays, WorldState
+from mimics.engine.state import Status, TypeArrays, WorldState, none_leaves_or_arrives
 from mimics.engine.wall_index import WallIndex, build_wall_index
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
@@ -102,6 +102,10 @@ class Simulation:
         self.walls: WallIndex = build_wall_index(scenario.map.segments, scenario.map.bounds,
                                                  float(np.max(types.max_range, initial=0.0)))
         self._robot_cell = index_cell(types.max_range, types.half_length, types.half_width)
+        # fixed for the run: computed once, not at every step
+        self._robot_radius = np.hypot(types.half_length, types.half_width)
+        self._has_ranger = types.beam_count > 0
+        self._all_beams: tuple[np.ndarray, ...] | None = None  # every robot's beams (_sense)
         self.status = "running"
         self.error = ""
         self.wall_time = 0.0
@@ -151,10 +155,10 @@ class Simulation:
         state = self.state
         active = state.active
         ids = active.nonzero()[0]  # = flatnonzero, without its Python wrappers
-        _clear_messages(state.user_message, active)
-        _clear_messages(state.system_message, active)
+        clear_messages(state.user_message, active)
+        clear_messages(state.system_message, active)
         failures = self.controller.compute(self, ids)
-        self.timing.add(state.user_time[ids])
+        self.timing.add(state.user_time if ids.size == state.n else state.user_time[ids])
         failed = self._handle_failures(failures)
         moving = ids[~np.isin(ids, failed)] if failed.size else ids
         self._move(moving)
@@ -210,7 +214,7 @@ class Simulation:
             self._grid = index_robots(np.ascontiguousarray(state.pose[:, :2]),
                                       np.ascontiguousarray(state.pose[:, 2]),
                                       self.types.half_length, self.types.half_width, solid,
-                                      self._robot_cell)
+                                      self._robot_cell, self._robot_radius)
             self._grid_key = key
         return self._grid
 
@@ -218,17 +222,19 @@ class Simulation:
         """Ranger, positioning, comms and messages for the robots about to act."""
         state = self.state
         self._comms = None
-        ids = np.flatnonzero(state.active & (self.types.beam_count > 0))
+        ids = (state.active & self._has_ranger).nonzero()[0]
         if ids.size:
             # every robot scanning (the usual case): whole arrays, no gathering copies
             rows = slice(None) if ids.size == state.n else ids
             types = self.types
-            query = RangerQuery(
-                origins=np.ascontiguousarray(state.pose[rows, :2]),
-                headings=np.ascontiguousarray(state.pose[rows, 2]),
-                offsets=types.beam_offsets[rows], max_range=types.max_range[rows],
-                robot=ids.astype(np.int64, copy=False), offset_units=types.beam_units[rows],
-                fans=types.beam_fans[rows])
+            if ids.size != state.n or self._all_beams is None:  # else the same as last time
+                beams = (types.beam_offsets[rows], types.max_range[rows],
+                         ids.astype(np.int64, copy=False), types.beam_units[rows],
+                         types.beam_fans[rows])
+                self._all_beams = beams if ids.size == state.n else None
+            query = RangerQuery(np.ascontiguousarray(state.pose[rows, :2]),
+                                np.ascontiguousarray(state.pose[rows, 2]),
+                                *(beams if self._all_beams is None else self._all_beams))
             if ids.size == state.n:  # the kernel writes straight into the state
                 trace_beams(query, self.walls, self._robot_index(), (state.scan, state.scan_hit))
             else:
@@ -266,7 +272,7 @@ class Simulation:
         if ids.size == 0:
             return
         check = np.zeros(state.n, dtype=bool)
-        check[ids] = True
+        check[slice(None) if ids.size == state.n else ids] = True  # all: no fancy indexing
         robots = self._robot_index()
         bodies = Bodies(robots.centers, np.ascontiguousarray(state.pose[:, 2]),
                         self.types.half_length, self.types.half_width)
@@ -283,10 +289,15 @@ class Simulation:
     def _check_goals_and_bounds(self, ids: np.ndarray, distance: np.ndarray) -> None:
         """Mark robots ``ids`` that left the map or are ``distance`` from their goal."""
         state = self.state
-        xmin, ymin, xmax, ymax = self.scenario.map.bounds
-        x, y = state.pose[ids, 0], state.pose[ids, 1]
+        everyone = ids.size == state.n  # ids is then 0..n-1: views, not gathering copies
+        pose, near = (state.pose, distance) if everyone else (state.pose[ids], distance[ids])
+        xmin, ymin, xmax, ymax = bounds = self.scenario.map.bounds
+        tolerance = self.scenario.settings.goal_tolerance
+        if not ids.size or none_leaves_or_arrives(pose, near, bounds, tolerance):
+            return  # the usual step
+        x, y = pose[:, 0], pose[:, 1]
         outside = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
-        reached = distance[ids] <= self.scenario.settings.goal_tolerance
+        reached = near <= tolerance
         for i in ids[outside].tolist():
             self._mark(i, Status.ESCAPED, "Escaped map", "escaped")
         for i in ids[reached & ~outside].tolist():
@@ -386,13 +397,3 @@ class Simulation:
                 observer.on_end(self, result)
         return False
 
-
-def _clear_messages(messages: list[str], active: np.ndarray) -> None:
-    """Empty the messages of active robots (inactive ones keep their last words).
-
-    Most entries are already empty: scan in C and touch only the others.
-    """
-    if any(messages):
-        for i in [i for i, text in enumerate(messages) if text]:
-            if active[i]:
-                messages[i] = ""

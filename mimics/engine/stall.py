@@ -57,17 +57,31 @@ class StallDetector:
         self._distances[slot_l] = distance
         self._count += 1
         candidates = active & ~np.isnan(distance)
-        none = np.zeros(state.n, dtype=bool)
-
-        deadlocked = none.copy()
-        if self._count > self.deadlock_steps and np.count_nonzero(candidates):
-            deadlocked = self._deadlocked(now, candidates)
-
-        livelocked = none.copy()
+        count = np.count_nonzero
+        # None: nobody (an all-False mask not made); a full window is checked only then
+        deadlocked: np.ndarray | None = None
+        livelocked: np.ndarray | None = None
+        if self._count > self.deadlock_steps and count(candidates):
+            found = self._deadlocked(now, candidates)
+            deadlocked = found if count(found) else None
         if self._count > self.livelock_steps:
             oldest = self._distances[self._count % len(self._distances)]
-            no_progress = distance > oldest - self.settings.livelock_progress
-            livelocked = candidates & no_progress & ~deadlocked
+            found = candidates & (distance > oldest - self.settings.livelock_progress)
+            if deadlocked is not None:
+                found &= ~deadlocked
+            livelocked = found if count(found) else None
+        if (deadlocked is None and livelocked is None and not count(state.in_deadlock)
+                and not count(state.in_livelock)):
+            # nobody stalled, before or now (nearly every step): every flag below would
+            # be all False and the stall state would stay all False
+            quiet = np.zeros(state.n, dtype=bool)
+            quiet.flags.writeable = False  # one array for the four flags: read-only
+            return StallFlags(quiet, quiet, quiet, quiet)
+        none = np.zeros(state.n, dtype=bool)
+        if deadlocked is None:
+            deadlocked = none
+        if livelocked is None:
+            livelocked = none
 
         flags = StallFlags(
             deadlock_started=deadlocked & ~state.in_deadlock,

@@ -168,3 +168,17 @@ class WorldState:
     def goal_distance(self) -> np.ndarray:
         """Distance from each robot's true position to its goal (NaN without a goal)."""
         return np.hypot(self.goal[:, 0] - self.pose[:, 0], self.goal[:, 1] - self.pose[:, 1])
+
+
+def none_leaves_or_arrives(pose: np.ndarray, distance: np.ndarray,
+                           bounds: tuple[float, float, float, float], tolerance: float) -> bool:
+    """True when no row of ``pose`` is outside ``bounds`` and no ``distance`` within
+    ``tolerance``; False when some may be (then check them one by one).
+
+    Three reductions instead of a dozen array operations; NaN is ignored, as the
+    element-wise comparisons of the full check ignore it. ``pose`` must have rows.
+    """
+    xmin, ymin, xmax, ymax = bounds
+    low, high = np.fmin.reduce(pose, axis=0).tolist(), np.fmax.reduce(pose, axis=0).tolist()
+    return (low[0] >= xmin and low[1] >= ymin and high[0] <= xmax and high[1] <= ymax
+            and not np.fmin.reduce(distance) <= tolerance)

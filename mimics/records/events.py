@@ -88,16 +88,17 @@ class EventBuffer:
         self.rows.append((time, step, robot, kind, detail, other, start, traceback))
         self.counts[kind] = self.counts.get(kind, 0) + 1
 
-    def flush(self, table: pa.Table | None = None) -> None:
+    def flush(self, table: pa.Table | None = None, last: bool = False) -> None:
         """Write the buffered rows as one part and empty the buffer.
 
         Args:
             table: the buffered rows when the caller already has them from :meth:`table`.
+            last: no rows follow before the merge (see :meth:`PartWriter.write`).
         """
         table = table if table is not None else self.table()
         if table is None:
             return
-        self.writer.write(table)
+        self.writer.write(table, last)
         self.rows.clear()
 
     def table(self) -> pa.Table | None:

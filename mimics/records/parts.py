@@ -56,10 +56,23 @@ class PartWriter:
         self.rows = 0
         #: after ``merge(..., keep=True)`` of several parts: the merged table, else None
         self.merged: pa.Table | None = None
+        self._last: pa.Table | None = None  # the whole table, held for merge (see write)
 
-    def write(self, table: pa.Table) -> None:
-        """Write ``table`` as the next part (nothing for an empty table)."""
+    def write(self, table: pa.Table, last: bool = False) -> None:
+        """Write ``table`` as the next part (nothing for an empty table).
+
+        ``last``: no other table comes before :meth:`merge`. When it is also the
+        first, it is held and merge writes it straight as the final file: the same
+        file as a lone part renamed, without a parts folder to make and remove.
+        """
         if table.num_rows == 0:
+            return
+        if self._last is not None:  # a table after the last one: the held one goes first
+            held, self._last = self._last, None
+            self.write(held)
+        if last and self.parts == 0 and not part_files(self.folder):
+            self._last = table
+            self.rows += table.num_rows
             return
         self.folder.mkdir(parents=True, exist_ok=True)
         path = self.folder / f"part-{self.parts:06d}.parquet"
@@ -75,11 +88,18 @@ class PartWriter:
         With ``keep``, the parts read while merging several are kept in
         ``merged``, so that a caller needing the whole table does not read it back.
         """
-        parts = part_files(self.folder)
         self.merged = None
+        if self._last is not None:  # one table in all, never written as a part
+            table, self._last = self._last, None
+            tmp = target.with_name(target.name + ".tmp")
+            pq.write_table(table, tmp, row_group_size=table.num_rows, **self._options())
+            os.replace(tmp, target)
+            return table.num_rows
+        parts = part_files(self.folder)
         if len(parts) == 1:
             os.replace(parts[0], target)
-            rows = pq.read_metadata(target).num_rows
+            # a part this writer wrote holds its rows; one found on disk is read
+            rows = self.rows if self.parts == 1 else pq.read_metadata(target).num_rows
         else:
             tmp = target.with_name(target.name + ".tmp")
             rows = 0

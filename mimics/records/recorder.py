@@ -196,7 +196,7 @@ class RunRecorder:
         began = time.perf_counter()
         state = sim.state
         active = state.active
-        started = np.flatnonzero(self._was_active)
+        started = self._was_active.nonzero()[0]  # = np.flatnonzero, minus its wrapper
         if state.step % self.every == 0:
             self._trajectory.add(state, started)
             if self._scans is not None:
@@ -256,12 +256,16 @@ class RunRecorder:
 
     # -- writing -------------------------------------------------------------
 
-    def flush(self) -> None:
-        """Write the buffered rows and events as complete part files now."""
-        self._trajectory.flush()
-        self._events.flush()
+    def flush(self, last: bool = False) -> None:
+        """Write the buffered rows and events as complete part files now.
+
+        ``last``: the merge follows (a table that is a whole file then goes
+        straight into it).
+        """
+        self._trajectory.flush(last=last)
+        self._events.flush(last=last)
         if self._scans is not None:
-            self._scans.flush()
+            self._scans.flush(last=last)
         self._last_flush = time.perf_counter()
 
     def close(self, keep: bool = False) -> None:
@@ -274,7 +278,7 @@ class RunRecorder:
         if self._closed or not self._started:
             return
         self._closed = True
-        self.flush()
+        self.flush(last=True)
         self._merge(keep)
 
     def _close_with_logs(self, scenario: Scenario) -> None:

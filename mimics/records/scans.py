@@ -180,12 +180,13 @@ class ScanBuffer:
         self._hits.append(hit != -2)
         self.rows += ids.size
 
-    def flush(self, table: pa.Table | None = None) -> None:
-        """Write the buffered rows as one part and empty the buffer."""
+    def flush(self, table: pa.Table | None = None, last: bool = False) -> None:
+        """Write the buffered rows as one part and empty the buffer (``last``: see
+        :meth:`PartWriter.write`)."""
         table = table if table is not None else self.table()
         if table is None:
             return
-        self.writer.write(table)
+        self.writer.write(table, last)
         for buffered in (self._times, self._steps, self._ids, self._codes, self._hits):
             buffered.clear()
         self.rows = 0

@@ -76,8 +76,9 @@ class TrajectoryBuffer:
             return
         # Kept transposed, one row per column (pose as x, y, theta rows): the table's
         # columns are then contiguous rows of the concatenation, not strided copies.
-        if ids.size == state.n:
-            block = tuple(getattr(state, name).T.copy() for name in _BLOCK_ARRAYS)
+        if ids.size == state.n:  # spelled out: the _BLOCK_ARRAYS, without a generator
+            block = (state.pose.T.copy(), state.velocity.T.copy(), state.measured_pose.T.copy(),
+                     state.reference.T.copy(), state.status.T.copy(), state.user_time.T.copy())
         else:
             block = tuple(np.take(getattr(state, name).T, ids, axis=-1) for name in _BLOCK_ARRAYS)
         if state.step != self._last_step:
@@ -89,16 +90,17 @@ class TrajectoryBuffer:
         self._blocks.append(block)
         self.rows += ids.size
 
-    def flush(self, table: pa.Table | None = None) -> None:
+    def flush(self, table: pa.Table | None = None, last: bool = False) -> None:
         """Write the buffered rows as one part and empty the buffer.
 
         Args:
             table: the buffered rows when the caller already has them from :meth:`table`.
+            last: no rows follow before the merge (see :meth:`PartWriter.write`).
         """
         table = table if table is not None else self.table()
         if table is None:
             return
-        self.writer.write(table)
+        self.writer.write(table, last)
         self._times.clear()
         self._steps.clear()
         self._ids.clear()
