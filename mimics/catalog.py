@@ -21,6 +21,7 @@ with its paths made absolute), ``label(command)`` and ``algorithm(command)``
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib
 import importlib.util
@@ -38,9 +39,10 @@ from mimics.world.errors import AlgorithmError, MimicsError, ScenarioError
 from mimics.world.scenario import Scenario
 
 
-def _builtin_names(package: ModuleType) -> list[str]:
-    return sorted(m.name for m in pkgutil.iter_modules(package.__path__)
-                  if not m.name.startswith("_"))
+@functools.cache  # the installed package does not change while it runs (0.6 ms a call)
+def _builtin_names(package: ModuleType) -> tuple[str, ...]:
+    return tuple(sorted(m.name for m in pkgutil.iter_modules(package.__path__)
+                        if not m.name.startswith("_")))
 
 
 def _first_line(module: ModuleType) -> str:
