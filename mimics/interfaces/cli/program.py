@@ -158,7 +158,7 @@ def run(
     from mimics.engine.ranger import kernels_cached
 
     if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (once, about 30 s)")
+        note("mimics: first run: compiling the simulation kernels (once, about 20 s)")
         _compile_kernels()
     try:
         params = parse_params(param or [])

@@ -86,7 +86,7 @@ def ros_command(
     from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
 
     if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (once, about 30 s)")
+        note("mimics: first run: compiling the simulation kernels (once, about 20 s)")
         _compile_kernels()
     live = make_live_view(view)
     folder = out or Path("runs") / f"{Path(scenario).stem}-ros-s{seed}"
