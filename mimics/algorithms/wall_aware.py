@@ -49,7 +49,8 @@ def step(robot):
     along = hit_x[None] * cos + hit_y[None] * sin
     across = hit_y[None] * cos - hit_x[None] * sin
     in_band = (along > -robot.type.length / 2) & (np.abs(across) < robot.type.width / 2 + MARGIN)
-    room = np.where(in_band, along, np.inf).min(axis=1)  # to the first hit on each path
+    # to the first hit on each path (inf when the laser sees nothing at all)
+    room = np.where(in_band, along, np.inf).min(axis=1, initial=np.inf)
     wanted = min(LOOKAHEAD, np.hypot(gx - x, gy - y) + robot.type.width)
     in_sight = np.abs(tries) < np.max(np.abs(angles))
     if not in_sight.any():  # the aim is behind: turn toward it on the spot

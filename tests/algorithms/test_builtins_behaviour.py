@@ -42,6 +42,14 @@ def test_wall_aware_turns_the_circle_into_a_roundabout():
     assert run.sim_time < 60.0  # the scenario's limit: nobody was left going round
 
 
+def test_wall_aware_drives_a_lone_robot_that_sees_nothing_to_its_goal():
+    """One robot on the open line: no beam hits anything, every path is clear
+    (it raised on the empty set of hits before session 8)."""
+    run = simulate("line", "wall_aware", robots=1, seed=SEED)
+    assert run.status == "completed"
+    assert run.reached_goal == 1
+
+
 def test_wall_aware_crosses_the_corridor_without_collisions():
     """Two rows meet in a 3 m corridor: they squeeze past on the right, touching nothing.
 
