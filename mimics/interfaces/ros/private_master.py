@@ -70,6 +70,12 @@ def private_master() -> str:
     global _master, _uri
     if _master is not None and _master.poll() is None:
         return _uri
+    rospy = sys.modules.get("rospy")
+    if rospy is not None and rospy.core.is_initialized():  # joined another master already
+        raise MimicsError("this process is already a ROS node of the master at "
+                          f"{os.environ.get('ROS_MASTER_URI', '?')} (`mimics ros` ran here?), "
+                          "and rospy joins one master per process: run ros: algorithms in a "
+                          "process of their own (mimics run, a battery, a fresh Python)")
     program = shutil.which("rosmaster")
     if program is None:
         raise MimicsError("rosmaster not found: install ROS 1's master with "

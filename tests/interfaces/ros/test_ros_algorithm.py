@@ -168,3 +168,32 @@ def test_battery_new_writes_a_ros_algorithm_with_its_program_made_absolute(
     written = tomllib.loads((node_folder / "sub" / "battery.toml").read_text())
     assert written["battery"]["algorithms"] == [
         f"ros:{node_folder / NODE} --robots {{robots}}"]
+
+
+def test_a_process_already_on_another_master_is_told_so(node_folder: Path) -> None:
+    """rospy joins one master per process: a ros: run after `mimics ros`'s node in the
+    same process would wait for nodes it cannot see; it says so instead."""
+    script = node_folder / "two_masters.py"
+    script.write_text(f"""
+import sys
+from mimics.interfaces.ros import private_master, system_ros
+from mimics.records.runner import prepare
+from mimics.world.errors import MimicsError
+
+system_ros.require_ros()
+import rospy
+
+uri = private_master.private_master()  # stands for a master of the user's
+rospy.init_node("someone_else", disable_signals=True)
+private_master.stop_private_master()  # this process keeps its node of that master
+try:
+    prepare("line", "ros:{NODE} --robots {{robots}}", robots=2).run()
+except MimicsError as exc:
+    print("refused:", exc)
+    sys.exit(0)
+sys.exit("ran against a master it cannot share")
+""")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          cwd=node_folder, timeout=120, check=False)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "already a ROS node of the master" in done.stdout
