@@ -49,10 +49,6 @@ if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
     from mimics.interfaces.ros.bridge import BridgeOptions, RosBridge
 
-#: What ARGS may contain, replaced for each run.
-PLACEHOLDERS = ("{robots}", "{seed}")
-
-
 def system_python() -> str:
     """The Python that runs rospy nodes: the system's (Debian's rospy lives there)."""
     return shutil.which("python3", path="/usr/bin") or sys.executable
