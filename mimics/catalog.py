@@ -97,14 +97,19 @@ def algorithm_scheme(text: str) -> tuple[Any, str] | None:
     name, colon, command = text.partition(":")
     if not colon or len(name) < 2 or not name.isidentifier():  # "C:\\..." is a path
         return None
-    import importlib.metadata  # lazily: 20 ms, and only algorithms with a scheme need it
-
-    providers = {point.name: point for point in importlib.metadata.entry_points(group=SCHEME_GROUP)}
+    providers = _scheme_providers()
     if name not in providers:
         known = ", ".join(f"{n}:" for n in sorted(providers)) or "none installed"
         raise AlgorithmError(f"algorithm {text!r}: unknown kind {name + ':'!r} (known: {known}; "
                              "is mimics installed with pip?)")
     return providers[name].load(), command.strip()
+
+
+@functools.cache  # installed parts do not change while mimics runs; a scan takes ms
+def _scheme_providers() -> dict[str, Any]:
+    import importlib.metadata  # lazily: 20 ms, and only algorithms with a scheme need it
+
+    return {point.name: point for point in importlib.metadata.entry_points(group=SCHEME_GROUP)}
 
 
 def find_algorithm(name_or_path: str | Path) -> tuple[str, Any]:

@@ -116,11 +116,7 @@ class Robot:
     @property
     def pose(self) -> np.ndarray:
         """Measured ``(x, y, theta)``."""
-        hit = self._views.get("pose")
-        source = self._sim.state.measured_pose
-        if hit is not None and hit[0] is source:  # the common case, inlined
-            return hit[1]
-        return _row_view(self._views, "pose", source, self.id)
+        return _row_view(self._views, "pose", self._sim.state.measured_pose, self.id)
 
     @property
     def position(self) -> np.ndarray:
@@ -162,10 +158,7 @@ class Robot:
     @property
     def goal(self) -> tuple[float, float] | None:
         """``(x, y)`` of the goal, or None for robots without one."""
-        hit = self._views.get("goal")  # the row's view, kept as for the sensors
-        source = self._sim.state.goal
-        row = hit[1] if hit is not None and hit[0] is source else _row_view(
-            self._views, "goal", source, self.id)
+        row = _row_view(self._views, "goal", self._sim.state.goal, self.id)  # kept as views
         gx, gy = row.tolist()  # Python floats in one call
         return None if math.isnan(gx) else (gx, gy)
 

@@ -225,17 +225,19 @@ class Simulation:
         ids = (state.active & self._has_ranger).nonzero()[0]
         if ids.size:
             # every robot scanning (the usual case): whole arrays, no gathering copies
-            rows = slice(None) if ids.size == state.n else ids
+            everyone = ids.size == state.n
+            rows = slice(None) if everyone else ids
             types = self.types
-            if ids.size != state.n or self._all_beams is None:  # else the same as last time
+            beams = self._all_beams if everyone else None
+            if beams is None:
                 beams = (types.beam_offsets[rows], types.max_range[rows],
                          ids.astype(np.int64, copy=False), types.beam_units[rows],
                          types.beam_fans[rows])
-                self._all_beams = beams if ids.size == state.n else None
+                if everyone:  # the same arrays at every step while everyone scans
+                    self._all_beams = beams
             query = RangerQuery(np.ascontiguousarray(state.pose[rows, :2]),
-                                np.ascontiguousarray(state.pose[rows, 2]),
-                                *(beams if self._all_beams is None else self._all_beams))
-            if ids.size == state.n:  # the kernel writes straight into the state
+                                np.ascontiguousarray(state.pose[rows, 2]), *beams)
+            if everyone:  # the kernel writes straight into the state
                 trace_beams(query, self.walls, self._robot_index(), (state.scan, state.scan_hit))
             else:
                 state.scan[rows], state.scan_hit[rows] = trace_beams(query, self.walls,

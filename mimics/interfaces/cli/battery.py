@@ -226,13 +226,11 @@ def _parse_seeds(text: str) -> int | list[int]:
 
 def _relative(name: str, output: Path) -> str:
     """A path given on the command line, relative to the battery file's folder."""
-    from mimics.batteries.references import is_path
+    from mimics.batteries.references import is_path, resolve_algorithm
     from mimics.catalog import algorithm_scheme
 
-    scheme = algorithm_scheme(name)
-    if scheme is not None:  # its program from the current folder, made absolute
-        provider, command = scheme
-        return f"{provider.name}:{provider.resolve(command, Path.cwd())}"
+    if algorithm_scheme(name) is not None:  # its program from the current folder, absolute
+        return resolve_algorithm(name, Path.cwd())
     if not is_path(name):
         return name
     try:

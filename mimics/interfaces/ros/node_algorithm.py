@@ -47,7 +47,7 @@ from mimics.world.errors import AlgorithmError, MimicsError
 if TYPE_CHECKING:
     from mimics.engine.outcome import RunResult
     from mimics.engine.simulation import Simulation
-    from mimics.interfaces.ros.bridge import BridgeOptions, RosBridge
+    from mimics.interfaces.ros.bridge import RosBridge
 
 def system_python() -> str:
     """The Python that runs rospy nodes: the system's (Debian's rospy lives there)."""
@@ -171,19 +171,16 @@ multiprocessing.util.Finalize(None, _close_current, exitpriority=200)
 class NodeController(Controller):
     """The engine's controller of a ``ros:`` algorithm: references from a node it starts."""
 
-    def __init__(self, command: NodeCommand, options: BridgeOptions | None = None) -> None:
+    def __init__(self, command: NodeCommand) -> None:
         self.command = command
         self.name = command.label
-        self.options = options
         self._references: Controller | None = None
 
     def reset(self, sim: Simulation) -> list[UserFailure]:
         from mimics.interfaces.ros.bridge import BridgeOptions, RosBridge, join_ros
         from mimics.interfaces.ros.private_master import private_master
 
-        options = self.options or BridgeOptions()
-        if not options.lockstep:
-            raise MimicsError("ros: algorithms run in lockstep only (realtime: `mimics ros`)")
+        options = BridgeOptions()  # lockstep: a run as deterministic as the node
         _close_current()  # a run that ended without on_end (it raised) leaves its node
         private_master()
         join_ros()  # rospy importable from here on

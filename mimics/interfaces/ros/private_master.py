@@ -52,9 +52,14 @@ def free_port() -> int:
         return int(probe.getsockname()[1])
 
 
+def _log_folder() -> str:
+    """Where this process's master and nodes write ROS's logs (removed at the end)."""
+    return os.path.join(tempfile.gettempdir(), f"mimics-ros-{os.getpid()}")
+
+
 def ros_environment(uri: str) -> dict[str, str]:
     """The environment variables that point ROS at ``uri`` over loopback, logs kept aside."""
-    logs = os.path.join(tempfile.gettempdir(), f"mimics-ros-{os.getpid()}")
+    logs = _log_folder()
     return {"ROS_MASTER_URI": uri, "ROS_IP": LOOPBACK, "ROS_HOME": logs, "ROS_LOG_DIR": logs}
 
 
@@ -112,7 +117,7 @@ def stop_private_master() -> None:
     if master is None:
         return
     stop_process(master, signal.SIGTERM)
-    shutil.rmtree(ros_environment(_uri)["ROS_LOG_DIR"], ignore_errors=True)
+    shutil.rmtree(_log_folder(), ignore_errors=True)
 
 
 def stop_process(process: subprocess.Popen[bytes], first: signal.Signals,

@@ -8,20 +8,15 @@ venv's Python and finds ROS itself.
 from __future__ import annotations
 
 import signal
-import socket
 import subprocess
 import sys
 from pathlib import Path
 
+from mimics.interfaces.ros.private_master import free_port as free_port
+
 SYSTEM_PYTHON = "/usr/bin/python3"
 NODES = Path(__file__).parent / "nodes"
 EXAMPLES = Path(__file__).parents[3] / "examples" / "ros"
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
 
 
 def mimics_ros(env: dict[str, str], *args: str,
