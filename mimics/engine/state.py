@@ -6,6 +6,7 @@ objects user code sees are views into these rows (``robot_view.py``).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields
 from enum import IntEnum
 from functools import cached_property
@@ -123,8 +124,8 @@ class WorldState:
     measured_velocity: np.ndarray
     measured_acceleration: np.ndarray
     odometry: np.ndarray  # (n, 3) odometer's integrated pose estimate
-    scan: np.ndarray  # (n, B) ranges
-    scan_hit: np.ndarray  # (n, B) owner of what each beam hit: -2 nothing, -1 wall, else robot
+    scan_buffer: np.ndarray  # (n, B) ranges as last traced: read them as ``scan``
+    scan_hit_buffer: np.ndarray  # (n, B) what each beam hit, as last traced: ``scan_hit``
     status: np.ndarray  # (n,) int8 Status
     deactivation_time: np.ndarray  # (n,), NaN while active
     collided_with: np.ndarray  # (n,) -2 none, -1 wall, else robot index
@@ -136,6 +137,11 @@ class WorldState:
     user_message: list[str] = field(default_factory=list)
     system_message: list[str] = field(default_factory=list)
     memory: list[dict] = field(default_factory=list)
+    #: Traces the rays of the last sensing, set by the simulation when it senses: the
+    #: first read of ``scan`` or ``scan_hit`` calls it, so a step whose readers (the
+    #: algorithm, the observers) read no ranger casts no ray (Stage's habit: sensors of
+    #: no subscriber are not updated).
+    pending_scan: Callable[[], None] | None = None
 
     @classmethod
     def from_scenario(cls, scenario: Scenario, beams: int) -> WorldState:
@@ -151,14 +157,33 @@ class WorldState:
             reference=np.zeros((n, 2)), actuation=np.zeros((n, 2)),
             pid_integral=np.zeros((n, 2)), measured_pose=pose.copy(),
             measured_velocity=velocity.copy(), measured_acceleration=np.zeros((n, 2)),
-            odometry=pose.copy(), scan=np.full((n, beams), np.nan),
-            scan_hit=np.full((n, beams), -2, dtype=np.int64),
+            odometry=pose.copy(), scan_buffer=np.full((n, beams), np.nan),
+            scan_hit_buffer=np.full((n, beams), -2, dtype=np.int64),
             status=np.zeros(n, dtype=np.int8), deactivation_time=np.full(n, np.nan),
             collided_with=np.full(n, -2, dtype=np.int64), path_length=np.zeros(n),
             goal_time=np.full(n, np.nan), user_time=np.zeros(n),
             in_deadlock=np.zeros(n, dtype=bool), in_livelock=np.zeros(n, dtype=bool),
             user_message=[""] * n, system_message=[""] * n, memory=[{} for _ in range(n)],
         )
+
+    @property
+    def scan(self) -> np.ndarray:
+        """``(n, B)`` ranges of the last sensing (NaN beyond a robot's beams)."""
+        if self.pending_scan is not None:
+            self._trace_pending()
+        return self.scan_buffer
+
+    @property
+    def scan_hit(self) -> np.ndarray:
+        """``(n, B)`` what each beam hit at the last sensing: -2 nothing, -1 a wall,
+        else the robot's index."""
+        if self.pending_scan is not None:
+            self._trace_pending()
+        return self.scan_hit_buffer
+
+    def _trace_pending(self) -> None:
+        trace, self.pending_scan = self.pending_scan, None
+        trace()  # type: ignore[misc]
 
     @property
     def active(self) -> np.ndarray:
