@@ -54,7 +54,6 @@ from __future__ import annotations
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -376,36 +375,3 @@ def _pool(workers: int) -> ThreadPoolExecutor:
     if pool is None:
         pool = _pools[workers] = ThreadPoolExecutor(workers, thread_name_prefix="mimics-rays")
     return pool
-
-
-def compile_ray_kernel() -> None:
-    """Compile (or load from the cache) the ray kernel for the engine's argument types.
-
-    It runs on a query of no robot: no map, index or other kernel is needed,
-    so a second process can compile it alone while the first compiles the
-    rest (``mimics run``'s first-run compile). The arrays are those the
-    engine passes: C-contiguous and writeable, of the canonical dtypes.
-    """
-    none = np.zeros((0, 2))
-    query = RangerQuery(none, np.zeros(0), np.zeros((0, 1)), np.zeros(0), np.zeros(0, np.int64),
-                        np.zeros((0, 1, 2)), np.zeros((0, FAN_COLUMNS)))
-    grid = SegmentGrid(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(2), 1.0,
-                       np.ones(2, np.int64), np.zeros(2, np.int64), np.zeros(0, np.int64))
-    robots = RobotIndex(np.zeros((0, 5, 2)), np.zeros(0), none, np.zeros(2), 1.0,
-                        np.ones(2, np.int64), np.zeros(2, np.int64), np.zeros(0, np.int64), 0.0)
-    _cast_rows(query, grid, grid, 0.0, robots, np.zeros((0, 1)), np.zeros((0, 1), np.int64),
-               0, 1)
-
-
-def kernels_cached() -> bool:
-    """False when Numba's on-disk cache lacks the ray kernel: the first run compiles it.
-
-    Looks in the folder Numba itself caches this module's kernels in (beside
-    this file, or under ``NUMBA_CACHE_DIR`` when set).
-    """
-    return any(_cache_folder().glob("ranger._cast_rows-*.nbi"))
-
-
-def _cache_folder() -> Path:
-    """Where Numba caches this module's kernels (its own locator's choice)."""
-    return Path(_cast_rows._cache._cache_path)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
+from functools import cached_property
 from typing import Any, Literal, Protocol
 
 import numpy as np
@@ -36,9 +37,11 @@ from mimics.engine.sensors import (
     odometry_is_exact,
     update_odometry,
 )
+from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState, none_leaves_or_arrives
 from mimics.engine.wall_index import WallIndex, build_wall_index
+from mimics.engine.warm_up import await_ray_part
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
@@ -100,8 +103,9 @@ class Simulation:
         self.events: list[Event] = []
         self.timing = TimingStats()
         types = self.types
-        self.walls: WallIndex = build_wall_index(scenario.map.segments, scenario.map.bounds,
-                                                 float(np.max(types.max_range, initial=0.0)))
+        # collisions need the walking grid; the ranger's near lists wait for a scan (walls)
+        self.wall_grid = build_segment_grid(as_segments(scenario.map.segments),
+                                            scenario.map.bounds)
         self._robot_cell = index_cell(types.max_range, types.half_length, types.half_width)
         # fixed for the run: computed once, not at every step
         self._robot_radius = np.hypot(types.half_length, types.half_width)
@@ -192,6 +196,14 @@ class Simulation:
             error=self.error,
         )
 
+    @cached_property
+    def walls(self) -> WallIndex:
+        """The walls indexed for the ranger (built when a scan is first traced)."""
+        scenario = self.scenario
+        return build_wall_index(scenario.map.segments, scenario.map.bounds,
+                                float(np.max(self.types.max_range, initial=0.0)),
+                                grid=self.wall_grid)
+
     def comms_table(self) -> np.ndarray:
         """The communication matrix of this step (built once, on first use)."""
         if self._comms is None:
@@ -237,6 +249,7 @@ class Simulation:
 
     def _trace_scan(self) -> None:
         """Cast the rays of the last sensing into ``state.scan`` (and ``scan_hit``)."""
+        await_ray_part()
         state, types, ids = self.state, self.types, self._scan_ids
         # every robot scanning (the usual case): whole arrays, no gathering copies
         everyone = ids.size == state.n
@@ -297,7 +310,7 @@ class Simulation:
         robots = self._robot_index()
         bodies = Bodies(robots.centers, np.ascontiguousarray(state.pose[:, 2]),
                         self.types.half_length, self.types.half_width)
-        with_whom, _ = collide(bodies, check, self.walls.grid, robots)
+        with_whom, _ = collide(bodies, check, self.wall_grid, robots)
         touching = with_whom != -2
         if not np.count_nonzero(touching):  # nobody touches anything (the usual case)
             return

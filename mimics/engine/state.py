@@ -49,7 +49,6 @@ class TypeArrays:
     pid: PidArrays
     beam_offsets: np.ndarray  # (n, B), NaN where a robot's type has fewer beams
     beam_units: np.ndarray  # (n, B, 2): cosine and sine of each offset (the ranger rotates them)
-    beam_fans: np.ndarray  # (n, FAN_COLUMNS): each row's fan, for the ranger (beam_fans)
     beam_count: np.ndarray  # (n,)
     max_range: np.ndarray
     sigma_range: np.ndarray
@@ -58,6 +57,11 @@ class TypeArrays:
     sigma_acceleration: np.ndarray
     sigma_translation: np.ndarray
     sigma_rotation: np.ndarray
+
+    @cached_property
+    def beam_fans(self) -> np.ndarray:
+        """``(n, FAN_COLUMNS)``: each row's fan, for the ranger (made when first scanned)."""
+        return beam_fans(self.beam_offsets)
 
     @cached_property
     def noisy(self) -> frozenset[str]:
@@ -94,7 +98,6 @@ class TypeArrays:
                           np.ascontiguousarray(gains("heading_pid"))),
             beam_offsets=np.ascontiguousarray(offsets_by_type[idx]),
             beam_units=offset_units(offsets_by_type)[idx],
-            beam_fans=beam_fans(offsets_by_type)[idx],
             beam_count=np.array([t.ranger.beams for t in types], dtype=np.int64)[idx],
             max_range=per_robot(lambda t: t.ranger.range),
             sigma_range=per_robot(lambda t: t.ranger.sigma),

@@ -159,7 +159,8 @@ def near_cell_of(near: SegmentGrid, x: float, y: float) -> int:
 
 
 def build_wall_index(segments: np.ndarray, bounds: Bounds | None, reach: float,
-                     cell: float | None = None, near_cell: float | None = None) -> WallIndex:
+                     cell: float | None = None, near_cell: float | None = None,
+                     grid: SegmentGrid | None = None) -> WallIndex:
     """Index walls for sensors of range up to ``reach`` (m).
 
     Args:
@@ -170,6 +171,8 @@ def build_wall_index(segments: np.ndarray, bounds: Bounds | None, reach: float,
         cell: cell of the walking grid (default: ``choose_cell_size``).
         near_cell: cell of the near grid (default: about ``reach / 8``, never
             finer than the walking grid's).
+        grid: the walking grid of these walls, when built already
+            (``build_segment_grid(segments, bounds, cell=cell)``).
 
     Returns:
         The index.
@@ -179,7 +182,8 @@ def build_wall_index(segments: np.ndarray, bounds: Bounds | None, reach: float,
             a non-positive cell.
     """
     segs = as_segments(segments)
-    grid = build_segment_grid(segs, bounds, cell=cell)
+    if grid is None:
+        grid = build_segment_grid(segs, bounds, cell=cell)
     if not reach >= 0.0:
         raise ValueError(f"reach must be a number >= 0, got {reach!r}")
     xmin, ymin, xmax, ymax = covering_box(segs, bounds)

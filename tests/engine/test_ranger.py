@@ -1,8 +1,6 @@
 """Ray casting: hand-computed hits, the naive reference, shapely, thread counts."""
 
 import math
-import os
-from pathlib import Path
 
 import numba
 import numpy as np
@@ -312,19 +310,6 @@ def test_fast_atan2_is_within_its_slack(y, x):
     assert min(error, 2 * math.pi - error) < ANGLE_SLACK / 10
 
 
-def test_kernels_cached_reads_numbas_cache_folder(tmp_path, monkeypatch):
-    from mimics.engine import ranger
-
-    cast_rays(RangerQuery(np.zeros((1, 2)), np.zeros(1), np.zeros((1, 1)), np.ones(1),
-                          np.full(1, -1)), build_wall_index(np.zeros((0, 4)), BOUNDS, 1.0))
-    assert ranger.kernels_cached()  # the kernel just ran with cache=True
-    cache_dir = os.environ.get("NUMBA_CACHE_DIR")
-    expected = Path(cache_dir) if cache_dir else Path(ranger.__file__).parent / "__pycache__"
-    assert expected in (ranger._cache_folder(), *ranger._cache_folder().parents)
-    monkeypatch.setattr(ranger, "_cache_folder", lambda: tmp_path)
-    assert not ranger.kernels_cached()  # an empty folder: a fresh install
-
-
 def test_a_half_turn_fan_sees_along_its_edges_but_nothing_behind():
     """Walls and robots behind a 180-degree laser are culled before the sweep;
     those on or touching its edge rays must still be hit, as the reference says."""
@@ -476,17 +461,3 @@ def test_a_beam_through_the_corner_of_two_facing_sides():
     want_ranges, want_owners = beam_by_beam(query, walls, robots)
     assert ranges.tobytes() == want_ranges.tobytes()
     np.testing.assert_array_equal(owners, want_owners)
-
-
-def test_the_ray_kernel_compiled_alone_is_the_one_runs_call():
-    """``compile_ray_kernel`` (the first-run compile's second process) must type its
-    arguments as a simulation does, else each run would compile the kernel again."""
-    from mimics.algorithms import go_to_goal
-    from mimics.catalog import load_scenario
-    from mimics.engine import ranger
-    from mimics.engine.simulation import Simulation
-
-    Simulation(load_scenario("obstacle_room", robots=12), go_to_goal, seed=1,
-               time_limit=0.3).run()
-    ranger.compile_ray_kernel()
-    assert len(ranger._cast_rows.signatures) == 1, ranger._cast_rows.signatures

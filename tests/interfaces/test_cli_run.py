@@ -1,42 +1,62 @@
-"""`mimics run` on a fresh install: the kernels are compiled before the timed run."""
+"""`mimics run` on a fresh install: the kernels are compiled ahead, in parallel, before the
+timed run; the ray part's process is waited for by a run that scans and stopped otherwise."""
 
 import json
+import subprocess
 
+import pytest
 from typer.testing import CliRunner
 
-from mimics.engine import ranger
+from mimics.engine import warm_up
+from mimics.interfaces.cli import first_run
 from mimics.interfaces.cli import program as cli
 
 runner = CliRunner()
 
 
-def test_first_run_compiles_before_the_timed_simulation(tmp_path, monkeypatch):
-    warmed = []
-    monkeypatch.setattr(ranger, "kernels_cached", lambda: False)
-    monkeypatch.setattr(cli, "_compile_kernels", lambda: warmed.append(True))
+@pytest.fixture
+def fresh_install(monkeypatch) -> list[subprocess.Popen]:
+    """Every part looks missing from the cache; returns the compile processes started.
+
+    The processes really run (and find this process's kernels in the cache)."""
+    started: list[subprocess.Popen] = []
+    popen = subprocess.Popen
+
+    def spy(*args, **kwargs):
+        started.append(popen(*args, **kwargs))
+        return started[-1]
+
+    monkeypatch.setattr(warm_up, "missing_parts", lambda: list(warm_up.PARTS))
+    monkeypatch.setattr(first_run.subprocess, "Popen", spy)
+    return started
+
+
+def test_first_run_compiles_ahead_and_stops_the_unneeded_ray_part(tmp_path, fresh_install):
     out = tmp_path / "run"
     result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--robots", "2", "--time",
                                      "0.5", "--out", str(out)])
     assert result.exit_code == 0, result.output
     assert "compiling the simulation kernels" in result.output
-    assert warmed == [True]
+    assert "finishing the ray kernel" not in result.output  # go_to_goal reads no scan
+    assert [p.args[-1].rsplit("(", 1)[-1] for p in fresh_install] == ["'motion')", "'ray')"]
+    assert all(p.returncode is not None for p in fresh_install)  # none left running
     assert json.loads((out / "summary.json").read_text())["robots"] == 2
+    assert warm_up._ray_part_elsewhere == []
+
+
+def test_a_first_run_that_scans_waits_for_the_ray_part(tmp_path, fresh_install):
+    out = tmp_path / "run"
+    result = runner.invoke(cli.app, ["run", "obstacle_room", "dispersion", "--robots", "4",
+                                     "--time", "0.5", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    ray = fresh_install[-1]
+    assert ray.returncode == 0  # it finished its compile: the run waited for it
+    assert json.loads((out / "summary.json").read_text())["robots"] == 4
 
 
 def test_warm_cache_says_nothing_about_compiling(tmp_path, monkeypatch):
-    monkeypatch.setattr(ranger, "kernels_cached", lambda: True)
+    monkeypatch.setattr(warm_up, "missing_parts", lambda: [])
     result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--robots", "2", "--time",
                                      "0.5", "--out", str(tmp_path / "run")])
     assert result.exit_code == 0, result.output
     assert "compiling" not in result.output
-
-
-def test_compile_kernels_runs_a_tiny_simulation():
-    cli._compile_kernels()  # compiled already in this process: quick, and must not raise
-
-
-def test_first_run_compile_leaves_the_ray_kernel_in_numbas_cache():
-    """The compile runs robots without a ranger here and the scanning run in a second
-    process; the ray kernel must then be in the disk cache the next run reads."""
-    cli._compile_kernels()
-    assert ranger.kernels_cached()

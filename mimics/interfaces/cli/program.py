@@ -155,30 +155,28 @@ def run(
     if view not in VIEW_CHOICES:
         raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
     live = make_live_view(view)
-    from mimics.engine.ranger import kernels_cached
+    from mimics.interfaces.cli.first_run import kernels_compiled_ahead
 
-    if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (once, about 20 s)")
-        _compile_kernels()
-    try:
-        params = parse_params(param or [])
-        sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed,
-                      policy=policy,  # type: ignore[arg-type]
-                      wall_limit=wall_limit, params=params,
-                      observers=(live,) if live is not None else (),
-                      allow_overlap=allow_overlap)
-    except MimicsError as exc:
-        raise fail(str(exc)) from None
-    if allow_overlap:
-        from mimics.world.start_state import validate_scenario
+    with kernels_compiled_ahead():
+        try:
+            params = parse_params(param or [])
+            sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed,
+                          policy=policy,  # type: ignore[arg-type]
+                          wall_limit=wall_limit, params=params,
+                          observers=(live,) if live is not None else (),
+                          allow_overlap=allow_overlap)
+        except MimicsError as exc:
+            raise fail(str(exc)) from None
+        if allow_overlap:
+            from mimics.world.start_state import validate_scenario
 
-        kept = validate_scenario(sim.scenario, f"scenario {sim.scenario.name!r}",
-                                 allow_overlap=True)
-        if kept:
-            note(f"mimics: kept on purpose (--allow-overlap): {len(kept)} start problem(s), "
-                 f"first: {kept[0]}")
-    folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
-    result = run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans)
+            kept = validate_scenario(sim.scenario, f"scenario {sim.scenario.name!r}",
+                                     allow_overlap=True)
+            if kept:
+                note(f"mimics: kept on purpose (--allow-overlap): {len(kept)} start "
+                     f"problem(s), first: {kept[0]}")
+        folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
+        result = run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans)
     print_summary(result.summary(), folder)
     if video is not None:
         export_video(folder, video)
@@ -194,42 +192,6 @@ def export_video(folder: Path, video: Path) -> None:
         export_replay(folder, video=video)
     except MimicsError as exc:
         raise fail(str(exc)) from None
-
-
-def _compile_kernels() -> None:
-    """Run tiny simulations so that Numba compiles (and caches) every kernel now,
-    outside the timed run: its summary then reports the simulation's own speed.
-
-    The ray kernel, over half of the compile, is compiled meanwhile in a second
-    process (both write Numba's disk cache): this process runs robots without a
-    ranger, which compiles all the rest, then waits for it.
-    """
-    import dataclasses
-    import subprocess
-
-    from mimics.algorithms import go_to_goal
-    from mimics.engine.simulation import Simulation
-    from mimics.scenarios.line import scenario as line
-
-    side = subprocess.Popen([sys.executable, "-c", "from mimics.interfaces.cli.program import "
-                             "_compile_with_ranger as f; f()"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        seeing = line(robots=2)
-        kind = seeing.types[0]
-        blind = dataclasses.replace(kind, ranger=dataclasses.replace(kind.ranger, beams=0))
-        Simulation(dataclasses.replace(seeing, types=(blind,)), go_to_goal, seed=0,
-                   time_limit=0.2).run()
-    finally:
-        side.wait()
-    Simulation(line(robots=2), go_to_goal, seed=0, time_limit=0.2).run()  # what is left
-
-
-def _compile_with_ranger() -> None:
-    """The second process of :func:`_compile_kernels`: the ray kernel alone."""
-    from mimics.engine.ranger import compile_ray_kernel
-
-    compile_ray_kernel()
 
 
 @list_app.command("algorithms")

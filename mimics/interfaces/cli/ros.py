@@ -13,7 +13,7 @@ from typing import Annotated
 
 import typer
 
-from mimics.interfaces.cli.output import fail, note
+from mimics.interfaces.cli.output import fail
 from mimics.world.errors import MimicsError
 
 
@@ -81,21 +81,18 @@ def ros_command(
         require_master()
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    from mimics.engine.ranger import kernels_cached
-    from mimics.interfaces.cli.program import _compile_kernels
+    from mimics.interfaces.cli.first_run import kernels_compiled_ahead
     from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
 
-    if not kernels_cached():
-        note("mimics: first run: compiling the simulation kernels (once, about 20 s)")
-        _compile_kernels()
     live = make_live_view(view)
     folder = out or Path("runs") / f"{Path(scenario).stem}-ros-s{seed}"
     try:
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
                                 map_resolution=map_resolution)
-        result = run_ros(scenario, folder, options=options, params=params, time=time,
-                         seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
-                         observers=(live,) if live is not None else ())
+        with kernels_compiled_ahead():
+            result = run_ros(scenario, folder, options=options, params=params, time=time,
+                             seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
+                             observers=(live,) if live is not None else ())
     except MimicsError as exc:
         raise fail(str(exc)) from None
     print_summary(result.summary(), folder)

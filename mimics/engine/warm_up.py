@@ -1,0 +1,133 @@
+"""Compile the engine's kernels ahead of a run, in parts that processes can share.
+
+Numba compiles a kernel at its first call and caches it on disk
+(``cache=True``): on a fresh install the first run would spend its first steps
+compiling. ``mimics run`` compiles ahead instead, one part per process, on
+the machine's cores at once:
+
+- ``"index"``: the walls' walking grid and the robots' index;
+- ``"motion"``: collisions and the dynamics;
+- ``"ray"``: the ranger's ray kernel, over half of the whole compile, which
+  only a run that reads a scan needs (``WorldState.scan``).
+
+Each part calls its kernels on empty arguments typed exactly as the engine
+types them, so the signature compiled ahead is the one runs call (tested:
+after a run and a warm-up, each kernel has one signature).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
+from mimics.engine.collision import Bodies, _collide_kernel
+from mimics.engine.dynamics import move_robots
+from mimics.engine.ranger import RangerQuery, _cast_rows
+from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
+from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
+from mimics.engine.wall_index import _near_lists
+
+PARTS = ("index", "motion", "ray")
+
+# a kernel of each part whose index file in Numba's cache tells the part was compiled
+_WITNESSES = {"index": (_build_csr, _bucket), "motion": (_collide_kernel, move_robots),
+              "ray": (_cast_rows, _near_lists, beam_fans)}
+
+
+def _empty_grid() -> SegmentGrid:
+    return SegmentGrid(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(2), 1.0,
+                       np.ones(2, np.int64), np.zeros(2, np.int64), np.zeros(0, np.int64))
+
+
+def _empty_robots() -> RobotIndex:
+    return RobotIndex(np.zeros((0, 5, 2)), np.zeros(0), np.zeros((0, 2)), np.zeros(2), 1.0,
+                      np.ones(2, np.int64), np.zeros(2, np.int64), np.zeros(0, np.int64), 0.0)
+
+
+def compile_index_kernels() -> None:
+    """The walls' walking grid and the robot index (``Simulation`` builds both)."""
+    build_segment_grid(np.zeros((0, 4)), (0.0, 0.0, 1.0, 1.0))
+    empty_robot_index()
+
+
+def compile_motion_kernels() -> None:
+    """Collisions and the dynamics, for the engine's argument types."""
+    none, rows = np.zeros(0), np.zeros((0, 2))
+    _collide_kernel(Bodies(rows, none, none, none), np.zeros(0, bool), _empty_grid(),
+                    _empty_robots(), np.zeros(0, np.int64), np.zeros(0, np.int64))
+    gains = np.zeros((0, 3))
+    move_robots(np.zeros(0, np.int64), rows, rows, rows, rows, rows, rows, none, gains, gains,
+                none, none, none, none, 0.1, none, none)
+
+
+def compile_ray_kernel() -> None:
+    """The ray kernel, on a query of no robot: no map, index or other kernel is
+    needed. The arrays are those the engine passes: C-contiguous and writeable,
+    of the canonical dtypes."""
+    none = np.zeros((0, 2))
+    query = RangerQuery(none, np.zeros(0), np.zeros((0, 1)), np.zeros(0), np.zeros(0, np.int64),
+                        np.zeros((0, 1, 2)), np.zeros((0, FAN_COLUMNS)))
+    _cast_rows(query, _empty_grid(), _empty_grid(), 0.0, _empty_robots(), np.zeros((0, 1)),
+               np.zeros((0, 1), np.int64), 0, 1)
+
+
+def compile_ray_helpers() -> None:
+    """What the ray kernel's callers need first: the walls' near lists, the beams' fans."""
+    _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
+    beam_fans(np.zeros((1, 1)))
+
+
+def compile_ray_part() -> None:
+    """The ray part: its kernel first (most of the time), then its helpers, which a
+    process waiting for the kernel can compile meanwhile."""
+    compile_ray_kernel()
+    compile_ray_helpers()
+
+
+COMPILERS: dict[str, Callable[[], None]] = {
+    "index": compile_index_kernels, "motion": compile_motion_kernels, "ray": compile_ray_part}
+
+
+_ray_part_elsewhere: list[Callable[[], None]] = []
+
+
+def ray_part_compiling_elsewhere(wait: Callable[[], None]) -> None:
+    """Tell the engine that another process compiles the ray part: the first scan
+    calls ``wait`` and then loads the part from the cache, not compiling it twice."""
+    _ray_part_elsewhere.append(wait)
+
+
+def await_ray_part() -> None:
+    """Before a scan: wait for the processes compiling the ray part, if any."""
+    while _ray_part_elsewhere:
+        _ray_part_elsewhere.pop()()
+
+
+def compile_part(part: str) -> None:
+    """Compile one part (``PARTS``): what a process of the first-run compile runs."""
+    COMPILERS[part]()
+
+
+def missing_parts() -> list[str]:
+    """The parts whose kernels Numba's on-disk cache lacks (all on a fresh install).
+
+    Looks in the folder Numba itself caches each kernel in (beside its module,
+    or under ``NUMBA_CACHE_DIR`` when set).
+    """
+    return [part for part in PARTS
+            if not all(any(_cache_folder(kernel).glob(f"{_cache_stem(kernel)}-*.nbi"))
+                       for kernel in _WITNESSES[part])]
+
+
+def _cache_folder(kernel: Callable[..., object]) -> Path:
+    """Where Numba caches ``kernel`` (its own locator's choice)."""
+    return Path(kernel._cache._cache_path)  # type: ignore[attr-defined]
+
+
+def _cache_stem(kernel: Callable[..., object]) -> str:
+    """How Numba's cache files of ``kernel`` begin: ``module.qualname``."""
+    py_func = kernel.py_func  # type: ignore[attr-defined]
+    return f"{py_func.__module__.rsplit('.', 1)[-1]}.{py_func.__qualname__}"

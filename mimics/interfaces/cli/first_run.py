@@ -1,0 +1,66 @@
+"""The first run after an install: compile the kernels ahead, on every core, before the run.
+
+``mimics run`` and ``mimics ros`` wrap their run in :func:`kernels_compiled_ahead`.
+What Numba's disk cache lacks is compiled in parallel (``mimics.engine.warm_up``):
+the index part here, the motion part and the ray part each in a process of its
+own. The run starts once index and motion are ready, so its summary reports
+the simulation's own speed. The ray part, over half of the compile, only matters
+to a run that reads a scan: its first scan waits for that process; a run that
+reads none (``go_to_goal``) never waits, and the process is stopped when the
+run ends (the next run that scans compiles it then).
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from mimics.interfaces.cli.output import note
+
+_COMPILE = "from mimics.engine.warm_up import compile_part; compile_part({part!r})"
+# the ray part yields the cores to the parts the run waits for: it runs at the lowest priority
+_NICE = {"ray": "import os; os.nice(19); "}
+
+
+@contextmanager
+def kernels_compiled_ahead() -> Iterator[None]:
+    """Compile what Numba's cache lacks around the run in the ``with`` block."""
+    from mimics.engine import warm_up
+
+    missing = warm_up.missing_parts()
+    if not missing:
+        yield
+        return
+    if missing != ["ray"]:
+        note("mimics: first run: compiling the simulation kernels (once, about 10 s; 20 s "
+             "for an algorithm that reads the laser)")
+    aside = {part: subprocess.Popen([sys.executable, "-c",
+                                     _NICE.get(part, "") + _COMPILE.format(part=part)],
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+             for part in missing if part != "index"}
+    try:
+        if "index" in missing:
+            warm_up.compile_index_kernels()
+        if "motion" in aside:
+            aside["motion"].wait()
+        if "ray" in aside:
+            warm_up.ray_part_compiling_elsewhere(lambda: _await_ray(aside["ray"]))
+        yield
+    finally:
+        for process in aside.values():
+            if process.poll() is None:  # the ray part, unneeded: the next scanning run's
+                process.kill()
+            process.wait()
+        warm_up.await_ray_part()  # forget a wait the run never needed
+
+
+def _await_ray(process: subprocess.Popen[bytes]) -> None:
+    from mimics.engine.warm_up import compile_ray_helpers
+
+    if process.poll() is None:
+        note("mimics: first run that reads the laser: finishing the ray kernel's compile "
+             "(once, about 15 s)")
+        compile_ray_helpers()  # here, while the process compiles the kernel itself
+        process.wait()
