@@ -4,7 +4,7 @@ The paper's "simple algorithm to drive the robots to their goals" (section 4).
 It ignores obstacles: see ``wall_aware`` for one that does not.
 """
 
-import numpy as np
+import math
 
 
 def step(robot):
@@ -14,6 +14,6 @@ def step(robot):
         return 0.0, robot.heading
     x, y, theta = robot.pose.tolist()  # Python floats: the same values, quicker to add
     gx, gy = goal
-    heading = np.arctan2(gy - y, gx - x)
-    alignment = np.cos(heading - theta)
+    heading = math.atan2(gy - y, gx - x)  # math on floats: no NumPy scalar overhead
+    alignment = math.cos(heading - theta)
     return robot.type.max_speed * max(alignment, 0.0), heading
