@@ -28,10 +28,9 @@ from mimics.engine.controllers import Controller, UserFailure, controller_from
 from mimics.engine.dynamics import move_robots
 from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
-from mimics.engine.ranger import RangerQuery, trace_beams
 from mimics.engine.robot_index import RobotIndex, index_cell, index_robots
+from mimics.engine.scanner import Scanner
 from mimics.engine.sensors import (
-    add_ranger_noise,
     comms_matrix,
     measure_positioning,
     odometry_is_exact,
@@ -41,7 +40,6 @@ from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState, none_leaves_or_arrives
 from mimics.engine.wall_index import WallIndex, build_wall_index
-from mimics.engine.warm_up import await_ray_part
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
@@ -94,7 +92,6 @@ class Simulation:
         self.observers = list(observers)
         world_seed, user_seed = np.random.SeedSequence(self.seed).spawn(2)
         self.rng = np.random.default_rng(world_seed)
-        self._ranger_seed = world_seed.spawn(1)[0]
         self.user_rng = np.random.default_rng(user_seed)
         self.types = TypeArrays.from_scenario(scenario)
         self.state = WorldState.from_scenario(scenario, self.types.beam_offsets.shape[1])
@@ -109,10 +106,8 @@ class Simulation:
         self._robot_cell = index_cell(types.max_range, types.half_length, types.half_width)
         # fixed for the run: computed once, not at every step
         self._robot_radius = np.hypot(types.half_length, types.half_width)
-        self._has_ranger = types.beam_count > 0
-        self._all_beams: tuple[np.ndarray, ...] | None = None  # every robot's beams (_sense)
-        self._scan_ids = np.zeros(0, dtype=np.int64)  # the robots of the last sensing's scan
-        self._scan_step = 0
+        self._scanner = Scanner(self.state, types, world_seed.spawn(1)[0],
+                                lambda: self.walls, self._robot_index)
         self.status = "running"
         self.error = ""
         self.wall_time = 0.0
@@ -234,50 +229,13 @@ class Simulation:
         return self._grid
 
     def _sense(self) -> None:
-        """Ranger, positioning, comms and messages for the robots about to act.
-
-        The ranger's rays are cast when its scan is first read (``WorldState.scan``),
-        from this state: nothing moves before the algorithm and the observers have read.
-        """
+        """Ranger (traced when first read: ``Scanner``), positioning, comms and messages
+        for the robots about to act."""
         state = self.state
         self._comms = None
-        self._scan_step = state.step
-        self._scan_ids = (state.active & self._has_ranger).nonzero()[0]
-        state.pending_scan = self._trace_scan if self._scan_ids.size else None
+        self._scanner.sense()
         measure_positioning(state, self.types, self.rng)
         self.messages.deliver(state.pose[:, :2], state.active)
-
-    def _trace_scan(self) -> None:
-        """Cast the rays of the last sensing into ``state.scan`` (and ``scan_hit``)."""
-        await_ray_part()
-        state, types, ids = self.state, self.types, self._scan_ids
-        # every robot scanning (the usual case): whole arrays, no gathering copies
-        everyone = ids.size == state.n
-        rows = slice(None) if everyone else ids
-        beams = self._all_beams if everyone else None
-        if beams is None:
-            beams = (types.beam_offsets[rows], types.max_range[rows],
-                     ids.astype(np.int64, copy=False), types.beam_units[rows],
-                     types.beam_fans[rows])
-            if everyone:  # the same arrays at every step while everyone scans
-                self._all_beams = beams
-        query = RangerQuery(np.ascontiguousarray(state.pose[rows, :2]),
-                            np.ascontiguousarray(state.pose[rows, 2]), *beams)
-        scan, hit = state.scan_buffer, state.scan_hit_buffer
-        if everyone:  # the kernel writes straight into the state
-            trace_beams(query, self.walls, self._robot_index(), (scan, hit))
-        else:
-            scan[rows], hit[rows] = trace_beams(query, self.walls, self._robot_index())
-        if "sigma_range" in types.noisy:  # known once per run: no test per step
-            scan[rows] = add_ranger_noise(scan[rows], query.max_range, types.sigma_range[rows],
-                                          self._ranger_rng(self._scan_step))
-
-    def _ranger_rng(self, step: int) -> np.random.Generator:
-        """The ranger noise of one step: a stream of its own per step, so that the draws
-        do not depend on which earlier scans were read."""
-        seed = self._ranger_seed
-        return np.random.default_rng(np.random.SeedSequence(
-            seed.entropy, spawn_key=(*seed.spawn_key, step)))
 
     def _move(self, ids: np.ndarray) -> None:
         """PID loops and exact integration of the dynamics for robots ``ids``."""

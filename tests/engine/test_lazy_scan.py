@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import mimics.engine.simulation as simulation_module
+import mimics.engine.scanner as scanner_module
 from mimics.algorithms import go_to_goal
 from mimics.engine.ranger import RangerQuery, trace_beams
 from mimics.engine.simulation import Simulation
@@ -22,14 +22,14 @@ from mimics.world.scenario import Scenario
 
 @pytest.fixture
 def traces(monkeypatch) -> list[int]:
-    """Counts the simulation's calls of the ray kernel's entry point (one per scan)."""
+    """Counts the scanner's calls of the ray kernel's entry point (one per scan)."""
     calls: list[int] = []
 
     def counted(*args, **kwargs):
         calls.append(1)
         return trace_beams(*args, **kwargs)
 
-    monkeypatch.setattr(simulation_module, "trace_beams", counted)
+    monkeypatch.setattr(scanner_module, "trace_beams", counted)
     return calls
 
 

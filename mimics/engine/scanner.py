@@ -1,0 +1,82 @@
+"""The rangers' scans of one run, traced when first read (``WorldState.scan``).
+
+Sensing only notes which robots scan and when; the rays are cast at the first
+read of ``state.scan`` or ``state.scan_hit`` after it, from that same state
+(nothing moves before the algorithm and the observers have read). A step whose
+readers read no scan casts no ray, as Stage updates no sensor that has no
+subscriber. The ranger's noise has one random stream per step, so a scan's
+noise does not depend on which earlier scans were read.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from mimics.engine.ranger import RangerQuery, trace_beams
+from mimics.engine.robot_index import RobotIndex
+from mimics.engine.sensors import add_ranger_noise
+from mimics.engine.state import TypeArrays, WorldState
+from mimics.engine.wall_index import WallIndex
+from mimics.engine.warm_up import await_ray_part
+
+
+class Scanner:
+    """Traces the scans of one run's rangers on demand.
+
+    Args:
+        state: the run's state (its scan buffers are filled).
+        types: the robots' type arrays.
+        noise_seed: the seed of the ranger noise's streams (one per step).
+        walls: gives the walls indexed for the ranger (built on first use).
+        robots: gives the index of the robots others can see, for this step.
+    """
+
+    def __init__(self, state: WorldState, types: TypeArrays, noise_seed: np.random.SeedSequence,
+                 walls: Callable[[], WallIndex], robots: Callable[[], RobotIndex]) -> None:
+        self._state, self._types = state, types
+        self._noise_seed = noise_seed
+        self._walls, self._robots = walls, robots
+        self._has_ranger = types.beam_count > 0
+        self._ids = np.zeros(0, dtype=np.int64)  # the robots of the last sensing's scan
+        self._step = 0
+        self._all_beams: tuple[np.ndarray, ...] | None = None  # every robot's beams
+
+    def sense(self) -> None:
+        """Note the robots that scan now: their rays wait for the first read."""
+        state = self._state
+        self._step = state.step
+        self._ids = (state.active & self._has_ranger).nonzero()[0]
+        state.pending_scan = self._trace if self._ids.size else None
+
+    def _trace(self) -> None:
+        """Cast the rays of the last sensing into the state's scan buffers."""
+        await_ray_part()
+        state, types, ids = self._state, self._types, self._ids
+        # every robot scanning (the usual case): whole arrays, no gathering copies
+        everyone = ids.size == state.n
+        rows = slice(None) if everyone else ids
+        beams = self._all_beams if everyone else None
+        if beams is None:
+            beams = (types.beam_offsets[rows], types.max_range[rows],
+                     ids.astype(np.int64, copy=False), types.beam_units[rows],
+                     types.beam_fans[rows])
+            if everyone:  # the same arrays at every step while everyone scans
+                self._all_beams = beams
+        query = RangerQuery(np.ascontiguousarray(state.pose[rows, :2]),
+                            np.ascontiguousarray(state.pose[rows, 2]), *beams)
+        scan, hit = state.scan_buffer, state.scan_hit_buffer
+        if everyone:  # the kernel writes straight into the state
+            trace_beams(query, self._walls(), self._robots(), (scan, hit))
+        else:
+            scan[rows], hit[rows] = trace_beams(query, self._walls(), self._robots())
+        if "sigma_range" in types.noisy:  # known once per run: no test per step
+            scan[rows] = add_ranger_noise(scan[rows], query.max_range, types.sigma_range[rows],
+                                          self._noise(self._step))
+
+    def _noise(self, step: int) -> np.random.Generator:
+        """The ranger noise of one step: a stream of its own."""
+        seed = self._noise_seed
+        return np.random.default_rng(np.random.SeedSequence(
+            seed.entropy, spawn_key=(*seed.spawn_key, step)))
