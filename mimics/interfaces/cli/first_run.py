@@ -34,7 +34,7 @@ def kernels_compiled_ahead() -> Iterator[None]:
         yield
         return
     if missing != ["ray"]:
-        note("mimics: first run: compiling the simulation kernels (once, about 10 s; 20 s "
+        note("mimics: first run: compiling the simulation kernels (once, about 8 s; 25 s "
              "for an algorithm that reads the laser)")
     aside = {part: subprocess.Popen([sys.executable, "-c",
                                      _NICE.get(part, "") + _COMPILE.format(part=part)],
@@ -61,6 +61,6 @@ def _await_ray(process: subprocess.Popen[bytes]) -> None:
 
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
-             "(once, about 15 s)")
+             "(once, about 17 s)")
         compile_ray_helpers()  # here, while the process compiles the kernel itself
         process.wait()
