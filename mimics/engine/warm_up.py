@@ -30,13 +30,13 @@ from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
 from mimics.engine.wall_index import _near_lists
 
-PARTS = ("index", "motion", "ray")
-
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket), "motion": (_collide_kernel, move_robots),
               "ray": (_cast_rows, _near_lists, beam_fans)}
 
 
+# Built by hand, not with build_segment_grid or empty_robot_index: those would compile the
+# index part's kernels in the motion and ray processes too.
 def _empty_grid() -> SegmentGrid:
     return SegmentGrid(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(2), 1.0,
                        np.ones(2, np.int64), np.zeros(2, np.int64), np.zeros(0, np.int64))
@@ -89,6 +89,7 @@ def compile_ray_part() -> None:
 
 COMPILERS: dict[str, Callable[[], None]] = {
     "index": compile_index_kernels, "motion": compile_motion_kernels, "ray": compile_ray_part}
+PARTS = tuple(COMPILERS)
 
 
 _ray_part_elsewhere: list[Callable[[], None]] = []
