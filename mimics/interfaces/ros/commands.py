@@ -53,10 +53,23 @@ class CommandSubscriber:
         self.inbox.deliver(robot, command)
 
     def publishers_connected(self, robot: int) -> int:
-        """How many publishers are connected to the robot's two command topics."""
-        return self.cmd[robot].get_num_connections() + self.cmd_vel[robot].get_num_connections()
+        """How many publishers of the robot's two command topics have finished their handshake.
+
+        rospy counts a subscriber's connection as soon as the master names a
+        publisher, before the TCP handshake; a command the node publishes
+        until the handshake ends is lost (its publisher adds the connection
+        only after the handshake), and lockstep would wait for it in vain.
+        """
+        return sum(_handshaken(connection)
+                   for subscriber in (self.cmd[robot], self.cmd_vel[robot])
+                   for connection in list(subscriber.impl.connections))
 
     def close(self) -> None:
         """Stop listening."""
         for subscriber in (*self.cmd, *self.cmd_vel):
             subscriber.unregister()
+
+
+def _handshaken(connection: Any) -> bool:
+    """Whether a subscriber's TCPROS connection has read its publisher's header."""
+    return getattr(connection, "header", None) is not None
