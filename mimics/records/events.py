@@ -36,6 +36,7 @@ import pyarrow as pa
 
 from mimics.engine.outcome import Event
 from mimics.engine.state import WorldState
+from mimics.records.arrow_columns import column_array
 from mimics.records.parts import PartWriter
 from mimics.records.trajectory import record_time
 
@@ -106,7 +107,7 @@ class EventBuffer:
         if not self.rows:
             return None
         columns = list(zip(*self.rows, strict=True))
-        arrays = [pa.array(values, type=f.type)
+        arrays = [column_array(values, f.type)
                   for values, f in zip(columns, EVENTS_SCHEMA, strict=True)]
         return pa.Table.from_arrays(arrays, schema=EVENTS_SCHEMA)
 

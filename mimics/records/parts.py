@@ -33,6 +33,7 @@ from typing import Any
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from mimics.records.arrow_columns import empty_table
 from mimics.world.errors import MimicsError
 
 COMPRESSION = "zstd"
@@ -113,7 +114,7 @@ class PartWriter:
                         kept.append(table)
             os.replace(tmp, target)
             if keep:
-                self.merged = pa.concat_tables(kept) if kept else self.schema.empty_table()
+                self.merged = pa.concat_tables(kept) if kept else empty_table(self.schema)
         shutil.rmtree(self.folder, ignore_errors=True)
         return rows
 
@@ -173,5 +174,5 @@ def read_table(final: Path, parts: Path, schema: pa.Schema, columns: Sequence[st
             raise MimicsError(f"{path}: not a readable Parquet file, truncated or corrupt "
                               f"({one_line(exc)})") from None
     if not tables:
-        return pa.schema([schema.field(n) for n in names]).empty_table()
+        return empty_table(pa.schema([schema.field(n) for n in names]))
     return pa.concat_tables(tables) if len(tables) > 1 else tables[0]

@@ -40,6 +40,7 @@ import pyarrow as pa
 
 import mimics
 from mimics.engine.outcome import RunResult
+from mimics.records.arrow_columns import empty_table
 from mimics.records.events import EVENTS_SCHEMA, EventBuffer
 from mimics.records.layout import (
     EVENTS,
@@ -295,8 +296,8 @@ class RunRecorder:
             merged = parquet.submit(self._flush_and_merge, trajectory, events)
             write_robot_logs(
                 self.folder, scenario, self.run_info,
-                trajectory=TRAJECTORY_SCHEMA.empty_table() if trajectory is None else trajectory,
-                events=EVENTS_SCHEMA.empty_table() if events is None else events)
+                trajectory=empty_table(TRAJECTORY_SCHEMA) if trajectory is None else trajectory,
+                events=empty_table(EVENTS_SCHEMA) if events is None else events)
             merged.result()
 
     def _flush_and_merge(self, trajectory: pa.Table | None, events: pa.Table | None) -> None:

@@ -52,6 +52,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mimics.engine.state import Status
+from mimics.records.arrow_columns import numeric_array, numpy_column, string_array
 from mimics.records.events import EVENTS_SCHEMA
 from mimics.records.layout import (
     EVENTS,
@@ -238,15 +239,15 @@ class _BatchLogs:
     def of(cls, table: pa.Table, events: pa.Table, robots: list[int], out: Path,
            scenario: Scenario, run: dict[str, Any]) -> _BatchLogs:
         """Sort ``table`` (the trajectory rows of ``robots``) and gather their ``events``."""
-        ids = table["robot"].to_numpy()
-        steps = table["step"].to_numpy()
+        ids = numpy_column(table["robot"])
+        steps = numpy_column(table["step"])
         order = np.lexsort((steps, ids))
         ids, steps = ids[order], steps[order]
         messages, deactivations = _event_texts(events)
         return cls(robots=robots, first=np.searchsorted(ids, robots, "left"),
                    end=np.searchsorted(ids, robots, "right"), order=order, steps=steps,
-                   status=table["status"].to_numpy()[order],
-                   numbers={name: table[name].to_numpy() for name in SOURCE_COLUMNS},
+                   status=numpy_column(table["status"])[order],
+                   numbers={name: numpy_column(table[name]) for name in SOURCE_COLUMNS},
                    messages=messages, deactivations=deactivations, out=out, scenario=scenario,
                    run=run)
 
@@ -304,7 +305,9 @@ def _lines(batch: _BatchLogs, start: int, stop: int) -> tuple[memoryview, np.nda
         source = _COPIES.get(name)
         texts[name] = (texts[source] if source and _same_bits(numbers[name], numbers[source])
                        else _texts(numbers[name]))
-    lines = pc.binary_join_element_wise(*texts.values(), "", "\n", ";")
+    # Arrow scalars taken from an array: a Python str argument would import pandas
+    empty, newline, separator = string_array(["", "\n", ";"])
+    lines = pc.binary_join_element_wise(*texts.values(), empty, newline, separator)
     _, offsets, data = lines.buffers()
     return memoryview(data), np.frombuffer(offsets, np.int32, len(lines) + 1, lines.offset * 4)
 
@@ -322,8 +325,9 @@ def _texts(values: np.ndarray) -> pa.Array:
     new[:1] = True
     np.not_equal(bits[1:], bits[:-1], out=new[1:])
     if np.count_nonzero(new) > _RUN_SHARE * values.size:
-        return pc.cast(pa.array(values), pa.string())
-    return pc.cast(pa.array(values[new]), pa.string()).take(pa.array(np.cumsum(new) - 1))
+        return pc.cast(numeric_array(values, pa.float64()), pa.string())
+    return pc.cast(numeric_array(values[new], pa.float64()), pa.string()).take(
+        numeric_array(np.cumsum(new) - 1, pa.int64()))
 
 
 def _time_texts(time: np.ndarray, steps: np.ndarray) -> pa.Array:
@@ -338,7 +342,8 @@ def _time_texts(time: np.ndarray, steps: np.ndarray) -> pa.Array:
     step_time[place] = time
     if not _same_bits(step_time[place], time):  # not one time per step: format every row
         return _texts(time)
-    return pc.cast(pa.array(step_time), pa.string()).take(pa.array(place))
+    return pc.cast(numeric_array(step_time, pa.float64()), pa.string()).take(
+        numeric_array(place, pa.int64()))
 
 
 def _same_bits(a: np.ndarray, b: np.ndarray) -> bool:

@@ -59,6 +59,7 @@ import numpy as np
 import pyarrow as pa
 
 from mimics.engine.state import WorldState
+from mimics.records.arrow_columns import numeric_array
 from mimics.records.parts import PartWriter
 from mimics.records.trajectory import record_time
 from mimics.world.errors import MimicsError
@@ -211,13 +212,13 @@ class ScanBuffer:
         else:  # keep each row's own beams
             keep = np.arange(codes.shape[1]) < beams[:, None]
             values, flags = codes[keep], hits[keep]
-        offsets = pa.array(np.concatenate([[0], np.cumsum(beams)]).astype(np.int32))
+        offsets = numeric_array(np.concatenate([[0], np.cumsum(beams)]), pa.int32())
         arrays = [
-            pa.array(times, pa.float64()),
-            pa.array(steps, pa.int32()),
-            pa.array(ids.astype(np.int32), pa.int32()),
-            pa.ListArray.from_arrays(offsets, pa.array(values, pa.uint16())),
-            pa.ListArray.from_arrays(offsets, pa.array(flags, pa.bool_())),
+            numeric_array(times, pa.float64()),
+            numeric_array(steps, pa.int32()),
+            numeric_array(ids, pa.int32()),
+            pa.ListArray.from_arrays(offsets, numeric_array(values, pa.uint16())),
+            pa.ListArray.from_arrays(offsets, numeric_array(flags, pa.bool_())),
         ]
         return pa.Table.from_arrays(arrays, schema=self.writer.schema)
 

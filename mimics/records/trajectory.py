@@ -38,6 +38,7 @@ import numpy as np
 import pyarrow as pa
 
 from mimics.engine.state import WorldState
+from mimics.records.arrow_columns import numeric_array
 from mimics.records.parts import PartWriter
 
 TRAJECTORY_SCHEMA = pa.schema([
@@ -123,6 +124,5 @@ class TrajectoryBuffer:
             "v_ref": reference[0], "heading_ref": reference[1],
             "status": status.astype(np.int8, copy=False), "user_time": user_time.astype(np.float32),
         }
-        arrays = [pa.array(np.ascontiguousarray(columns[f.name]), type=f.type)
-                  for f in TRAJECTORY_SCHEMA]
+        arrays = [numeric_array(columns[f.name], f.type) for f in TRAJECTORY_SCHEMA]
         return pa.Table.from_arrays(arrays, schema=TRAJECTORY_SCHEMA)
