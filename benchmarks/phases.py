@@ -1,7 +1,7 @@
 """Where a step goes: wall time of each phase of the step, per step, over one run.
 
     python benchmarks/phases.py [--scenario cave] [--algorithm deployment_team]
-                                [--time 60] [--no-logging]
+                                [--time 60] [--robots N] [--no-logging]
 
 Wraps the step's phases (the ``Simulation`` methods a step calls, the kernels
 it calls and the recorder's hooks) in wall-clock timers, runs the scenario
@@ -59,6 +59,8 @@ def main() -> None:
     parser.add_argument("--scenario", default="cave")
     parser.add_argument("--algorithm", default="deployment_team")
     parser.add_argument("--time", type=float, default=60.0)
+    parser.add_argument("--robots", type=int, default=None,
+                        help="the scenario's robots parameter (default: its own)")
     parser.add_argument("--no-logging", action="store_true")
     args = parser.parse_args()
     for name in STEP_PHASES:
@@ -69,7 +71,9 @@ def main() -> None:
         timed(RunRecorder, name, "recorder." + name)
     algorithm = find_algorithm(args.algorithm)[1]
     for _run in ("warm-up", "timed"):  # the last one is reported
-        sim = Simulation(load_scenario(args.scenario), algorithm, seed=1, time_limit=args.time)
+        params = {} if args.robots is None else {"robots": args.robots}
+        sim = Simulation(load_scenario(args.scenario, **params), algorithm, seed=1,
+                         time_limit=args.time)
         with tempfile.TemporaryDirectory(prefix="mimics-phases-") as folder:
             if not args.no_logging:
                 sim.observers.append(RunRecorder(folder))

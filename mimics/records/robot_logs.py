@@ -268,15 +268,10 @@ def _write_group(batch: _BatchLogs, group: np.ndarray) -> list[Path]:
     paths = []
     for k in group:
         robot, a, b = batch.robots[k], int(batch.first[k]), int(batch.end[k])
-        rows: bytes | memoryview = block[offsets[a - start]:offsets[b - start]]
+        lines = offsets[a - start:b - start + 1]  # where the robot's lines start, and its end
+        rows: bytes | memoryview = block[lines[0]:lines[-1]]
         if robot in batch.messages:
-            lines = str(rows, "utf-8").split("\n")[:-1]
-            steps = batch.steps[a:b]
-            for step, user, system in batch.messages[robot]:
-                i = int(np.searchsorted(steps, step))
-                if i < len(lines) and steps[i] == step:
-                    lines[i] = f"{lines[i][:-2]};{_quoted(user)};{_quoted(system)}"
-            rows = "".join(line + "\n" for line in lines).encode()
+            rows = _with_messages(block, lines, batch.steps[a:b], batch.messages[robot])
         final = Status(int(batch.status[b - 1])) if b > a else Status.ACTIVE
         ending = (batch.deactivations.get((robot, STATUS_KIND[final]), final.label)
                   if final != Status.ACTIVE else "None (active when the run ended)")
@@ -287,6 +282,27 @@ def _write_group(batch: _BatchLogs, group: np.ndarray) -> list[Path]:
         path.write_bytes(b"".join((head.encode(), rows, tail.encode())))
         paths.append(path)
     return paths
+
+
+def _with_messages(block: memoryview, lines: np.ndarray, steps: np.ndarray,
+                   messages: list[tuple[int, str, str]]) -> bytes:
+    """One robot's lines (``block[lines[0]:lines[-1]]``, a line per entry of ``steps``)
+    with the message fields of ``messages`` (sorted by step) filled in.
+
+    Only the lines with messages are touched: each ends with its two empty
+    fields, ``;;`` and the line break, which the messages replace.
+    """
+    pieces = []
+    done = int(lines[0])
+    for step, user, system in messages:
+        i = int(np.searchsorted(steps, step))
+        if i < len(steps) and steps[i] == step:
+            end = int(lines[i + 1])
+            pieces.append(block[done:end - 3])
+            pieces.append(f";{_quoted(user)};{_quoted(system)}\n".encode())
+            done = end
+    pieces.append(block[done:int(lines[-1])])
+    return b"".join(pieces)
 
 
 def _lines(batch: _BatchLogs, start: int, stop: int) -> tuple[memoryview, np.ndarray]:
