@@ -66,13 +66,11 @@ def _robot_arrays(centers: np.ndarray, headings: np.ndarray, half_length: np.nda
     return tuple(out)
 
 
-@njit(cache=True)
-def _corners(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
-             half_width: np.ndarray) -> np.ndarray:
-    """Rectangle corners (the order is that of ``RobotIndex.corners``)."""
-    n = centers.shape[0]
-    out = np.empty((n, 5, 2))
-    for i in range(n):
+@njit(cache=True, inline="always")
+def _fill_corners(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
+                  half_width: np.ndarray, out: np.ndarray) -> None:
+    """Rectangle corners into ``out`` (the order is that of ``RobotIndex.corners``)."""
+    for i in range(centers.shape[0]):
         c = math.cos(headings[i])
         s = math.sin(headings[i])
         ux, uy = half_length[i] * c, half_length[i] * s
@@ -83,19 +81,25 @@ def _corners(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
         out[i, 2, 0], out[i, 2, 1] = cx - ux - vx, cy - uy - vy
         out[i, 3, 0], out[i, 3, 1] = cx + ux - vx, cy + uy - vy
         out[i, 4, 0], out[i, 4, 1] = out[i, 0, 0], out[i, 0, 1]
-    return out
 
 
 @njit(cache=True)
-def _bucket(centers: np.ndarray, include: np.ndarray, cell_hint: float
-            ) -> tuple[np.ndarray, np.ndarray, float, np.ndarray, np.ndarray]:
-    """Grid over the included centres (counting sort into cells)."""
+def _bucket(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
+            half_width: np.ndarray, radius: np.ndarray, include: np.ndarray, cell_hint: float
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, np.ndarray, np.ndarray, float]:
+    """The whole index in one call (a call costs more than the work for a few robots):
+    every robot's corners, a grid over the included centres (counting sort into
+    cells) and the largest included radius."""
     n = centers.shape[0]
+    corners = np.empty((n, 5, 2))
+    _fill_corners(centers, headings, half_length, half_width, corners)
     k = 0
+    max_radius = 0.0
     xmin, ymin, xmax, ymax = math.inf, math.inf, -math.inf, -math.inf
     for i in range(n):
         if include[i]:
             k += 1
+            max_radius = max(max_radius, radius[i])
             xmin, xmax = min(xmin, centers[i, 0]), max(xmax, centers[i, 0])
             ymin, ymax = min(ymin, centers[i, 1]), max(ymax, centers[i, 1])
     if k == 0:
@@ -121,7 +125,7 @@ def _bucket(centers: np.ndarray, include: np.ndarray, cell_hint: float
         if include[i]:
             items[cursor[where[i]]] = i
             cursor[where[i]] += 1
-    return origin, shape, cell, start, items
+    return corners, origin, shape, cell, start, items, max_radius
 
 
 def index_cell(max_range: np.ndarray, half_length: np.ndarray,
@@ -176,11 +180,9 @@ def index_robots(centers: np.ndarray, headings: np.ndarray, half_length: np.ndar
     """
     if radius is None:
         radius = np.hypot(half_length, half_width)
-    origin, shape, size, start, items = _bucket(centers, include, cell)
-    # = np.max(radius, where=include, initial=0.0), without its Python wrappers
-    max_radius = float(np.maximum.reduce(radius, where=include, initial=0.0))
-    return RobotIndex(_corners(centers, headings, half_length, half_width), radius, centers,
-                      origin, float(size), shape, start, items, max_radius)
+    corners, origin, shape, size, start, items, max_radius = _bucket(
+        centers, headings, half_length, half_width, radius, include, cell)
+    return RobotIndex(corners, radius, centers, origin, size, shape, start, items, max_radius)
 
 
 def empty_robot_index() -> RobotIndex:
