@@ -52,7 +52,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mimics.engine.state import Status
-from mimics.records.arrow_columns import numeric_array, numpy_column, string_array
+from mimics.records.arrow_columns import numpy_column, string_array
 from mimics.records.events import EVENTS_SCHEMA
 from mimics.records.layout import (
     EVENTS,
@@ -62,6 +62,7 @@ from mimics.records.layout import (
     TRAJECTORY_PARTS,
     robot_log_name,
 )
+from mimics.records.log_texts import number_texts, same_bits, time_texts
 from mimics.records.parts import part_files, read_table
 from mimics.records.trajectory import TRAJECTORY_SCHEMA
 
@@ -89,8 +90,6 @@ _EVENTS_SOURCE = ("step", "robot", "kind", "detail")
 #: Measured pose columns that usually repeat the true pose bit for bit (the heading always,
 #: the position when the positioning sensor has no noise): then formatted once.
 _COPIES = {"x_meas": "x", "y_meas": "y", "theta_meas": "theta"}
-#: A column is formatted run by run when it has at most this share of runs of equal values.
-_RUN_SHARE = 0.5
 
 
 @dataclass(frozen=True)
@@ -316,55 +315,16 @@ def _lines(batch: _BatchLogs, start: int, stop: int) -> tuple[memoryview, np.nda
         return memoryview(b""), np.zeros(1, dtype=np.int32)
     rows = batch.order[start:stop]
     numbers = {name: values[rows] for name, values in batch.numbers.items()}
-    texts = {"time": _time_texts(numbers["time"], batch.steps[start:stop])}
+    texts = {"time": time_texts(numbers["time"], batch.steps[start:stop])}
     for name in SOURCE_COLUMNS[1:]:
         source = _COPIES.get(name)
-        texts[name] = (texts[source] if source and _same_bits(numbers[name], numbers[source])
-                       else _texts(numbers[name]))
+        texts[name] = (texts[source] if source and same_bits(numbers[name], numbers[source])
+                       else number_texts(numbers[name]))
     # Arrow scalars taken from an array: a Python str argument would import pandas
     empty, newline, separator = string_array(["", "\n", ";"])
     lines = pc.binary_join_element_wise(*texts.values(), empty, newline, separator)
     _, offsets, data = lines.buffers()
     return memoryview(data), np.frombuffer(offsets, np.int32, len(lines) + 1, lines.offset * 4)
-
-
-def _texts(values: np.ndarray) -> pa.Array:
-    """``values`` as text in their shortest exact form (Arrow's: ``1``, ``0.1``, ``1e-7``).
-
-    Formatting is most of the cost of the logs, so a value repeated in
-    consecutive rows (a robot standing still) is formatted once when that
-    saves work. Values are compared bit for bit: ``-0.0`` prints apart from ``0.0``.
-    """
-    import pyarrow.compute as pc  # lazily: 60 ms to import
-    bits = values.view(np.int64)
-    new = np.empty(values.size, dtype=bool)
-    new[:1] = True
-    np.not_equal(bits[1:], bits[:-1], out=new[1:])
-    if np.count_nonzero(new) > _RUN_SHARE * values.size:
-        return pc.cast(numeric_array(values, pa.float64()), pa.string())
-    return pc.cast(numeric_array(values[new], pa.float64()), pa.string()).take(
-        numeric_array(np.cumsum(new) - 1, pa.int64()))
-
-
-def _time_texts(time: np.ndarray, steps: np.ndarray) -> pa.Array:
-    """The time column as text, each step's time formatted once (all its robots share it)."""
-    import pyarrow.compute as pc  # lazily: 60 ms to import
-    if time.size == 0 or steps.min() < 0:
-        return _texts(time)
-    present = np.zeros(int(steps.max()) + 1, dtype=bool)
-    present[steps] = True
-    place = (np.cumsum(present) - 1)[steps]  # each row's step among the steps present
-    step_time = np.empty(int(np.count_nonzero(present)))
-    step_time[place] = time
-    if not _same_bits(step_time[place], time):  # not one time per step: format every row
-        return _texts(time)
-    return pc.cast(numeric_array(step_time, pa.float64()), pa.string()).take(
-        numeric_array(place, pa.int64()))
-
-
-def _same_bits(a: np.ndarray, b: np.ndarray) -> bool:
-    """Whether two float64 arrays hold the same bits (so the same text, ``nan`` included)."""
-    return a.shape == b.shape and bool(np.array_equal(a.view(np.int64), b.view(np.int64)))
 
 
 def _event_texts(events: pa.Table

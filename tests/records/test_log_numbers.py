@@ -9,7 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from mimics.records.robot_logs import _texts, _time_texts
+from mimics.records.log_texts import number_texts as _texts
+from mimics.records.log_texts import time_texts as _time_texts
 
 # values a log holds: any double, with long runs of repeats (robots standing still)
 doubles = st.floats(allow_nan=True, allow_infinity=True, width=64)
