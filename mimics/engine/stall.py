@@ -9,9 +9,11 @@ ago: it keeps moving without making progress.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
 
 from mimics.engine.state import WorldState
 from mimics.world.limits import steps_for
@@ -46,16 +48,20 @@ class StallDetector:
         ``distance`` (``state.goal_distance()``) and ``active`` (``state.active``)
         may be passed when the caller already has them this step.
         """
-        slot_d = self._count % len(self._positions)
-        slot_l = self._count % len(self._distances)
-        now = state.pose[:, :2]
-        self._positions[slot_d] = now
         if distance is None:
             distance = state.goal_distance()
         if active is None:
             active = state.active
-        self._distances[slot_l] = distance
+        settings = self.settings
+        quiet = _record_and_screen(self._positions, self._distances, self._count, state.pose,
+                                   distance, active, state.in_deadlock, state.in_livelock,
+                                   self.deadlock_steps, self.livelock_steps,
+                                   float(settings.deadlock_distance),
+                                   float(settings.livelock_progress))
         self._count += 1
+        if quiet:  # nobody stalled, before or now (nearly every step)
+            return self._quiet(state.n)
+        now = state.pose[:, :2]
         candidates = active & ~np.isnan(distance)
         count = np.count_nonzero
         # None: nobody (an all-False mask not made); a full window is checked only then
@@ -72,11 +78,9 @@ class StallDetector:
             livelocked = found if count(found) else None
         if (deadlocked is None and livelocked is None and not count(state.in_deadlock)
                 and not count(state.in_livelock)):
-            # nobody stalled, before or now (nearly every step): every flag below would
-            # be all False and the stall state would stay all False
-            quiet = np.zeros(state.n, dtype=bool)
-            quiet.flags.writeable = False  # one array for the four flags: read-only
-            return StallFlags(quiet, quiet, quiet, quiet)
+            # nobody stalled, before or now: every flag below would be all False and
+            # the stall state would stay all False
+            return self._quiet(state.n)
         none = np.zeros(state.n, dtype=bool)
         if deadlocked is None:
             deadlocked = none
@@ -93,6 +97,12 @@ class StallDetector:
         state.in_deadlock[:] = deadlocked | (state.in_deadlock & ~active)
         state.in_livelock[:] = livelocked | (state.in_livelock & ~active)
         return flags
+
+    @staticmethod
+    def _quiet(n: int) -> StallFlags:
+        quiet = np.zeros(n, dtype=bool)
+        quiet.flags.writeable = False  # one array for the four flags: read-only
+        return StallFlags(quiet, quiet, quiet, quiet)
 
     def _deadlocked(self, now: np.ndarray, candidates: np.ndarray) -> np.ndarray:
         """Candidates whose every position in the window lies within the distance of ``now``.
@@ -118,3 +128,47 @@ class StallDetector:
         """The time a stall found now began (the start of its window)."""
         steps = self.deadlock_steps if kind == "deadlock" else self.livelock_steps
         return max(0.0, now - steps * self.settings.dt)
+
+
+#: Relative and absolute margins of the screen below: a robot this near a bound is
+#: left to the exact check, whatever rounding the two computations differ by.
+_RELATIVE_MARGIN, _ABSOLUTE_MARGIN = 1e-9, 1e-12
+
+
+@njit(cache=True)
+def _record_and_screen(positions: np.ndarray, distances: np.ndarray, count: int,
+                       pose: np.ndarray, distance: np.ndarray, active: np.ndarray,
+                       in_deadlock: np.ndarray, in_livelock: np.ndarray, deadlock_steps: int,
+                       livelock_steps: int, limit: float, progress: float) -> bool:
+    """Write this step's row of the windows (slot ``count``); True when no robot can
+    be stalled, before or now.
+
+    A screen, in one call: it may answer False for a robot that the exact
+    NumPy check then clears, never True for one that check would flag. A robot
+    is let through when it is farther than ``limit`` (and a margin) from where
+    it was a deadlock window ago, and nearer its goal by more than ``progress``
+    (and a margin) than a livelock window ago; NaN compares false in both
+    checks, as in the exact one.
+    """
+    slot_d, slot_l = count % positions.shape[0], count % distances.shape[0]
+    n = pose.shape[0]
+    for i in range(n):
+        positions[slot_d, i, 0] = pose[i, 0]
+        positions[slot_d, i, 1] = pose[i, 1]
+        distances[slot_l, i] = distance[i]
+    count += 1
+    oldest_d, oldest_l = count % positions.shape[0], count % distances.shape[0]
+    near = limit * (1.0 + _RELATIVE_MARGIN) + _ABSOLUTE_MARGIN
+    for i in range(n):
+        if in_deadlock[i] or in_livelock[i]:
+            return False
+        if not active[i] or math.isnan(distance[i]):
+            continue
+        if count > deadlock_steps and math.hypot(positions[oldest_d, i, 0] - pose[i, 0],
+                                                 positions[oldest_d, i, 1] - pose[i, 1]) <= near:
+            return False
+        if count > livelock_steps:
+            bound = distances[oldest_l, i] - progress
+            if distance[i] > bound - abs(bound) * _RELATIVE_MARGIN - _ABSOLUTE_MARGIN:
+                return False
+    return True

@@ -6,7 +6,8 @@ compiling. ``mimics run`` compiles ahead instead, one part per process, on
 the machine's cores at once:
 
 - ``"index"``: the walls' walking grid and the robots' index;
-- ``"motion"``: collisions, the dynamics and the goal and bounds check;
+- ``"motion"``: collisions, the dynamics, the goal and bounds check and the
+  stall screen;
 - ``"ray"``: the ranger's ray kernel, over half of the whole compile, which
   only a run that reads a scan needs (``WorldState.scan``).
 
@@ -28,12 +29,14 @@ from mimics.engine.dynamics import move_robots
 from mimics.engine.ranger import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
+from mimics.engine.stall import _record_and_screen
 from mimics.engine.state import _none_leaves_or_arrives, none_leaves_or_arrives
 from mimics.engine.wall_index import _near_lists
 
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket),
-              "motion": (_collide_kernel, move_robots, _none_leaves_or_arrives),
+              "motion": (_collide_kernel, move_robots, _none_leaves_or_arrives,
+                         _record_and_screen),
               "ray": (_cast_rows, _near_lists, beam_fans)}
 
 
@@ -56,7 +59,7 @@ def compile_index_kernels() -> None:
 
 
 def compile_motion_kernels() -> None:
-    """Collisions, the dynamics and the goal and bounds check, for the engine's argument types."""
+    """Collisions, the dynamics and the step's checks, for the engine's argument types."""
     none, rows = np.zeros(0), np.zeros((0, 2))
     _collide_kernel(Bodies(rows, none, none, none), np.zeros(0, bool), _empty_grid(),
                     _empty_robots(), np.zeros(0, np.int64), np.zeros(0, np.int64))
@@ -64,6 +67,9 @@ def compile_motion_kernels() -> None:
     move_robots(np.zeros(0, np.int64), rows, rows, rows, rows, rows, rows, none, gains, gains,
                 none, none, none, none, 0.1, none, none)
     none_leaves_or_arrives(np.zeros((0, 3)), none, (0.0, 0.0, 1.0, 1.0), 0.1)
+    flags = np.zeros(0, bool)
+    _record_and_screen(np.zeros((1, 0, 2)), np.zeros((1, 0)), 0, np.zeros((0, 3)), none, flags,
+                       flags, flags, 1, 1, 0.1, 0.1)
 
 
 def compile_ray_kernel() -> None:

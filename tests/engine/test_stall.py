@@ -106,3 +106,52 @@ def test_deadlock_matches_a_brute_force_window_check(seed: int, robots: int, win
         detector.update(state)
         assert np.array_equal(state.in_deadlock, expected)
 
+
+
+def _record_only(positions, distances, count, pose, distance, *_):
+    """The screen's bookkeeping without its verdict: every step takes the exact path."""
+    positions[count % len(positions)] = pose[:, :2]
+    distances[count % len(distances)] = distance
+    return False
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), robots=st.integers(1, 6), window=st.integers(1, 8),
+       limit=st.sampled_from([0.0, 0.05, 0.3]), progress=st.sampled_from([0.0, 0.1, 0.5]),
+       still=st.floats(0.0, 0.9))
+def test_the_compiled_screen_never_changes_a_stall_verdict(
+        seed: int, robots: int, window: int, limit: float, progress: float,
+        still: float) -> None:
+    # Two detectors on the same random walks, one screening with the compiled check and
+    # one always taking the exact NumPy path: the same flags and stall state at every step,
+    # with robots standing still, creeping, wandering off, without goals and deactivated.
+    from mimics.engine import stall
+
+    rng = np.random.default_rng(seed)
+    dt = 0.1
+    settings_ = Settings(dt=dt, deadlock_window=window * dt, livelock_window=2 * window * dt,
+                         deadlock_distance=limit, livelock_progress=progress)
+    rows = np.tile([0.0, 0.0, 0.0, 0.0, 10.0, 0.0], (robots, 1))
+    scenario = Scenario.from_matrix(rows, Map(np.zeros((0, 4)), (-50, -50, 50, 50)), BLIND,
+                                    settings=settings_)
+    screened, exact = (WorldState.from_scenario(scenario, 0) for _ in range(2))
+    screened.goal[0] = exact.goal[0] = np.nan  # a robot without a goal is never stalled
+    quick, slow = StallDetector(settings_, robots), StallDetector(settings_, robots)
+    for step in range(6 * window + 10):
+        moving = rng.random(robots) > still
+        sizes = rng.choice([1e-3, 0.02, 0.2, 1.0], size=robots)
+        moves = moving[:, None] * rng.normal(0.0, 1.0, (robots, 2)) * sizes[:, None]
+        if step == 3 * window:  # one robot leaves the team
+            screened.status[robots - 1] = exact.status[robots - 1] = Status.REACHED_GOAL
+        for state in (screened, exact):
+            state.pose[:, :2] += moves
+        got = quick.update(screened)
+        screen, stall._record_and_screen = stall._record_and_screen, _record_only
+        try:
+            expected = slow.update(exact)
+        finally:
+            stall._record_and_screen = screen
+        for flag, want in zip(got, expected, strict=True):
+            assert np.array_equal(flag, want)
+        assert np.array_equal(screened.in_deadlock, exact.in_deadlock)
+        assert np.array_equal(screened.in_livelock, exact.in_livelock)
