@@ -1,7 +1,5 @@
 """``python -m mimics`` runs the command line."""
 
-import sys
+from mimics.interfaces.cli.leave import console
 
-from mimics.interfaces.cli import main
-
-sys.exit(main())
+console()
