@@ -80,8 +80,8 @@ def _dump():
     with open(out, "w") as f:
         json.dump({"first_steps": firsts, "compiles": compiles}, f)
 
-from mimics.interfaces.cli.program import app
-app()
+from mimics.interfaces.cli.leave import console  # what `mimics` and `python -m mimics` run
+console()
 """
 
 
