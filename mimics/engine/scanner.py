@@ -40,13 +40,12 @@ class Scanner:
         self._walls, self._robots = walls, robots
         self._has_ranger = types.beam_count > 0
         self._ids = np.zeros(0, dtype=np.int64)  # the robots of the last sensing's scan
-        self._step = 0
         self._all_beams: tuple[np.ndarray, ...] | None = None  # every robot's beams
 
     def sense(self) -> None:
-        """Note the robots that scan now: their rays wait for the first read."""
+        """Note the robots that scan now: their rays wait for the first read (before the
+        robots move, so ``state.step`` is still this sensing's step then)."""
         state = self._state
-        self._step = state.step
         self._ids = (state.active & self._has_ranger).nonzero()[0]
         state.pending_scan = self._trace if self._ids.size else None
 
@@ -73,7 +72,7 @@ class Scanner:
             scan[rows], hit[rows] = trace_beams(query, self._walls(), self._robots())
         if "sigma_range" in types.noisy:  # known once per run: no test per step
             scan[rows] = add_ranger_noise(scan[rows], query.max_range, types.sigma_range[rows],
-                                          self._noise(self._step))
+                                          self._noise(state.step))
 
     def _noise(self, step: int) -> np.random.Generator:
         """The ranger noise of one step: a stream of its own."""

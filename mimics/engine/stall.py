@@ -37,6 +37,8 @@ class StallDetector:
         self.deadlock_steps = max(1, steps_for(settings.deadlock_window, settings.dt))
         self.livelock_steps = max(1, steps_for(settings.livelock_window, settings.dt))
         self.settings = settings
+        self._limit = float(settings.deadlock_distance)  # the screen's arguments, typed once
+        self._progress = float(settings.livelock_progress)
         self._positions = np.zeros((self.deadlock_steps + 1, n, 2))
         self._distances = np.zeros((self.livelock_steps + 1, n))
         self._count = 0
@@ -52,12 +54,10 @@ class StallDetector:
             distance = state.goal_distance()
         if active is None:
             active = state.active
-        settings = self.settings
         quiet = _record_and_screen(self._positions, self._distances, self._count, state.pose,
                                    distance, active, state.in_deadlock, state.in_livelock,
-                                   self.deadlock_steps, self.livelock_steps,
-                                   float(settings.deadlock_distance),
-                                   float(settings.livelock_progress))
+                                   self.deadlock_steps, self.livelock_steps, self._limit,
+                                   self._progress)
         self._count += 1
         if quiet:  # nobody stalled, before or now (nearly every step)
             return self._quiet(state.n)

@@ -25,7 +25,8 @@ def numeric_array(values: np.ndarray | Sequence[float], type: pa.DataType) -> pa
 
     Raises:
         OverflowError: when a Python integer does not fit ``type``.
-        TypeError: when ``type`` is not one of those.
+        TypeError: when ``type`` is not one of those, or an array's values are of
+            another kind (floats for an integer type, say).
     """
     if type == pa.bool_():
         flags = np.asarray(values, dtype=bool)
@@ -34,6 +35,9 @@ def numeric_array(values: np.ndarray | Sequence[float], type: pa.DataType) -> pa
     dtype = _NUMPY_TYPES.get(type)
     if dtype is None:
         raise TypeError(f"numeric_array: no NumPy type for Arrow's {type}")
+    if isinstance(values, np.ndarray) and not np.can_cast(values.dtype, dtype, "same_kind"):
+        raise TypeError(f"numeric_array: {values.dtype} values would not keep their "
+                        f"meaning as {type}")  # floats truncated to integers, say
     data = np.ascontiguousarray(values, dtype=dtype)
     return pa.Array.from_buffers(type, data.size, [None, pa.py_buffer(data)])
 

@@ -69,6 +69,8 @@ def test_numpy_column_reads_chunks_and_slices(values: list[int], skip: int) -> N
 def test_what_the_columns_refuse() -> None:
     with pytest.raises(OverflowError):
         column_array([2**40], pa.int32())
+    with pytest.raises(TypeError, match="would not keep their meaning"):
+        numeric_array(np.array([1.5]), pa.int32())
     with pytest.raises(TypeError, match="no NumPy type"):
         numeric_array([1.0], pa.float16())
     with pytest.raises(TypeError, match="got string"):

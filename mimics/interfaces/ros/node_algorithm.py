@@ -49,6 +49,7 @@ if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
     from mimics.interfaces.ros.bridge import RosBridge
 
+
 def system_python() -> str:
     """The Python that runs rospy nodes: the system's (Debian's rospy lives there)."""
     return shutil.which("python3", path="/usr/bin") or sys.executable
