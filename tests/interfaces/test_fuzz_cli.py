@@ -117,12 +117,13 @@ def leaf_commands() -> list[tuple[tuple[str, ...], Any]]:
 COMMANDS = leaf_commands()
 
 
+CLICK_KINDS = {"integer": int, "float": float, "boolean": bool}
+
+
 def kind(param: Any) -> type:
-    """int, float, bool, str or list/tuple of them, from Typer's annotation."""
-    annotation = param.type_descriptor.annotation
-    inner = getattr(annotation, "__args__", None)
-    base = inner[0] if inner else annotation
-    return base if base in (int, float, bool) else str
+    """int, float, bool or str (of one value or of each of several), from the click
+    parameter type Typer made of the annotation."""
+    return CLICK_KINDS.get(getattr(param.type, "name", ""), str)
 
 
 @st.composite
