@@ -255,13 +255,18 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
 
 
 @njit(cache=True, nogil=True)
-def _cast_rows(query: RangerQuery, grid: SegmentGrid, near: SegmentGrid, reach: float,
-               robots: RobotIndex, ranges: np.ndarray, hit_owner: np.ndarray, part: int,
+def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
+               robot_index: tuple, ranges: np.ndarray, hit_owner: np.ndarray, part: int,
                parts: int) -> None:
     """Fill rows of ``ranges`` and ``hit_owner``: chunks ``part``, ``part + parts``, ...
 
     Work items are chunks of ``CHUNK_ROBOTS`` rows sharing one scratch space.
+    ``beams``, ``wall_grid``, ``near_lists`` and ``robot_index`` are the fields of
+    a ``RangerQuery``, two ``SegmentGrid`` and a ``RobotIndex`` as plain tuples:
+    the dispatcher types those in C (see ``collision._collide_kernel``).
     """
+    query, grid = RangerQuery(*beams), SegmentGrid(*wall_grid)
+    near, robots = SegmentGrid(*near_lists), RobotIndex(*robot_index)
     k, beams = query.offsets.shape
     padded = (beams + BLOCK - 1) // BLOCK * BLOCK
     capacity = _list_capacity(near, robots)
@@ -349,7 +354,8 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
         out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
     ranges, hit_owner = out
     if k and beams:
-        args = (query, walls.grid, walls.near, walls.reach, robots, ranges, hit_owner)
+        args = (tuple(query), tuple(walls.grid), tuple(walls.near), walls.reach,
+                tuple(robots), ranges, hit_owner)
         parts = min(get_num_threads(), (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS)
         if parts <= 1:
             _cast_rows(*args, 0, 1)

@@ -116,7 +116,11 @@ class Robot:
     @property
     def pose(self) -> np.ndarray:
         """Measured ``(x, y, theta)``."""
-        return _row_view(self._views, "pose", self._sim.state.measured_pose, self.id)
+        hit = self._views.get("pose")
+        source = self._sim.state.measured_pose
+        if hit is not None and hit[0] is source:  # the common case, inlined (as Scan.ranges)
+            return hit[1]
+        return _row_view(self._views, "pose", source, self.id)
 
     @property
     def position(self) -> np.ndarray:
@@ -158,7 +162,10 @@ class Robot:
     @property
     def goal(self) -> tuple[float, float] | None:
         """``(x, y)`` of the goal, or None for robots without one."""
-        row = _row_view(self._views, "goal", self._sim.state.goal, self.id)  # kept as views
+        hit = self._views.get("goal")  # kept as views, the common case inlined
+        source = self._sim.state.goal
+        row = (hit[1] if hit is not None and hit[0] is source
+               else _row_view(self._views, "goal", source, self.id))
         gx, gy = row.tolist()  # Python floats in one call
         return None if math.isnan(gx) else (gx, gy)
 

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
-from mimics.engine.collision import Bodies, _collide_kernel
+from mimics.engine.collision import _collide_kernel
 from mimics.engine.dynamics import move_robots
 from mimics.engine.ranger import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
@@ -65,8 +65,8 @@ def compile_index_kernels() -> None:
 def compile_motion_kernels() -> None:
     """Collisions and the dynamics, for the engine's argument types."""
     none, rows = np.zeros(0), np.zeros((0, 2))
-    _collide_kernel(Bodies(rows, none, none, none), np.zeros(0, bool), _empty_grid(),
-                    _empty_robots(), np.zeros(0, np.int64), np.zeros(0, np.int64))
+    _collide_kernel((rows, none, none, none), np.zeros(0, bool), tuple(_empty_grid()),
+                    tuple(_empty_robots()), np.zeros(0, np.int64), np.zeros(0, np.int64))
     gains = np.zeros((0, 3))
     move_robots(np.zeros(0, np.int64), rows, rows, rows, rows, rows, rows, none, gains, gains,
                 none, none, none, none, 0.1, none, none)
@@ -79,8 +79,8 @@ def compile_ray_kernel() -> None:
     none = np.zeros((0, 2))
     query = RangerQuery(none, np.zeros(0), np.zeros((0, 1)), np.zeros(0), np.zeros(0, np.int64),
                         np.zeros((0, 1, 2)), np.zeros((0, FAN_COLUMNS)))
-    _cast_rows(query, _empty_grid(), _empty_grid(), 0.0, _empty_robots(), np.zeros((0, 1)),
-               np.zeros((0, 1), np.int64), 0, 1)
+    _cast_rows(tuple(query), tuple(_empty_grid()), tuple(_empty_grid()), 0.0,
+               tuple(_empty_robots()), np.zeros((0, 1)), np.zeros((0, 1), np.int64), 0, 1)
 
 
 def compile_ray_helpers() -> None:
