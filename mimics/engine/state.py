@@ -35,9 +35,10 @@ class Status(IntEnum):
         return self.name.lower()
 
 
-# Comparing an array with an IntEnum member costs several microseconds (the
-# member is converted the slow way); with a plain int it is one ufunc call.
-_ACTIVE = int(Status.ACTIVE)
+# ``active`` is ``status == ACTIVE``, computed as ``not status``: ACTIVE is 0, and a
+# one-operand ufunc skips the scalar's conversion (1.0 against 1.7 us; an IntEnum
+# member, converted the slow way, costs 8 us). The engine asks several times a step.
+assert Status.ACTIVE == 0
 
 
 @dataclass
@@ -192,7 +193,7 @@ class WorldState:
     @property
     def active(self) -> np.ndarray:
         """Boolean mask of active robots."""
-        return self.status == _ACTIVE
+        return np.logical_not(self.status)
 
     def goal_distance(self) -> np.ndarray:
         """Distance from each robot's true position to its goal (NaN without a goal)."""
