@@ -23,16 +23,17 @@ from typing import Any
 
 import mimics.engine.scanner as scanner_module
 import mimics.engine.simulation as simulation_module
+import mimics.engine.step_checks as step_checks_module
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.simulation import Simulation
 from mimics.records.recorder import RunRecorder
 
-STEP_PHASES = ["_move", "_check_bodies", "_check_goals_and_bounds", "_check_stalls",
+STEP_PHASES = ["_move", "_check_moved", "_mark_departures_and_arrivals", "_check_stalls",
                "_finish_deactivations", "_sense", "_robot_index", "_check_end",
                "_handle_failures"]
 # each kernel in the module that calls it (where the wrapper must replace it)
 KERNELS = {"trace_beams": scanner_module, "measure_positioning": simulation_module,
-           "collide": simulation_module, "index_robots": simulation_module,
+           "_check_kernel": step_checks_module, "index_robots": step_checks_module,
            "update_odometry": simulation_module}
 RECORDER_HOOKS = ["on_step", "on_end"]
 

@@ -23,7 +23,6 @@ from typing import Any, Literal, Protocol
 
 import numpy as np
 
-from mimics.engine.collision import Bodies, collide
 from mimics.engine.controllers import Controller, UserFailure, controller_from
 from mimics.engine.dynamics import move_robots
 from mimics.engine.messages import MessageBus, clear_messages
@@ -38,7 +37,8 @@ from mimics.engine.sensors import (
 )
 from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.stall import StallDetector
-from mimics.engine.state import Status, TypeArrays, WorldState, none_leaves_or_arrives
+from mimics.engine.state import Status, TypeArrays, WorldState
+from mimics.engine.step_checks import check_moved
 from mimics.engine.wall_index import WallIndex, build_wall_index
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
@@ -137,7 +137,7 @@ class Simulation:
             return
         self._started = True
         self._wall_start = time.perf_counter()
-        self._check_bodies(np.flatnonzero(self.state.active))
+        self._check_moved(np.flatnonzero(self.state.active))  # collisions only, at the start
         self._stalls.update(self.state)  # the windows start at time zero
         self._finish_deactivations()
         self._sense()
@@ -166,9 +166,9 @@ class Simulation:
         self._move(moving)
         state.step += 1
         state.time = state.step * self.scenario.settings.dt
-        self._check_bodies(moving)
-        distance = state.goal_distance()  # shared by the goal and the stall checks
-        self._check_goals_and_bounds(moving, distance)
+        distance, quiet = self._check_moved(moving)  # distance: for the stall checks too
+        if not quiet:
+            self._mark_departures_and_arrivals(moving, distance)
         # no status changes since the top of the step (they wait in _pending)
         self._check_stalls(distance, active)
         self._finish_deactivations()
@@ -258,38 +258,35 @@ class Simulation:
                 moved[ids] = True
             update_odometry(state, types, distance, turn, moved, self.rng)
 
-    def _check_bodies(self, ids: np.ndarray) -> None:
-        """Exact collision check of robots ``ids`` against walls and solid robots."""
+    def _check_moved(self, ids: np.ndarray) -> tuple[np.ndarray, bool]:
+        """Index the solid robots, mark robots ``ids`` that touch a wall or a solid robot;
+        returns every robot's goal distance and whether none of ``ids`` left the map or
+        came within the goal tolerance (``step_checks``)."""
         state = self.state
         if ids.size == 0:
-            return
-        check = np.zeros(state.n, dtype=bool)
-        check[slice(None) if ids.size == state.n else ids] = True  # all: no fancy indexing
-        robots = self._robot_index()
-        bodies = Bodies(robots.centers, np.ascontiguousarray(state.pose[:, 2]),
-                        self.types.half_length, self.types.half_width)
-        with_whom, _ = collide(bodies, check, self.wall_grid, robots)
-        touching = with_whom != -2
-        if not np.count_nonzero(touching):  # nobody touches anything (the usual case)
-            return
-        for i in touching.nonzero()[0].tolist():
-            other = int(with_whom[i])
-            what = "wall" if other == -1 else f"robot {other}"
-            state.collided_with[i] = other
-            self._mark(i, Status.COLLIDED, f"Collision with {what}", "collision", other=other)
+            return state.goal_distance(), True
+        solid = self._solid()
+        types, scenario = self.types, self.scenario
+        checks = check_moved(state.pose, types.half_length, types.half_width,
+                             self._robot_radius, solid, self._robot_cell, ids, self.wall_grid,
+                             state.goal, scenario.map.bounds, scenario.settings.goal_tolerance)
+        self._grid, self._grid_key = checks.robots, (state.step, solid.tobytes())
+        if checks.touching:
+            for i in (checks.with_whom != -2).nonzero()[0].tolist():
+                other = int(checks.with_whom[i])
+                what = "wall" if other == -1 else f"robot {other}"
+                state.collided_with[i] = other
+                self._mark(i, Status.COLLIDED, f"Collision with {what}", "collision", other=other)
+        return checks.distance, checks.quiet
 
-    def _check_goals_and_bounds(self, ids: np.ndarray, distance: np.ndarray) -> None:
+    def _mark_departures_and_arrivals(self, ids: np.ndarray, distance: np.ndarray) -> None:
         """Mark robots ``ids`` that left the map or are ``distance`` from their goal."""
         state = self.state
-        everyone = ids.size == state.n  # ids is then 0..n-1: views, not gathering copies
-        pose, near = (state.pose, distance) if everyone else (state.pose[ids], distance[ids])
-        xmin, ymin, xmax, ymax = bounds = self.scenario.map.bounds
-        tolerance = self.scenario.settings.goal_tolerance
-        if not ids.size or none_leaves_or_arrives(pose, near, bounds, tolerance):
-            return  # the usual step
+        pose, near = state.pose[ids], distance[ids]
+        xmin, ymin, xmax, ymax = self.scenario.map.bounds
         x, y = pose[:, 0], pose[:, 1]
         outside = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
-        reached = near <= tolerance
+        reached = near <= self.scenario.settings.goal_tolerance
         for i in ids[outside].tolist():
             self._mark(i, Status.ESCAPED, "Escaped map", "escaped")
         for i in ids[reached & ~outside].tolist():

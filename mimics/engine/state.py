@@ -12,7 +12,6 @@ from enum import IntEnum
 from functools import cached_property
 
 import numpy as np
-from numba import njit
 
 from mimics.engine.dynamics import PidArrays, Plant
 from mimics.engine.ranger import beam_fans, offset_units
@@ -198,26 +197,3 @@ class WorldState:
     def goal_distance(self) -> np.ndarray:
         """Distance from each robot's true position to its goal (NaN without a goal)."""
         return np.hypot(self.goal[:, 0] - self.pose[:, 0], self.goal[:, 1] - self.pose[:, 1])
-
-
-def none_leaves_or_arrives(pose: np.ndarray, distance: np.ndarray,
-                           bounds: tuple[float, float, float, float], tolerance: float) -> bool:
-    """True when no row of ``pose`` is outside ``bounds`` and no ``distance`` within
-    ``tolerance`` (then nobody needs checking one by one).
-
-    NaN is ignored, as the element-wise comparisons of the full check ignore it.
-    """
-    xmin, ymin, xmax, ymax = bounds
-    return _none_leaves_or_arrives(pose, distance, float(xmin), float(ymin), float(xmax),
-                                   float(ymax), float(tolerance))
-
-
-@njit(cache=True)
-def _none_leaves_or_arrives(pose: np.ndarray, distance: np.ndarray, xmin: float, ymin: float,
-                            xmax: float, ymax: float, tolerance: float) -> bool:
-    """One compiled loop: each step's usual answer for the cost of one call."""
-    for i in range(pose.shape[0]):
-        x, y = pose[i, 0], pose[i, 1]
-        if x < xmin or x > xmax or y < ymin or y > ymax or distance[i] <= tolerance:
-            return False
-    return True

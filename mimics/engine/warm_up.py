@@ -5,9 +5,9 @@ Numba compiles a kernel at its first call and caches it on disk
 compiling. ``mimics run`` compiles ahead instead, one part per process, on
 the machine's cores at once:
 
-- ``"index"``: the walls' walking grid, the robots' index and the step's
-  checks (goals and bounds, the stall screen);
-- ``"motion"``: collisions and the dynamics;
+- ``"index"``: the walls' walking grid, the robots' index and the stall screen;
+- ``"motion"``: the checks after the robots move (``step_checks``: collisions,
+  goals and bounds) and the dynamics;
 - ``"ray"``: the ranger's ray kernel, over half of the whole compile, which
   only a run that reads a scan needs (``WorldState.scan``).
 
@@ -24,18 +24,17 @@ from pathlib import Path
 import numpy as np
 
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
-from mimics.engine.collision import _collide_kernel
 from mimics.engine.dynamics import move_robots
 from mimics.engine.ranger import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
 from mimics.engine.stall import _record_and_screen
-from mimics.engine.state import _none_leaves_or_arrives, none_leaves_or_arrives
+from mimics.engine.step_checks import _check_kernel
 from mimics.engine.wall_index import _near_lists
 
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
-_WITNESSES = {"index": (_build_csr, _bucket, _none_leaves_or_arrives, _record_and_screen),
-              "motion": (_collide_kernel, move_robots),
+_WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
+              "motion": (_check_kernel, move_robots),
               "ray": (_cast_rows, _near_lists, beam_fans)}
 
 
@@ -53,20 +52,21 @@ def _empty_robots() -> RobotIndex:
 
 def compile_index_kernels() -> None:
     """The walls' walking grid and the robot index (``Simulation`` builds both), and the
-    step's checks of goals, bounds and stalls (small: they balance the two parts)."""
+    stall screen (small: it balances the two parts)."""
     build_segment_grid(np.zeros((0, 4)), (0.0, 0.0, 1.0, 1.0))
     empty_robot_index()
     none, flags = np.zeros(0), np.zeros(0, bool)
-    none_leaves_or_arrives(np.zeros((0, 3)), none, (0.0, 0.0, 1.0, 1.0), 0.1)
     _record_and_screen(np.zeros((1, 0, 2)), np.zeros((1, 0)), 0, np.zeros((0, 3)), none, flags,
                        flags, flags, 1, 1, 0.1, 0.1)
 
 
 def compile_motion_kernels() -> None:
-    """Collisions and the dynamics, for the engine's argument types."""
+    """The checks after the robots move and the dynamics, for the engine's argument
+    types."""
     none, rows = np.zeros(0), np.zeros((0, 2))
-    _collide_kernel((rows, none, none, none), np.zeros(0, bool), tuple(_empty_grid()),
-                    tuple(_empty_robots()), np.zeros(0, np.int64), np.zeros(0, np.int64))
+    _check_kernel(tuple(_empty_robots()), none, none, none, np.zeros(0, np.int64),
+                  tuple(_empty_grid()), np.zeros((0, 3)), rows, 0.0, 0.0, 1.0, 1.0, 0.1, none,
+                  np.zeros(0, np.int64))
     gains = np.zeros((0, 3))
     move_robots(np.zeros(0, np.int64), rows, rows, rows, rows, rows, rows, none, gains, gains,
                 none, none, none, none, 0.1, none, none)

@@ -286,7 +286,8 @@ def main(argv: list[str] | None = None) -> int:
         name = type(exc).__name__
         if hasattr(exc, "exit_code") and name == "Exit":
             return int(exc.exit_code)  # type: ignore[attr-defined]
-        if name.startswith("NoArgsIsHelp"):
+        if name.startswith("NoArgsIsHelp"):  # `mimics`, `mimics list`: no command given
+            print(exc.format_message())  # type: ignore[attr-defined]  # the group's help
             return 0
         if name == "Abort":
             fail("interrupted")
