@@ -8,7 +8,7 @@ with the same code, so the results are the same bits (tested). Two calls (the in
 kernel, then one for the rest) instead of four with their NumPy glue take
 about 30 us less per step, most of a step of a few robots (the paper's
 Figure 2 battery is 1,800 such runs). The index stays a call of its own: in
-the same kernel it made the first-run compile 2 s longer.
+the same kernel it made the first-run compile 2.5 s longer.
 """
 
 from __future__ import annotations
