@@ -189,6 +189,17 @@ def _lowest_robot(b: Bodies, i: int, robots: RobotIndex) -> int:
 
 
 @njit(cache=True)
+def touching(b: Bodies, i: int, walls: SegmentGrid, robots: RobotIndex) -> tuple[int, int]:
+    """What robot ``i`` touches: ``with_whom`` (as :func:`find_collisions` gives it) and
+    the lowest touching wall segment (-1 for none)."""
+    wall = _lowest_wall(b, i, walls)
+    other = _lowest_robot(b, i, robots)
+    if other >= 0:
+        return other, wall
+    return (WALL if wall >= 0 else NONE), wall
+
+
+@njit(cache=True)
 def _collide_kernel(bodies: tuple, check: np.ndarray, wall_grid: tuple, robot_index: tuple,
                     with_whom: np.ndarray, wall_segment: np.ndarray) -> None:
     """Fill ``with_whom`` and ``wall_segment`` for every checked robot.
@@ -202,15 +213,8 @@ def _collide_kernel(bodies: tuple, check: np.ndarray, wall_grid: tuple, robot_in
     for i in range(check.shape[0]):
         with_whom[i] = NONE
         wall_segment[i] = -1
-        if not check[i]:
-            continue
-        wall = _lowest_wall(b, i, walls)
-        other = _lowest_robot(b, i, robots)
-        wall_segment[i] = wall
-        if other >= 0:
-            with_whom[i] = other
-        elif wall >= 0:
-            with_whom[i] = WALL
+        if check[i]:
+            with_whom[i], wall_segment[i] = touching(b, i, walls, robots)
 
 
 def _as_bodies(bodies: Bodies) -> Bodies:

@@ -259,18 +259,16 @@ class Simulation:
             update_odometry(state, types, distance, turn, moved, self.rng)
 
     def _check_moved(self, ids: np.ndarray) -> tuple[np.ndarray, bool]:
-        """Index the solid robots, mark robots ``ids`` that touch a wall or a solid robot;
+        """Mark robots ``ids`` that touch a wall or a solid robot (``step_checks``);
         returns every robot's goal distance and whether none of ``ids`` left the map or
-        came within the goal tolerance (``step_checks``)."""
+        came within the goal tolerance."""
         state = self.state
         if ids.size == 0:
             return state.goal_distance(), True
-        solid = self._solid()
         types, scenario = self.types, self.scenario
-        checks = check_moved(state.pose, types.half_length, types.half_width,
-                             self._robot_radius, solid, self._robot_cell, ids, self.wall_grid,
-                             state.goal, scenario.map.bounds, scenario.settings.goal_tolerance)
-        self._grid, self._grid_key = checks.robots, (state.step, solid.tobytes())
+        checks = check_moved(self._robot_index(), state.pose, types.half_length,
+                             types.half_width, ids, self.wall_grid, state.goal,
+                             scenario.map.bounds, scenario.settings.goal_tolerance)
         if checks.touching:
             for i in (checks.with_whom != -2).nonzero()[0].tolist():
                 other = int(checks.with_whom[i])

@@ -64,7 +64,7 @@ def compile_motion_kernels() -> None:
     """The checks after the robots move and the dynamics, for the engine's argument
     types."""
     none, rows = np.zeros(0), np.zeros((0, 2))
-    _check_kernel(tuple(_empty_robots()), none, none, none, np.zeros(0, np.int64),
+    _check_kernel(tuple(_empty_robots()), none, none, np.zeros(0, np.int64),
                   tuple(_empty_grid()), np.zeros((0, 3)), rows, 0.0, 0.0, 1.0, 1.0, 0.1, none,
                   np.zeros(0, np.int64))
     gains = np.zeros((0, 3))
