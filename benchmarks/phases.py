@@ -33,7 +33,7 @@ STEP_PHASES = ["_move", "_check_moved", "_mark_departures_and_arrivals", "_check
                "_handle_failures"]
 # each kernel in the module that calls it (where the wrapper must replace it)
 KERNELS = {"trace_beams": scanner_module, "measure_positioning": simulation_module,
-           "_check_kernel": step_checks_module, "index_robots": step_checks_module,
+           "_check_kernel": step_checks_module, "index_robots": simulation_module,
            "update_odometry": simulation_module}
 RECORDER_HOOKS = ["on_step", "on_end"]
 

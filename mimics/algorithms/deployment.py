@@ -28,26 +28,29 @@ AHEAD_RANGE = 0.25  # ...but at most this fraction of the laser's range
 def step(robot):
     """Turn toward the most open space; drive when facing it with room ahead."""
     ranges = robot.scan.ranges
-    sin, cos, front = _beam_geometry(robot)
+    sin_cos, needed, cruise = _constants(robot)
     # the readings as vectors in the robot's frame: their sum points to open space
-    turn = np.arctan2(np.sum(ranges * sin), np.sum(ranges * cos))
-    # free space needed along each beam: REACH all round, more and more toward the front
-    length, cruise = robot.type.length, SPEED * robot.type.max_speed
-    ahead = min(max(AHEAD * length, STOPPING * cruise), AHEAD_RANGE * robot.scan.max_range)
-    needed = REACH * length + ahead * front
+    y, x = np.sum(ranges * sin_cos, axis=1)  # both sums in one call
+    turn = np.arctan2(y, x)
     speed = cruise if abs(turn) < MAX_TURN and np.all(ranges > needed) else 0.0
     return speed, robot.heading + turn
 
 
-def _beam_geometry(robot):
-    """Sine, cosine and forward part ``max(cos, 0)`` of the beam angles.
+def _constants(robot):
+    """Sine and cosine of the beam angles (one row each), the free space needed along
+    each beam, and the cruising speed.
 
-    The angles never change, so they are worked out once and kept in the
-    robot's memory: the trigonometry is most of the cost of a step otherwise.
+    None of them changes during a run, so they are worked out once and kept in
+    the robot's memory: the trigonometry is most of the cost of a step otherwise.
     """
-    kept = robot.memory.get("deployment.beams")
+    kept = robot.memory.get("deployment.constants")
     if kept is None:
         angles = robot.scan.angles
         cos = np.cos(angles)
-        kept = robot.memory["deployment.beams"] = (np.sin(angles), cos, np.maximum(cos, 0.0))
+        # free space needed along each beam: REACH all round, more and more toward the front
+        length, cruise = robot.type.length, SPEED * robot.type.max_speed
+        ahead = min(max(AHEAD * length, STOPPING * cruise), AHEAD_RANGE * robot.scan.max_range)
+        needed = REACH * length + ahead * np.maximum(cos, 0.0)
+        kept = robot.memory["deployment.constants"] = (np.stack([np.sin(angles), cos]), needed,
+                                                       cruise)
     return kept
