@@ -363,9 +363,11 @@ def form_rows(script: str | Path, benchmark: str, args: argparse.Namespace,
 
 
 def deployment_benchmark(script: str, name: str, label: str, targets: dict[str, float],
-                         time: float, quick_time: float, doc: str) -> None:
+                         time: float, quick_time: float, doc: str,
+                         rss_limit_mb: float | None = None) -> None:
     """The Cave and Hospital scripts: both forms of ``deployment`` on scenario ``name``,
-    against per-form speed targets (s_sim/s); rows saved under ``name``."""
+    against per-form speed targets (s_sim/s) and, if given, a peak RSS limit; rows
+    saved under ``name``."""
     args = parse_or_serve_child(benchmark_parser(doc, time, quick_time))
     if args is None:
         return
@@ -377,6 +379,12 @@ def deployment_benchmark(script: str, name: str, label: str, targets: dict[str, 
     for row in rows:
         row["target_sim_speed"] = targets[row["form"]]
         row["target_met"] = row["sim_speed"] >= targets[row["form"]]
+        memory = ""
+        if rss_limit_mb is not None:
+            row["target_rss_mb"] = rss_limit_mb
+            row["target_met"] = row["target_met"] and row["peak_rss_mb"] < rss_limit_mb
+            memory = f", peak RSS {row['peak_rss_mb']:.0f} MB < {rss_limit_mb:g} MB"
         print(f"  {row['form']:>9}: {row['sim_speed']:.2f} s_sim/s, target >= "
-              f"{row['target_sim_speed']:g}: {'met' if row['target_met'] else 'NOT met'}")
+              f"{row['target_sim_speed']:g}{memory}: "
+              f"{'met' if row['target_met'] else 'NOT met'}")
     save(name, {"meta": meta(args), "rows": rows}, args.results)
