@@ -30,9 +30,10 @@ def step(robot):
     ranges = robot.scan.ranges
     sin_cos, needed, cruise = _constants(robot)
     # the readings as vectors in the robot's frame: their sum points to open space
-    y, x = np.sum(ranges * sin_cos, axis=1)  # both sums in one call
+    # both sums in one call; array methods: the same sums as np.sum, less overhead
+    y, x = (ranges * sin_cos).sum(axis=1)
     turn = np.arctan2(y, x)
-    speed = cruise if abs(turn) < MAX_TURN and np.all(ranges > needed) else 0.0
+    speed = cruise if abs(turn) < MAX_TURN and (ranges > needed).all() else 0.0
     return speed, robot.heading + turn
 
 
