@@ -34,8 +34,8 @@ def kernels_compiled_ahead() -> Iterator[None]:
         yield
         return
     if missing != ["ray"]:
-        note("mimics: first run: compiling the simulation kernels (once, about 8 s; 25 s "
-             "for an algorithm that reads the laser)")
+        note("mimics: first run: compiling the simulation kernels (once, 5 to 10 s on two "
+             "cores; 13 to 30 s for an algorithm that reads the laser)")
     aside = {part: subprocess.Popen([sys.executable, "-c",
                                      _NICE.get(part, "") + _COMPILE.format(part=part)],
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
