@@ -3,7 +3,8 @@
 A :class:`WallIndex` pairs two grids over the same walls:
 
 - ``near``: for every cell of a coarse grid, the walls that come within
-  ``reach`` metres of any point of the cell. A sensor anywhere in the cell
+  ``reach`` metres of any point of the cell, less those another wall hides
+  from the whole cell (``wall_occlusion.py``). A sensor anywhere in the cell
   finds every hit nearer than ``reach`` among them, so the ranger sweeps
   just those walls once per robot, each over the beams it spans (see
   ``ranger.py``);
@@ -40,6 +41,7 @@ from mimics.engine.spatial_index import (
     covering_box,
     grid_frame,
 )
+from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 
 MAX_NEAR_ITEMS = 8_000_000  # budget for the near lists (64 MB of int64)
 CELLS_PER_REACH = 8  # near cells are about reach / 8: candidates exceed the disc by ~30%
@@ -51,7 +53,8 @@ class WallIndex(NamedTuple):
     Attributes:
         grid: the fine walking grid of all walls.
         near: coarse grid whose cell lists hold the walls within ``reach`` of
-            the cell (``near.segments`` is ``grid.segments``).
+            the cell that no other wall hides from all of it (``near.segments``
+            is ``grid.segments``).
         reach: hits nearer than this are found by sweeping ``near`` alone (m).
     """
 
@@ -203,6 +206,7 @@ def build_wall_index(segments: np.ndarray, bounds: Bounds | None, reach: float,
     origin, shape, size = grid_frame(xmin, ymin, xmax, ymax, size)
     # the near lists are conservative: pad the reach for rounding in the distance tests
     start, items = _near_lists(segs, origin, shape, size, reach * (1 + 1e-9) + 1e-9)
+    start, items = cull_hidden(segs, origin, shape, size, start, items, MARGIN)
     near = SegmentGrid(segs, grid.owner, origin, size, shape, start, items)
     return WallIndex(grid, near, reach)
 

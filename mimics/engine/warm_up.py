@@ -31,11 +31,12 @@ from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_g
 from mimics.engine.stall import _record_and_screen
 from mimics.engine.step_checks import _check_kernel
 from mimics.engine.wall_index import _near_lists
+from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
               "motion": (_check_kernel, move_robots),
-              "ray": (_cast_rows, _near_lists, beam_fans)}
+              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans)}
 
 
 # Built by hand, not with build_segment_grid or empty_robot_index: those would compile the
@@ -84,8 +85,10 @@ def compile_ray_kernel() -> None:
 
 
 def compile_ray_helpers() -> None:
-    """What the ray kernel's callers need first: the walls' near lists, the beams' fans."""
-    _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
+    """What the ray kernel's callers need first: the walls' near lists (and their culling),
+    the beams' fans."""
+    start, items = _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
+    cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
 
 
