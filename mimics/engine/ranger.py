@@ -22,10 +22,12 @@ The order of the sweep changes no result: a hit replaces another only when
 nearer, or as near with a lower owner. Beyond the walls' sweep reach (maps
 too big for the near lists), beams walk the fine walls grid cell by cell
 (Amanatides-Woo) until their first hit. Scanning robots run in parallel:
-chunks of rows, interleaved over Numba's thread count, one part on the calling
-thread and the others on Python threads, as the kernel releases the GIL
-(``nogil``). Not a ``prange`` kernel: its parallel wrapper took a fifth of the
-first-run compile, and OpenMP's threads spin between steps, which on a busy
+chunks of rows, interleaved over Numba's thread count (at most one part per
+``MIN_BEAMS_PER_PART`` beams: a small scan does not pay for waking a thread),
+one part on the calling thread and the others on Python threads, as the
+kernel releases the GIL (``nogil``). Not a ``prange`` kernel: its parallel
+wrapper took a fifth of the first-run compile, and OpenMP's threads spin
+between steps, which on a busy
 machine starves the Python side of the step. Each row is computed from its
 own inputs only, so the results are the same bit for bit whatever the number
 of threads.
@@ -95,6 +97,9 @@ from mimics.engine.wall_index import (
 RINGS = 16  # distance classes in which walls and robots are swept, nearest first
 # robots per chunk; a thread takes every n-th chunk, so neighbours (alike in cost) spread
 CHUNK_ROBOTS = 10
+# beams per thread below which a scan runs on the calling thread alone: waking a thread
+# and waiting for it costs 40 to 70 us on 2 cores, about 1,000 to 2,000 beams' work
+MIN_BEAMS_PER_PART = 2048
 
 
 # rows of a scan's list array: the robots listed, each item's ring, the order of the sweep
@@ -356,7 +361,8 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
     if k and beams:
         args = (tuple(query), tuple(walls.grid), tuple(walls.near), walls.reach,
                 tuple(robots), ranges, hit_owner)
-        parts = min(get_num_threads(), (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS)
+        parts = min(get_num_threads(), (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS,
+                    k * beams // MIN_BEAMS_PER_PART)
         if parts <= 1:
             _cast_rows(*args, 0, 1)
         else:  # interleaved chunks: neighbouring robots cost alike, so the parts balance
