@@ -40,31 +40,35 @@ MARGIN = 1e-6  # m: how clearly a sight line must cross an occluder (rounding is
 PAD = 1e-9  # relative padding of a cell's box, for the rounding of the sensor's cell lookup
 
 
-@njit(cache=True, inline="always")
-def _crosses(px: float, py: float, qx: float, qy: float, a: np.ndarray, o: int) -> bool:
-    """Whether occluder ``o``'s shortened ends ``a[o, 0:2]``, ``a[o, 2:4]`` lie clearly on
-    either side of the line through ``p`` and ``q`` (their side of its line is known).
+# rows of the occluders' array (one column per occluder: the first test runs along rows)
+AX, AY, BX, BY, NX, NY = range(6)
 
-    Whole arrays and an index, not a row: a row view per call costs more than the test.
-    """
+
+@njit(cache=True, inline="always")
+def _crosses(px: float, py: float, qx: float, qy: float, occluders: np.ndarray,
+             o: int) -> bool:
+    """Whether occluder ``o``'s shortened ends lie clearly on either side of the line
+    through ``p`` and ``q`` (their side of its own line is known)."""
     ex, ey = qx - px, qy - py
     # the ends' distances from the line, times its length: compared without a square root
-    da = ex * (a[o, 1] - py) - ey * (a[o, 0] - px)
-    db = ex * (a[o, 3] - py) - ey * (a[o, 2] - px)
+    da = ex * (occluders[AY, o] - py) - ey * (occluders[AX, o] - px)
+    db = ex * (occluders[BY, o] - py) - ey * (occluders[BX, o] - px)
     clear = 1e-9 * (abs(ex) + abs(ey))  # at least 1e-9 m (the length is at most |ex| + |ey|)
     return (da > clear and db < -clear) or (da < -clear and db > clear)
 
 
 @njit(cache=True)
-def _occluder(segments: np.ndarray, s: int, box: np.ndarray, margin: float, out: np.ndarray,
-              p: int) -> bool:
-    """Fill ``out[p]`` with segment ``s`` shortened by ``margin`` at both ends and the unit
-    normal of its line pointing away from the box; False if it cannot occlude (too short,
-    or its line passes within ``margin`` of the box)."""
+def _occluder(segments: np.ndarray, s: int, box: np.ndarray, margin: float,
+              occluders: np.ndarray, o: int) -> None:
+    """Fill column ``o`` with segment ``s`` shortened by ``margin`` at both ends and the
+    unit normal of its line pointing away from the box; a zero normal (which passes no
+    test) when it cannot occlude: too short, or its line passes within ``margin`` of
+    the box."""
     ax, ay, bx, by = segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3]
+    occluders[NX, o] = occluders[NY, o] = 0.0
     length = math.hypot(bx - ax, by - ay)
     if length <= 4.0 * margin:
-        return False
+        return
     ux, uy = (bx - ax) / length, (by - ay) / length
     nx, ny = -uy, ux
     low, high = math.inf, -math.inf
@@ -76,26 +80,28 @@ def _occluder(segments: np.ndarray, s: int, box: np.ndarray, margin: float, out:
     if low >= margin:  # the box on the normal's side: W must be on the other
         nx, ny = -nx, -ny
     elif high > -margin:
-        return False
-    out[p, 0], out[p, 1] = ax + margin * ux, ay + margin * uy
-    out[p, 2], out[p, 3] = bx - margin * ux, by - margin * uy
-    out[p, 4], out[p, 5] = nx, ny
-    return True
+        return
+    occluders[AX, o], occluders[AY, o] = ax + margin * ux, ay + margin * uy
+    occluders[BX, o], occluders[BY, o] = bx - margin * ux, by - margin * uy
+    occluders[NX, o], occluders[NY, o] = nx, ny
 
 
 @njit(cache=True, inline="always")
-def _hides(occluders: np.ndarray, p: int, box: np.ndarray, margin: float, qx1: float,
-           qy1: float, qx2: float, qy2: float) -> bool:
-    """Whether occluder ``p`` (from :func:`_occluder`) hides the wall ``(q1, q2)`` from the box."""
-    ox, oy, nx, ny = occluders[p, 0], occluders[p, 1], occluders[p, 4], occluders[p, 5]
-    # the wall clearly beyond the occluder's line (cheap, and rules out most pairs)
-    if nx * (qx1 - ox) + ny * (qy1 - oy) < margin or nx * (qx2 - ox) + ny * (qy2 - oy) < margin:
-        return False
+def _beyond(occluders: np.ndarray, o: int, margin: float, qx: float, qy: float) -> bool:
+    """Whether ``q`` lies at least ``margin`` beyond occluder ``o``'s line, away from the box."""
+    return (occluders[NX, o] * (qx - occluders[AX, o])
+            + occluders[NY, o] * (qy - occluders[AY, o])) >= margin
+
+
+@njit(cache=True, inline="always")
+def _sight_lines_cross(occluders: np.ndarray, o: int, box: np.ndarray, qx1: float,
+                       qy1: float, qx2: float, qy2: float) -> bool:
+    """Whether occluder ``o`` crosses the sight lines from the box's corners to both ends."""
     for k in range(4):
         cx = box[0] if k == 0 or k == 3 else box[2]
         cy = box[1] if k < 2 else box[3]
-        if not (_crosses(cx, cy, qx1, qy1, occluders, p)
-                and _crosses(cx, cy, qx2, qy2, occluders, p)):
+        if not (_crosses(cx, cy, qx1, qy1, occluders, o)
+                and _crosses(cx, cy, qx2, qy2, occluders, o)):
             return False
     return True
 
@@ -108,8 +114,9 @@ def cull_hidden(segments: np.ndarray, origin: np.ndarray, shape: np.ndarray, cel
 
     Each cell's walls are tried against the walls of its own list as
     occluders (any other wall that could hide one also lies within reach of
-    the cell, nearer than it). Costs the square of a list's length at worst:
-    most pairs fail the first test.
+    the cell, nearer than it). Costs the square of a list's length: the
+    first test (the wall beyond the occluder's line) runs over all occluders
+    at once, without branches, and rules out most of them.
     """
     nx, ny = shape[0], shape[1]
     kept_start = np.zeros_like(start)
@@ -117,8 +124,8 @@ def cull_hidden(segments: np.ndarray, origin: np.ndarray, shape: np.ndarray, cel
     longest = 0
     for c in range(nx * ny):
         longest = max(longest, start[c + 1] - start[c])
-    occluders = np.empty((longest, 6))
-    usable = np.empty(longest, dtype=np.bool_)
+    occluders = np.zeros((6, longest))
+    beyond = np.empty(longest, dtype=np.bool_)
     box = np.empty(4)
     count = 0
     for c in range(nx * ny):
@@ -126,15 +133,19 @@ def cull_hidden(segments: np.ndarray, origin: np.ndarray, shape: np.ndarray, cel
         pad = PAD * (1.0 + abs(x0) + abs(y0) + cell)
         box[0], box[1], box[2], box[3] = x0 - pad, y0 - pad, x0 + cell + pad, y0 + cell + pad
         listed = items[start[c]:start[c + 1]]
-        for p in range(listed.shape[0]):
-            usable[p] = _occluder(segments, listed[p], box, margin, occluders, p)
-        for w in range(listed.shape[0]):
+        walls = listed.shape[0]
+        for o in range(walls):
+            _occluder(segments, listed[o], box, margin, occluders, o)
+        for w in range(walls):
             s = listed[w]
             qx1, qy1, qx2, qy2 = segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3]
+            # a wall is never beyond its own line, so it never occludes itself
+            for o in range(walls):
+                beyond[o] = (_beyond(occluders, o, margin, qx1, qy1)
+                             & _beyond(occluders, o, margin, qx2, qy2))
             hidden = False
-            for p in range(listed.shape[0]):
-                if p != w and usable[p] and _hides(occluders, p, box, margin, qx1, qy1, qx2,
-                                                   qy2):
+            for o in range(walls):
+                if beyond[o] and _sight_lines_cross(occluders, o, box, qx1, qy1, qx2, qy2):
                     hidden = True
                     break
             if not hidden:
@@ -150,8 +161,8 @@ def hidden_by_one(segments: np.ndarray, occluder: int, wall: int,
     ``(x0, y0, x1, y1)`` (the test :func:`cull_hidden` applies; for tests and docs)."""
     segs = np.ascontiguousarray(segments, dtype=np.float64)
     box_array = np.array(box, dtype=np.float64)
-    found = np.empty((1, 6))
-    if not _occluder(segs, occluder, box_array, margin, found, 0):
-        return False
+    found = np.empty((6, 1))
+    _occluder(segs, occluder, box_array, margin, found, 0)
     q = segs[wall]
-    return bool(_hides(found, 0, box_array, margin, q[0], q[1], q[2], q[3]))
+    return bool(_beyond(found, 0, margin, q[0], q[1]) and _beyond(found, 0, margin, q[2], q[3])
+                and _sight_lines_cross(found, 0, box_array, q[0], q[1], q[2], q[3]))
