@@ -45,6 +45,12 @@ AX, AY, BX, BY, NX, NY = range(6)
 
 
 @njit(cache=True, inline="always")
+def _corner(box: np.ndarray, k: int) -> tuple[float, float]:
+    """Corner ``k`` (counterclockwise from the lowest) of the box ``(x0, y0, x1, y1)``."""
+    return box[0] if k == 0 or k == 3 else box[2], box[1] if k < 2 else box[3]
+
+
+@njit(cache=True, inline="always")
 def _crosses(px: float, py: float, qx: float, qy: float, occluders: np.ndarray,
              o: int) -> bool:
     """Whether occluder ``o``'s shortened ends lie clearly on either side of the line
@@ -73,8 +79,7 @@ def _occluder(segments: np.ndarray, s: int, box: np.ndarray, margin: float,
     nx, ny = -uy, ux
     low, high = math.inf, -math.inf
     for k in range(4):
-        cx = box[0] if k == 0 or k == 3 else box[2]
-        cy = box[1] if k < 2 else box[3]
+        cx, cy = _corner(box, k)
         side = nx * (cx - ax) + ny * (cy - ay)
         low, high = min(low, side), max(high, side)
     if low >= margin:  # the box on the normal's side: W must be on the other
@@ -98,8 +103,7 @@ def _sight_lines_cross(occluders: np.ndarray, o: int, box: np.ndarray, qx1: floa
                        qy1: float, qx2: float, qy2: float) -> bool:
     """Whether occluder ``o`` crosses the sight lines from the box's corners to both ends."""
     for k in range(4):
-        cx = box[0] if k == 0 or k == 3 else box[2]
-        cy = box[1] if k < 2 else box[3]
+        cx, cy = _corner(box, k)
         if not (_crosses(cx, cy, qx1, qy1, occluders, o)
                 and _crosses(cx, cy, qx2, qy2, occluders, o)):
             return False
@@ -157,12 +161,14 @@ def cull_hidden(segments: np.ndarray, origin: np.ndarray, shape: np.ndarray, cel
 
 def hidden_by_one(segments: np.ndarray, occluder: int, wall: int,
                   box: tuple[float, float, float, float], margin: float = MARGIN) -> bool:
-    """Whether wall ``segments[wall]`` is hidden by ``segments[occluder]`` from the box
-    ``(x0, y0, x1, y1)`` (the test :func:`cull_hidden` applies; for tests and docs)."""
-    segs = np.ascontiguousarray(segments, dtype=np.float64)
-    box_array = np.array(box, dtype=np.float64)
-    found = np.empty((6, 1))
-    _occluder(segs, occluder, box_array, margin, found, 0)
-    q = segs[wall]
-    return bool(_beyond(found, 0, margin, q[0], q[1]) and _beyond(found, 0, margin, q[2], q[3])
-                and _sight_lines_cross(found, 0, box_array, q[0], q[1], q[2], q[3]))
+    """Whether :func:`cull_hidden` drops wall ``segments[wall]`` from the square cell
+    ``(x0, y0, x1, y1)`` whose list holds it and ``segments[occluder]`` (for tests and docs).
+    """
+    x0, y0, x1, y1 = box
+    if not x1 - x0 == y1 - y0 > 0:
+        raise ValueError(f"the cell must be a square, got {box}")
+    _, kept = cull_hidden(np.ascontiguousarray(segments, dtype=np.float64),
+                          np.array([x0, y0], dtype=np.float64), np.ones(2, np.int64),
+                          float(x1 - x0), np.array([0, 2], np.int64),
+                          np.array([occluder, wall], np.int64), margin)
+    return wall not in kept.tolist()
