@@ -1,12 +1,15 @@
 """Swarm: 100 to 10,000 e-pucks dispersing (``swarm`` scenario, ``dispersion_team``).
 
     python benchmarks/swarm.py [--robots 100 300 1000 3000 10000] [--time 10] [--repeats 3]
-                               [--no-logging] [--threads N] [--quick]
+                               [--robot-logs auto|on|off] [--no-logging] [--threads N] [--quick]
 
 Targets (issue 21, part 4; 2 cores, logging on like ``mimics run``):
 10,000 robots at >= 2 s_sim/s with peak RSS under 2 GB, and the cost per
 robot-step (µs) within 1.3x from 100 to 10,000 robots. The arena grows with
-the team (same density). Each size runs in a fresh process (its own peak
+the team (same density). With logging on, teams of up to 200 robots also
+write a text log per robot, as ``mimics run`` does (``--robot-logs auto``);
+``--robot-logs off`` records the same Parquet tables at every size, and
+nothing else. Each size runs in a fresh process (its own peak
 RSS): one warm-up run, then the median of ``--repeats`` runs. Rows merge into
 benchmarks/results.json under ``swarm``.
 """
@@ -33,19 +36,23 @@ def main() -> None:
     parser = benchmark_parser(__doc__, time=10.0, quick_time=1.0)
     parser.add_argument("--robots", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000])
     parser.add_argument("--algorithm", default="dispersion_team")
+    parser.add_argument("--robot-logs", choices=["auto", "on", "off"], default="auto",
+                        help="per-robot text logs when logging (auto: up to 200 robots)")
     args = parse_or_serve_child(parser)
     if args is None:
         return
+    logs = f", robot logs {args.robot_logs}" if args.logging else ""
     print(f"swarm, {args.algorithm}, {args.time:g} s simulated per run, median of "
-          f"{args.repeats}, logging {'on' if args.logging else 'off'}")
+          f"{args.repeats}, logging {'on' if args.logging else 'off'}{logs}")
     columns = ["robots", "sim_speed", "robot_steps_per_s", "us_per_robot_step", "peak_rss_mb"]
     print_table("", [], columns)
     rows = []
     for n in args.robots:
         spec = base_spec(args, algorithm=args.algorithm, scenario="swarm",
-                         params={"robots": n, "time_limit": args.time})
+                         params={"robots": n, "time_limit": args.time},
+                         robot_logs=args.robot_logs)
         rows.append(row_from("swarm", "team", run_child(__file__, spec, args.threads),
-                             algorithm=args.algorithm))
+                             algorithm=args.algorithm, robot_logs=args.robot_logs))
         print_table("", rows[-1:], columns, header=False)
     cost = [r["us_per_robot_step"] for r in rows]
     flatness = max(cost) / min(cost)
@@ -57,7 +64,8 @@ def main() -> None:
     print(f"  cost per robot-step max/min {flatness:.2f}x (target <= {TARGET_FLATNESS}); "
           f"{largest['robots']} robots: {largest['sim_speed']:.2f} s_sim/s (target >= "
           f"{TARGET_SIM_SPEED}), {largest['peak_rss_mb']:.0f} MB (target < {TARGET_RSS_MB:.0f})")
-    save("swarm", {"meta": meta(args), "rows": rows, "summary": summary}, args.results)
+    section = "swarm" if args.robot_logs == "auto" else f"swarm_robot_logs_{args.robot_logs}"
+    save(section, {"meta": meta(args), "rows": rows, "summary": summary}, args.results)
 
 
 if __name__ == "__main__":
