@@ -11,7 +11,8 @@ write a text log per robot, as ``mimics run`` does (``--robot-logs auto``);
 ``--robot-logs off`` records the same Parquet tables at every size, and
 nothing else. Each size runs in a fresh process (its own peak
 RSS): one warm-up run, then the median of ``--repeats`` runs. Rows merge into
-benchmarks/results.json under ``swarm``.
+benchmarks/results.json under ``swarm`` (``swarm_robot_logs_off`` or ``_on``
+with those options).
 """
 
 from __future__ import annotations
