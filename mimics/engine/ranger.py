@@ -85,6 +85,7 @@ from mimics.engine.beam_sweep import (
     _trace,
 )
 from mimics.engine.beam_sweep import ray_segment_distance as ray_segment_distance
+from mimics.engine.point_cull import SightLists, no_sight_lists
 from mimics.engine.robot_index import RobotIndex, coerce_robot_index
 from mimics.engine.spatial_index import SegmentGrid, cell_span, coerce_array
 from mimics.engine.wall_index import (
@@ -100,6 +101,7 @@ CHUNK_ROBOTS = 10
 # beams per thread below which a scan runs on the calling thread alone: waking a thread
 # and waiting for it costs 40 to 70 us on 2 cores, about 1,000 to 2,000 beams' work
 MIN_BEAMS_PER_PART = 2048
+NO_SIGHT_LISTS = no_sight_lists()  # no robot pinned
 
 
 # rows of a scan's list array: the robots listed, each item's ring, the order of the sweep
@@ -166,13 +168,14 @@ def _by_distance(distance: np.ndarray, count: int, limit: float, lists: np.ndarr
 # numpy error model: the inlined block test of robots' sides divides in every lane
 @njit(cache=True, error_model="numpy")
 def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
-              near: SegmentGrid, reach: float, robots: RobotIndex, ranges: np.ndarray,
-              owners: np.ndarray, work: np.ndarray, best_o: np.ndarray, distance: np.ndarray,
-              lists: np.ndarray) -> None:
+              near: SegmentGrid, reach: float, robots: RobotIndex, sight: SightLists,
+              ranges: np.ndarray, owners: np.ndarray, work: np.ndarray, best_o: np.ndarray,
+              distance: np.ndarray, lists: np.ndarray) -> None:
     """Fill one scanning robot's ``ranges`` and hit ``owners``.
 
     The walls come as the fields of a ``WallIndex`` (``grid``, ``near``,
-    ``reach``). ``work`` and ``best_o``
+    ``reach``); a robot pinned in ``sight`` sweeps its own lists instead of its
+    cell's walls and the robots in range. ``work`` and ``best_o``
     are scratch space of whole blocks of beams, ``distance`` and ``lists`` of the
     walls and robots listed (``_list_capacity``), reused from one robot to the next.
     """
@@ -202,15 +205,30 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     # the walls listed for the sensor's cell (none outside the near grid)
     cell = near_cell_of(near, ox, oy)
     certain = reach if cell >= 0 else 0.0
+    pinned = 0 <= me < sight.pinned.shape[0] and sight.pinned[me]
     listed = near.cell_items[0:0]
-    if cell >= 0:
+    if pinned:  # (a pinned robot's cell is in the grid)
+        listed = sight.wall_items[sight.wall_start[me]:sight.wall_start[me + 1]]
+    elif cell >= 0:
         listed = near.cell_items[near.cell_start[cell]: near.cell_start[cell + 1]]
     walls = listed.shape[0]
-    # the robots whose bounding circle comes within range
-    span = limit + robots.max_radius
-    nx = robots.shape[0]
-    ix0, ix1 = cell_span(ox - span, ox + span, robots.origin[0], robots.cell, nx)
-    iy0, iy1 = cell_span(oy - span, oy + span, robots.origin[1], robots.cell, robots.shape[1])
+    # the robots whose bounding circle comes within range (or those pinned lists keep)
+    found = 0
+    if pinned:
+        for p in range(sight.robot_start[me], sight.robot_start[me + 1]):
+            lists[SEEN, found] = sight.robot_items[p]
+            found += 1
+    else:
+        span = limit + robots.max_radius
+        nx = robots.shape[0]
+        ix0, ix1 = cell_span(ox - span, ox + span, robots.origin[0], robots.cell, nx)
+        iy0, iy1 = cell_span(oy - span, oy + span, robots.origin[1], robots.cell,
+                             robots.shape[1])
+        for iy in range(iy0, iy1 + 1):  # the cells of a row are contiguous in the CSR
+            for p in range(robots.grid_start[iy * nx + ix0],
+                           robots.grid_start[iy * nx + ix1 + 1]):
+                lists[SEEN, found] = robots.grid_items[p]
+                found += 1
     # a lower bound of each one's distance; inf for those no beam can reach
     for p in range(walls):
         s = listed[p]
@@ -220,21 +238,15 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
             distance[p] = math.inf
         else:
             distance[p] = _below(point_segment_distance(ox, oy, x1, y1, x2, y2))
-    found = 0
     corners, centers, radius = robots.corners, robots.centers, robots.radius
-    grid_start, grid_items = robots.grid_start, robots.grid_items
-    for iy in range(iy0, iy1 + 1):  # the cells of a row are contiguous in the CSR
-        for p in range(grid_start[iy * nx + ix0], grid_start[iy * nx + ix1 + 1]):
-            r = grid_items[p]
-            lists[SEEN, found] = r
-            cx, cy = centers[r, 0] - ox, centers[r, 1] - oy
-            bits = _beyond_edges(cx, cy, radius[r], cone)
-            if r == me or _outside_view(bits, bits, cone[4]):
-                distance[walls + found] = math.inf
-            else:
-                distance[walls + found] = max(_below(math.sqrt(cx * cx + cy * cy) - radius[r]),
-                                              0.0)
-            found += 1
+    for f in range(found):
+        r = lists[SEEN, f]
+        cx, cy = centers[r, 0] - ox, centers[r, 1] - oy
+        bits = _beyond_edges(cx, cy, radius[r], cone)
+        if r == me or _outside_view(bits, bits, cone[4]):
+            distance[walls + f] = math.inf
+        else:
+            distance[walls + f] = max(_below(math.sqrt(cx * cx + cy * cy) - radius[r]), 0.0)
     # walls and robots together, nearest first: farther ones then skip the beams already
     # hit (most beams of a crowded scan end on a neighbour, in front of the walls)
     for q in range(_by_distance(distance, walls + found, limit, lists)):
@@ -261,17 +273,19 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
 
 @njit(cache=True, nogil=True)
 def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
-               robot_index: tuple, ranges: np.ndarray, hit_owner: np.ndarray, part: int,
-               parts: int) -> None:
+               robot_index: tuple, sight_lists: tuple, ranges: np.ndarray,
+               hit_owner: np.ndarray, part: int, parts: int) -> None:
     """Fill rows of ``ranges`` and ``hit_owner``: chunks ``part``, ``part + parts``, ...
 
     Work items are chunks of ``CHUNK_ROBOTS`` rows sharing one scratch space.
-    ``beams``, ``wall_grid``, ``near_lists`` and ``robot_index`` are the fields of
-    a ``RangerQuery``, two ``SegmentGrid`` and a ``RobotIndex`` as plain tuples:
+    ``beams``, ``wall_grid``, ``near_lists``, ``robot_index`` and ``sight_lists`` are
+    the fields of a ``RangerQuery``, two ``SegmentGrid``, a ``RobotIndex`` and
+    ``SightLists`` as plain tuples:
     the dispatcher types those in C (see ``collision._collide_kernel``).
     """
     query, grid = RangerQuery(*beams), SegmentGrid(*wall_grid)
     near, robots = SegmentGrid(*near_lists), RobotIndex(*robot_index)
+    sight = SightLists(*sight_lists)
     k, beams = query.offsets.shape
     padded = (beams + BLOCK - 1) // BLOCK * BLOCK
     capacity = _list_capacity(near, robots)
@@ -281,8 +295,8 @@ def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
     lists = np.empty((3, capacity), dtype=np.int64)
     for chunk in range(part, (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS, parts):
         for i in range(chunk * CHUNK_ROBOTS, min(k, (chunk + 1) * CHUNK_ROBOTS)):
-            _scan_row(query, i, grid, near, reach, robots, ranges[i], hit_owner[i], work, best_o,
-                      distance, lists)
+            _scan_row(query, i, grid, near, reach, robots, sight, ranges[i], hit_owner[i], work,
+                      best_o, distance, lists)
 
 
 @njit(cache=True)
@@ -341,14 +355,15 @@ def cast_rays(query: RangerQuery, walls: WallIndex,
 
 
 def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
-                out: tuple[np.ndarray, np.ndarray] | None = None
-                ) -> tuple[np.ndarray, np.ndarray]:
+                out: tuple[np.ndarray, np.ndarray] | None = None,
+                sight: SightLists = NO_SIGHT_LISTS) -> tuple[np.ndarray, np.ndarray]:
     """:func:`cast_rays` without the checks, for the engine's own arrays.
 
     The query's arrays must be C-contiguous, of the dtypes and shapes
     :class:`RangerQuery` gives, with finite origins and headings. ``out``:
     C-contiguous ``(k, B)`` float64 and int64 arrays to fill (and return)
-    instead of new ones.
+    instead of new ones. ``sight``: the lists of robots that stand still
+    (``still_scans.py``), by robot index (``query.robot``).
     """
     k, beams = query.offsets.shape
     if query.offset_units is None:
@@ -360,7 +375,7 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
     ranges, hit_owner = out
     if k and beams:
         args = (tuple(query), tuple(walls.grid), tuple(walls.near), walls.reach,
-                tuple(robots), ranges, hit_owner)
+                tuple(robots), tuple(sight), ranges, hit_owner)
         parts = min(get_num_threads(), (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS,
                     k * beams // MIN_BEAMS_PER_PART)
         if parts <= 1:

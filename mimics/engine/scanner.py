@@ -18,6 +18,7 @@ from mimics.engine.ranger import RangerQuery, trace_beams
 from mimics.engine.robot_index import RobotIndex
 from mimics.engine.sensors import add_ranger_noise
 from mimics.engine.state import TypeArrays, WorldState
+from mimics.engine.still_scans import StillScans
 from mimics.engine.wall_index import WallIndex
 from mimics.engine.warm_up import await_ray_part
 
@@ -39,6 +40,7 @@ class Scanner:
         self._noise_seed = noise_seed
         self._walls, self._robots = walls, robots
         self._has_ranger = types.beam_count > 0
+        self._still = StillScans(types.max_range, np.minimum(types.half_length, types.half_width))
         self._ids = np.zeros(0, dtype=np.int64)  # the robots of the last sensing's scan
         self._all_beams: tuple[np.ndarray, ...] | None = None  # every robot's beams
 
@@ -66,10 +68,12 @@ class Scanner:
         query = RangerQuery(np.ascontiguousarray(state.pose[rows, :2]),
                             np.ascontiguousarray(state.pose[rows, 2]), *beams)
         scan, hit = state.scan_buffer, state.scan_hit_buffer
+        walls, robots = self._walls(), self._robots()
+        sight = self._still.update(robots.centers, walls, robots)
         if everyone:  # the kernel writes straight into the state
-            trace_beams(query, self._walls(), self._robots(), (scan, hit))
+            trace_beams(query, walls, robots, (scan, hit), sight)
         else:
-            scan[rows], hit[rows] = trace_beams(query, self._walls(), self._robots())
+            scan[rows], hit[rows] = trace_beams(query, walls, robots, sight=sight)
         if "sigma_range" in types.noisy:  # known once per run: no test per step
             scan[rows] = add_ranger_noise(scan[rows], query.max_range, types.sigma_range[rows],
                                           self._noise(state.step))

@@ -25,18 +25,20 @@ import numpy as np
 
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
 from mimics.engine.dynamics import move_robots
+from mimics.engine.point_cull import no_sight_lists
 from mimics.engine.ranger import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
 from mimics.engine.stall import _record_and_screen
 from mimics.engine.step_checks import _check_kernel
+from mimics.engine.still_scans import _pin, _settle
 from mimics.engine.wall_index import _near_lists
 from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
               "motion": (_check_kernel, move_robots),
-              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans)}
+              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin)}
 
 
 # Built by hand, not with build_segment_grid or empty_robot_index: those would compile the
@@ -81,15 +83,21 @@ def compile_ray_kernel() -> None:
     query = RangerQuery(none, np.zeros(0), np.zeros((0, 1)), np.zeros(0), np.zeros(0, np.int64),
                         np.zeros((0, 1, 2)), np.zeros((0, FAN_COLUMNS)))
     _cast_rows(tuple(query), tuple(_empty_grid()), tuple(_empty_grid()), 0.0,
-               tuple(_empty_robots()), np.zeros((0, 1)), np.zeros((0, 1), np.int64), 0, 1)
+               tuple(_empty_robots()), tuple(no_sight_lists()), np.zeros((0, 1)),
+               np.zeros((0, 1), np.int64), 0, 1)
 
 
 def compile_ray_helpers() -> None:
     """What the ray kernel's callers need first: the walls' near lists (and their culling),
-    the beams' fans."""
+    the beams' fans, the sight lists of robots standing still."""
     start, items = _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
     cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
+    none, rows, counts, flags = np.zeros(0), np.zeros((0, 2)), np.zeros(0, np.int64), \
+        np.zeros(0, bool)
+    _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
+    _pin(rows, counts, flags, none, none, tuple(_empty_grid()), tuple(_empty_robots()),
+         tuple(no_sight_lists()))
 
 
 def compile_ray_part() -> None:
