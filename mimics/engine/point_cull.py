@@ -45,29 +45,26 @@ MAX_PIECES = 64  # per wall (longer walls get longer pieces)
 
 
 class SightLists(NamedTuple):
-    """Per robot, the walls and robots it may see first, when ``pinned`` (CSR lists).
+    """Per robot, the walls and robots it may see first, when ``pinned``.
 
     Attributes:
         pinned: ``(n,)`` bool: the robot's scan sweeps its lists instead of
             everything near it (only while it and its neighbours stand still).
-        wall_start: ``(n + 1,)`` offsets into ``wall_items``.
-        wall_items: wall indices (rows of the walls' segments).
-        robot_start: ``(n + 1,)`` offsets into ``robot_items``.
-        robot_items: robot indices.
+        spans: ``(n, 4)`` int64: robot ``i``'s walls are
+            ``items[spans[i, 0]:spans[i, 1]]`` (rows of the walls' segments), the
+            robots it may see ``items[spans[i, 2]:spans[i, 3]]``.
+        items: wall and robot indices.
     """
 
     pinned: np.ndarray
-    wall_start: np.ndarray
-    wall_items: np.ndarray
-    robot_start: np.ndarray
-    robot_items: np.ndarray
+    spans: np.ndarray
+    items: np.ndarray
 
 
 def no_sight_lists() -> SightLists:
     """Lists pinning no robot (every scan sweeps everything near it)."""
-    none = np.zeros(1, dtype=np.int64)
-    empty = np.zeros(0, dtype=np.int64)
-    return SightLists(np.zeros(0, dtype=np.bool_), none, empty, none, empty)
+    return SightLists(np.zeros(0, dtype=np.bool_), np.zeros((0, 4), dtype=np.int64),
+                      np.zeros(0, dtype=np.int64))
 
 
 @njit(cache=True, inline="always")
@@ -204,7 +201,8 @@ def sight_lists(ox: float, oy: float, limit: float, me: int, walls: np.ndarray,
             low, high = max(low + shift, first), min(high + shift, last)
             o_start[count], o_width[count] = low, high - low
             depth[count] = max(math.sqrt(ax * ax + ay * ay), math.sqrt(bx * bx + by * by))
-            count += 1
+            # a piece farther than the range could only hide what lies beyond it
+            count += depth[count] <= limit
     for p in range(nr):
         r = robots[p]
         cx, cy = centers[r, 0] - ox, centers[r, 1] - oy

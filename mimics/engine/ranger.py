@@ -208,15 +208,15 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     pinned = 0 <= me < sight.pinned.shape[0] and sight.pinned[me]
     listed = near.cell_items[0:0]
     if pinned:  # (a pinned robot's cell is in the grid)
-        listed = sight.wall_items[sight.wall_start[me]:sight.wall_start[me + 1]]
+        listed = sight.items[sight.spans[me, 0]:sight.spans[me, 1]]
     elif cell >= 0:
         listed = near.cell_items[near.cell_start[cell]: near.cell_start[cell + 1]]
     walls = listed.shape[0]
     # the robots whose bounding circle comes within range (or those pinned lists keep)
     found = 0
     if pinned:
-        for p in range(sight.robot_start[me], sight.robot_start[me + 1]):
-            lists[SEEN, found] = sight.robot_items[p]
+        for p in range(sight.spans[me, 2], sight.spans[me, 3]):
+            lists[SEEN, found] = sight.items[p]
             found += 1
     else:
         span = limit + robots.max_radius

@@ -40,7 +40,8 @@ class Scanner:
         self._noise_seed = noise_seed
         self._walls, self._robots = walls, robots
         self._has_ranger = types.beam_count > 0
-        self._still = StillScans(types.max_range, np.minimum(types.half_length, types.half_width))
+        self._still = StillScans(types.max_range, types.beam_count,
+                                 np.minimum(types.half_length, types.half_width))
         self._ids = np.zeros(0, dtype=np.int64)  # the robots of the last sensing's scan
         self._all_beams: tuple[np.ndarray, ...] | None = None  # every robot's beams
 

@@ -24,6 +24,17 @@ from mimics.engine.spatial_index import SegmentGrid, cell_span
 from mimics.engine.wall_index import WallIndex, near_cell_of
 
 SETTLE_STEPS = 5  # steps a neighbourhood stands still before its lists are made (~50 us each)
+# fewer beams than this: a scan costs too little to pay for its lists (the swarm's 8 e-puck
+# beams: the lists' upkeep cost the 10,000-robot swarm 6% where nothing was gained)
+MIN_BEAMS = 32
+
+
+@njit(cache=True, inline="always")
+def _cell(x: float, y: float, index: RobotIndex) -> tuple[int, int]:
+    """The index grid's cell of ``(x, y)``, clamped to the grid."""
+    ix = min(max(math.floor((x - index.origin[0]) / index.cell), 0.0), index.shape[0] - 1.0)
+    iy = min(max(math.floor((y - index.origin[1]) / index.cell), 0.0), index.shape[1] - 1.0)
+    return int(ix), int(iy)
 
 
 @njit(cache=True)
@@ -33,42 +44,47 @@ def _settle(centers: np.ndarray, before: np.ndarray, solid_before: np.ndarray,
     """Count each robot's still steps, unpin those whose neighbourhood moved; returns
     how many robots are due for lists. ``before`` and ``solid_before`` become this step's.
 
-    A neighbour moved when it is seen (in the robot index) and its centre changed
-    while within range of the robot, at its old centre or its new one. A change in
-    who is seen unpins everyone.
+    A robot's neighbourhood moved when a robot that is seen (in the robot index)
+    changed its centre within range of it, at the old centre or the new one; the
+    test is by cells of the index, a little wider than the range (a table of
+    summed counts of the cells holding such centres: O(robots + cells)). A
+    change in who is seen unpins everyone.
     """
     index = RobotIndex(*robots)
     n = centers.shape[0]
+    nx, ny = index.shape[0], index.shape[1]
     solid = np.zeros(n, dtype=np.bool_)
     solid[index.grid_items] = True
     moved = np.zeros(n, dtype=np.bool_)
-    movers, shift = 0, 0.0
+    # movers[iy + 1, ix + 1]: centres that moved in cell (ix, iy), then summed up and left
+    movers = np.zeros((ny + 1, nx + 1), dtype=np.int64)
+    everyone, anyone = False, False
     for j in range(n):
         moved[j] = centers[j, 0] != before[j, 0] or centers[j, 1] != before[j, 1]
         if solid[j] != solid_before[j]:
-            movers, shift = n, math.inf  # unpin all
+            everyone = True
         elif moved[j] and solid[j]:
-            movers += 1
-            shift = max(shift, math.hypot(centers[j, 0] - before[j, 0],
-                                          centers[j, 1] - before[j, 1]))
+            anyone = True
+            for x, y in ((centers[j, 0], centers[j, 1]), (before[j, 0], before[j, 1])):
+                ix, iy = _cell(x, y, index)
+                movers[iy + 1, ix + 1] += 1
+    if anyone:
+        for iy in range(1, ny + 1):
+            for ix in range(1, nx + 1):
+                movers[iy, ix] += movers[iy - 1, ix] + movers[iy, ix - 1] - movers[iy - 1, ix - 1]
+    # a mover within range lies at most this many cells away along each axis (with room
+    # for the rounding of the cells' bounds)
+    reach = (np.max(max_range) + index.max_radius) / index.cell if n else 0.0
+    cells = math.ceil(reach * (1.0 + 1e-9) + 1e-9)
     due = 0
-    nx, ny = index.shape[0], index.shape[1]
     for i in range(n):
-        settled = not moved[i] and math.isfinite(shift)
-        if settled and movers:
-            ox, oy = centers[i, 0], centers[i, 1]
-            span = max_range[i] + index.max_radius + shift
-            ix0, ix1 = cell_span(ox - span, ox + span, index.origin[0], index.cell, nx)
-            iy0, iy1 = cell_span(oy - span, oy + span, index.origin[1], index.cell, ny)
-            for iy in range(iy0, iy1 + 1):
-                for p in range(index.grid_start[iy * nx + ix0],
-                               index.grid_start[iy * nx + ix1 + 1]):
-                    j = index.grid_items[p]
-                    if moved[j]:
-                        reach = (max_range[i] + index.radius[j]) * (1.0 + 1e-9) + 1e-9
-                        if min(math.hypot(centers[j, 0] - ox, centers[j, 1] - oy),
-                               math.hypot(before[j, 0] - ox, before[j, 1] - oy)) <= reach:
-                            settled = False
+        settled = not everyone and not moved[i]
+        if settled and anyone:
+            ix, iy = _cell(centers[i, 0], centers[i, 1], index)
+            x0, x1 = max(ix - cells, 0), min(ix + cells, nx - 1)
+            y0, y1 = max(iy - cells, 0), min(iy + cells, ny - 1)
+            settled = (movers[y1 + 1, x1 + 1] - movers[y0, x1 + 1] - movers[y1 + 1, x0]
+                       + movers[y0, x0]) == 0
         if settled:
             still[i] += 1
         else:
@@ -82,23 +98,48 @@ def _settle(centers: np.ndarray, before: np.ndarray, solid_before: np.ndarray,
 
 
 @njit(cache=True)
+def _reserve(items: np.ndarray, used: int, more: int) -> np.ndarray:
+    """``items`` with room for ``more`` after ``used`` (a copy, twice as long, if needed)."""
+    if used + more <= items.shape[0]:
+        return items
+    grown = np.empty(max(2 * items.shape[0], used + more), dtype=np.int64)
+    grown[:used] = items[:used]
+    return grown
+
+
+@njit(cache=True)
+def _compact(pinned: np.ndarray, spans: np.ndarray, items: np.ndarray,
+             used: int) -> tuple[np.ndarray, int]:
+    """The pinned robots' lists alone, when the dropped ones take most of ``items``."""
+    live = 0
+    for i in range(pinned.shape[0]):
+        if pinned[i]:
+            live += spans[i, 1] - spans[i, 0] + spans[i, 3] - spans[i, 2]
+    if used <= 2 * live + 4096:
+        return items, used
+    kept = np.empty(2 * live + 4096, dtype=np.int64)
+    count = 0
+    for i in range(pinned.shape[0]):
+        if pinned[i]:
+            for k in (0, 2):
+                length = spans[i, k + 1] - spans[i, k]
+                kept[count:count + length] = items[spans[i, k]:spans[i, k + 1]]
+                spans[i, k], spans[i, k + 1] = count, count + length
+                count += length
+    return kept, count
+
+
+@njit(cache=True)
 def _pin(centers: np.ndarray, still: np.ndarray, pinned: np.ndarray, max_range: np.ndarray,
-         inner: np.ndarray, near_lists: tuple, robots: tuple, lists: tuple
-         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """New CSR lists: the pinned robots' kept, those due made (``pinned`` set for them)."""
+         inner: np.ndarray, near_lists: tuple, robots: tuple, spans: np.ndarray,
+         items: np.ndarray, used: int) -> tuple[np.ndarray, int]:
+    """Make the lists of the robots due (``pinned`` and ``spans`` set for them), appended
+    to ``items[:used]``; returns the items and how many are used."""
     near, index = SegmentGrid(*near_lists), RobotIndex(*robots)
-    old = SightLists(*lists)
-    n = centers.shape[0]
+    items, used = _compact(pinned, spans, items, used)
     nx, ny = index.shape[0], index.shape[1]
-    wall_start = np.zeros(n + 1, dtype=np.int64)
-    robot_start = np.zeros(n + 1, dtype=np.int64)
-    wall_items = np.empty(0, dtype=np.int64)
-    robot_items = np.empty(0, dtype=np.int64)
-    made_walls = [np.empty(0, dtype=np.int64) for _ in range(0)]
-    made_robots = [np.empty(0, dtype=np.int64) for _ in range(0)]
-    made = np.full(n, -1, dtype=np.int64)
     candidates = np.empty(index.grid_items.shape[0], dtype=np.int64)
-    for i in range(n):
+    for i in range(centers.shape[0]):
         ox, oy = centers[i, 0], centers[i, 1]
         cell = near_cell_of(near, ox, oy)
         if pinned[i] or still[i] < SETTLE_STEPS or max_range[i] <= 0.0 or cell < 0:
@@ -116,33 +157,13 @@ def _pin(centers: np.ndarray, still: np.ndarray, pinned: np.ndarray, max_range: 
                                   near.cell_items[near.cell_start[cell]:near.cell_start[cell + 1]],
                                   near.segments, candidates[:found], index.centers, index.radius,
                                   inner)
-        made[i] = len(made_walls)
-        made_walls.append(walls)
-        made_robots.append(seen)
+        items = _reserve(items, used, walls.shape[0] + seen.shape[0])
+        for k, listed in ((0, walls), (2, seen)):
+            spans[i, k], spans[i, k + 1] = used, used + listed.shape[0]
+            items[used:used + listed.shape[0]] = listed
+            used += listed.shape[0]
         pinned[i] = True
-    for fill in (False, True):
-        if fill:
-            wall_items = np.empty(wall_start[n], dtype=np.int64)
-            robot_items = np.empty(robot_start[n], dtype=np.int64)
-        for i in range(n):
-            if made[i] >= 0:
-                walls, seen = made_walls[made[i]], made_robots[made[i]]
-            elif pinned[i]:
-                walls = old.wall_items[old.wall_start[i]:old.wall_start[i + 1]]
-                seen = old.robot_items[old.robot_start[i]:old.robot_start[i + 1]]
-            else:
-                continue
-            if fill:
-                wall_items[wall_start[i]:wall_start[i + 1]] = walls
-                robot_items[robot_start[i]:robot_start[i + 1]] = seen
-            else:
-                wall_start[i + 1] = walls.shape[0]
-                robot_start[i + 1] = seen.shape[0]
-        if not fill:
-            for i in range(n):
-                wall_start[i + 1] += wall_start[i]
-                robot_start[i + 1] += robot_start[i]
-    return wall_start, wall_items, robot_start, robot_items
+    return items, used
 
 
 class StillScans:
@@ -150,27 +171,32 @@ class StillScans:
 
     Args:
         max_range: ``(n,)`` each robot's ranger range (0: none).
+        beams: ``(n,)`` each robot's number of beams (robots with fewer than
+            ``MIN_BEAMS`` are never pinned).
         inner: ``(n,)`` each robot's inscribed radius (its smaller half size).
     """
 
-    def __init__(self, max_range: np.ndarray, inner: np.ndarray) -> None:
+    def __init__(self, max_range: np.ndarray, beams: np.ndarray, inner: np.ndarray) -> None:
         n = max_range.shape[0]
-        self._max_range, self._inner = max_range, inner
+        # a range of 0 marks the robots never pinned
+        self._max_range = np.where(beams >= MIN_BEAMS, max_range, 0.0)
+        self._inner = inner
         self._before = np.full((n, 2), np.nan)  # the centres at the last call
         self._solid_before = np.zeros(n, dtype=np.bool_)
         self._still = np.zeros(n, dtype=np.int64)  # steps each neighbourhood stood still
-        self._pinned = np.zeros(n, dtype=np.bool_)
-        none = np.zeros(n + 1, dtype=np.int64)
-        empty = np.zeros(0, dtype=np.int64)
-        self.lists = SightLists(self._pinned, none, empty, none, empty)
+        self._used = 0  # items in use (the pinned robots' lists and dropped ones)
+        self.lists = SightLists(np.zeros(n, dtype=np.bool_), np.zeros((n, 4), dtype=np.int64),
+                                np.zeros(1024, dtype=np.int64))
 
     def update(self, centers: np.ndarray, walls: WallIndex, robots: RobotIndex) -> SightLists:
         """The lists for the scans of this step (call once per step, before they are
         traced). ``centers``: ``(n, 2)`` C-contiguous, every robot's."""
-        due = _settle(centers, self._before, self._solid_before, self._still, self._pinned,
-                      self._max_range, tuple(robots))
-        if due:
-            self.lists = SightLists(self._pinned, *_pin(
-                centers, self._still, self._pinned, self._max_range, self._inner,
-                tuple(walls.near), tuple(robots), tuple(self.lists)))
+        pinned, spans, items = self.lists
+        if not self._max_range.any():
+            return self.lists
+        if _settle(centers, self._before, self._solid_before, self._still, pinned,
+                   self._max_range, tuple(robots)):
+            items, self._used = _pin(centers, self._still, pinned, self._max_range, self._inner,
+                                     tuple(walls.near), tuple(robots), spans, items, self._used)
+            self.lists = SightLists(pinned, spans, items)
         return self.lists

@@ -97,7 +97,7 @@ def compile_ray_helpers() -> None:
         np.zeros(0, bool)
     _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
     _pin(rows, counts, flags, none, none, tuple(_empty_grid()), tuple(_empty_robots()),
-         tuple(no_sight_lists()))
+         np.zeros((0, 4), np.int64), counts, 0)
 
 
 def compile_ray_part() -> None:

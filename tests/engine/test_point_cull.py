@@ -83,9 +83,9 @@ def test_no_beam_changes_whatever_the_headings(scene, limit):
     kept_walls, kept_robots = sight_lists(
         centers[0, 0], centers[0, 1], limit, 0, np.arange(len(walls)), walls,
         np.arange(n), centers, radius, np.minimum(half_length, half_width))
-    # robot 0 pinned, with the lists; the others' lists empty
-    sight = SightLists(np.arange(n) == 0, np.array([0] + [len(kept_walls)] * n), kept_walls,
-                       np.array([0] + [len(kept_robots)] * n), kept_robots)
+    spans = np.zeros((n, 4), np.int64)  # robot 0 pinned, with the lists
+    spans[0] = 0, len(kept_walls), len(kept_walls), len(kept_walls) + len(kept_robots)
+    sight = SightLists(np.arange(n) == 0, spans, np.concatenate([kept_walls, kept_robots]))
     offsets = np.linspace(-math.pi, math.pi, 720, endpoint=False)[None]
     for _ in range(4):
         headings = rng.uniform(-math.pi, math.pi, n)
@@ -107,7 +107,6 @@ def test_a_pinned_robot_sweeps_its_lists_alone():
     offsets = np.zeros((1, 1))
     query = RangerQuery(np.zeros((1, 2)), np.zeros(1), offsets, np.array([8.0]),
                         np.zeros(1, np.int64), offset_units(offsets), beam_fans(offsets))
-    none = np.zeros(0, np.int64)
-    pinned = SightLists(np.ones(1, bool), np.zeros(2, np.int64), none, np.zeros(2, np.int64), none)
+    pinned = SightLists(np.ones(1, bool), np.zeros((1, 4), np.int64), np.zeros(0, np.int64))
     assert trace_beams(query, index, robots)[0].tolist() == [[2.0]]
     assert trace_beams(query, index, robots, sight=pinned)[0].tolist() == [[8.0]]

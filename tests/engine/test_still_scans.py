@@ -26,7 +26,7 @@ def pinned_after(scans, centers, solid=None, steps=1):
 
 
 def test_lists_come_after_standing_still_and_go_when_a_neighbour_in_range_moves():
-    scans = StillScans(np.full(3, 8.0), np.full(3, 0.2))
+    scans = StillScans(np.full(3, 8.0), np.full(3, 180), np.full(3, 0.2))
     centers = np.array([[0.0, 0.0], [3.0, 0.0], [30.0, 0.0]])
     # the first call has nothing to compare with: still for SETTLE_STEPS steps after it
     assert pinned_after(scans, centers, steps=SETTLE_STEPS) == []
@@ -39,15 +39,20 @@ def test_lists_come_after_standing_still_and_go_when_a_neighbour_in_range_moves(
 
 
 def test_a_robot_moving_out_of_range_unpins_those_it_left():
-    scans = StillScans(np.full(2, 8.0), np.full(2, 0.2))
+    scans = StillScans(np.full(2, 8.0), np.full(2, 180), np.full(2, 0.2))
     centers = np.array([[0.0, 0.0], [8.0, 0.0]])
     assert pinned_after(scans, centers, steps=SETTLE_STEPS + 1) == [0, 1]
     centers[1, 0] = 20.0  # its new place is out of robot 0's range, its old one was not
     assert pinned_after(scans, centers) == []
 
 
+def test_robots_with_few_beams_are_never_pinned():
+    scans = StillScans(np.full(2, 8.0), np.array([180, 8]), np.full(2, 0.2))
+    assert pinned_after(scans, np.array([[0.0, 0.0], [3.0, 0.0]]), steps=20) == [0]
+
+
 def test_a_robot_hidden_or_shown_unpins_everyone():
-    scans = StillScans(np.full(2, 8.0), np.full(2, 0.2))
+    scans = StillScans(np.full(2, 8.0), np.full(2, 180), np.full(2, 0.2))
     centers = np.array([[0.0, 0.0], [30.0, 0.0]])
     assert pinned_after(scans, centers, steps=SETTLE_STEPS + 1) == [0, 1]
     assert pinned_after(scans, centers, solid=np.array([True, False])) == []
