@@ -82,9 +82,10 @@ def _span(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
 
 
 @njit(cache=True, inline="always")
-def _piece_count(x1: float, y1: float, x2: float, y2: float) -> int:
-    """How many pieces a wall occludes in."""
-    return min(MAX_PIECES, max(1, math.ceil(math.hypot(x2 - x1, y2 - y1) / PIECE)))
+def _around(segments: np.ndarray, s: int, ox: float,
+            oy: float) -> tuple[float, float, float, float]:
+    """Wall ``s``'s ends relative to the sensor at ``(ox, oy)``."""
+    return segments[s, 0] - ox, segments[s, 1] - oy, segments[s, 2] - ox, segments[s, 3] - oy
 
 
 @njit(cache=True)
@@ -154,37 +155,41 @@ def sight_lists(ox: float, oy: float, limit: float, me: int, walls: np.ndarray,
     near = np.empty(nw + nr)
     start = np.empty(nw + nr)
     width = np.empty(nw + nr)
-    pieces = 0
+    pieces = np.zeros(nw, dtype=np.int64)  # how many pieces each wall occludes in
     for p in range(nw):
-        s = walls[p]
-        x1, y1, x2, y2 = segments[s, 0] - ox, segments[s, 1] - oy, segments[s, 2] - ox, \
-            segments[s, 3] - oy
+        x1, y1, x2, y2 = _around(segments, walls[p], ox, oy)
         near[p] = point_segment_distance(0.0, 0.0, x1, y1, x2, y2)
         low, high = _span(x1, y1, x2, y2)
         start[p], width[p] = low, max(high - low, -1.0)
         if width[p] >= 0.0:
-            pieces += _piece_count(x1, y1, x2, y2)
+            pieces[p] = min(MAX_PIECES, max(1, math.ceil(math.hypot(x2 - x1, y2 - y1) / PIECE)))
+    # occluders: robots' inscribed circles and pieces of walls; span and farthest point
+    total = nr + np.sum(pieces)
+    depth = np.empty(total)
+    o_start = np.empty(total)
+    o_width = np.empty(total)
+    count = 0
     for p in range(nr):
         r = robots[p]
         cx, cy = centers[r, 0] - ox, centers[r, 1] - oy
         distance = math.sqrt(cx * cx + cy * cy)
         near[nw + p] = distance - radius[r]
         width[nw + p] = -1.0
-        if r != me and distance > radius[r] * (1.0 + 1e-9):
+        if r == me:
+            continue
+        if distance > radius[r] * (1.0 + 1e-9):
             half = math.asin(radius[r] / distance)
             start[nw + p], width[nw + p] = math.atan2(cy, cx) - half, 2.0 * half
-    # occluders: pieces of walls and robots' inscribed circles; span and farthest point
-    depth = np.empty(pieces + nr)
-    o_start = np.empty(pieces + nr)
-    o_width = np.empty(pieces + nr)
-    count = 0
+        if distance > inner[r] * (1.0 + 1e-9):
+            # a beam within asin(inner / distance) of the centre meets the circle nearer
+            # than the centre, and the rectangle holding the circle no farther
+            half = math.asin(inner[r] / distance) - ANGLE_MARGIN
+            o_start[count], o_width[count] = math.atan2(cy, cx) - half, 2.0 * half
+            depth[count] = distance
+            count += 1
     for p in range(nw):
-        if width[p] < 0.0:
-            continue
-        s = walls[p]
-        x1, y1, x2, y2 = segments[s, 0] - ox, segments[s, 1] - oy, segments[s, 2] - ox, \
-            segments[s, 3] - oy
-        m = _piece_count(x1, y1, x2, y2)
+        x1, y1, x2, y2 = _around(segments, walls[p], ox, oy)
+        m = pieces[p]
         # pieces of one wall meet exactly (a beam between them meets the wall); only the
         # wall's own ends are drawn in, where a beam may slip past it
         first = start[p] + ANGLE_MARGIN
@@ -203,18 +208,6 @@ def sight_lists(ox: float, oy: float, limit: float, me: int, walls: np.ndarray,
             depth[count] = max(math.sqrt(ax * ax + ay * ay), math.sqrt(bx * bx + by * by))
             # a piece farther than the range could only hide what lies beyond it
             count += depth[count] <= limit
-    for p in range(nr):
-        r = robots[p]
-        cx, cy = centers[r, 0] - ox, centers[r, 1] - oy
-        distance = math.sqrt(cx * cx + cy * cy)
-        if r == me or distance <= inner[r] * (1.0 + 1e-9):
-            continue
-        # a beam within asin(inner / distance) of the centre meets the circle nearer than
-        # the centre, and the rectangle holding the circle no farther
-        half = math.asin(inner[r] / distance) - ANGLE_MARGIN
-        o_start[count], o_width[count] = math.atan2(cy, cx) - half, 2.0 * half
-        depth[count] = distance
-        count += 1
     # nearest items first, each against the occluders clearly nearer than it
     arcs = np.empty((2, 2 * count + 2))
     arcs_count = 0

@@ -86,8 +86,8 @@ from mimics.engine.beam_sweep import (
 )
 from mimics.engine.beam_sweep import ray_segment_distance as ray_segment_distance
 from mimics.engine.point_cull import SightLists, no_sight_lists
-from mimics.engine.robot_index import RobotIndex, coerce_robot_index
-from mimics.engine.spatial_index import SegmentGrid, cell_span, coerce_array
+from mimics.engine.robot_index import RobotIndex, coerce_robot_index, robots_near
+from mimics.engine.spatial_index import SegmentGrid, coerce_array
 from mimics.engine.wall_index import (
     WallIndex,
     coerce_wall_index,
@@ -219,16 +219,7 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
             lists[SEEN, found] = sight.items[p]
             found += 1
     else:
-        span = limit + robots.max_radius
-        nx = robots.shape[0]
-        ix0, ix1 = cell_span(ox - span, ox + span, robots.origin[0], robots.cell, nx)
-        iy0, iy1 = cell_span(oy - span, oy + span, robots.origin[1], robots.cell,
-                             robots.shape[1])
-        for iy in range(iy0, iy1 + 1):  # the cells of a row are contiguous in the CSR
-            for p in range(robots.grid_start[iy * nx + ix0],
-                           robots.grid_start[iy * nx + ix1 + 1]):
-                lists[SEEN, found] = robots.grid_items[p]
-                found += 1
+        found = robots_near(robots, ox, oy, limit + robots.max_radius, lists[SEEN])
     # a lower bound of each one's distance; inf for those no beam can reach
     for p in range(walls):
         s = listed[p]

@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from mimics.engine.spatial_index import coerce_array, grid_frame
+from mimics.engine.spatial_index import cell_span, coerce_array, grid_frame
 
 MAX_CELLS_PER_ROBOT = 4  # the grid never has more than 4 n + 1024 cells
 
@@ -126,6 +126,21 @@ def _bucket(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
             items[cursor[where[i]]] = i
             cursor[where[i]] += 1
     return corners, origin, shape, cell, start, items, max_radius
+
+
+@njit(cache=True, inline="always")
+def robots_near(index: RobotIndex, x: float, y: float, span: float, out: np.ndarray) -> int:
+    """Put in ``out`` the robots of the cells that come within ``span`` of ``(x, y)``
+    along each axis; returns how many (the ranger's candidates, before their circles)."""
+    nx = index.shape[0]
+    ix0, ix1 = cell_span(x - span, x + span, index.origin[0], index.cell, nx)
+    iy0, iy1 = cell_span(y - span, y + span, index.origin[1], index.cell, index.shape[1])
+    found = 0
+    for iy in range(iy0, iy1 + 1):  # the cells of a row are contiguous in the CSR
+        for p in range(index.grid_start[iy * nx + ix0], index.grid_start[iy * nx + ix1 + 1]):
+            out[found] = index.grid_items[p]
+            found += 1
+    return found
 
 
 def index_cell(max_range: np.ndarray, half_length: np.ndarray,

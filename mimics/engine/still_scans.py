@@ -19,8 +19,8 @@ import numpy as np
 from numba import njit
 
 from mimics.engine.point_cull import SightLists, sight_lists
-from mimics.engine.robot_index import RobotIndex
-from mimics.engine.spatial_index import SegmentGrid, cell_span
+from mimics.engine.robot_index import RobotIndex, robots_near
+from mimics.engine.spatial_index import SegmentGrid
 from mimics.engine.wall_index import WallIndex, near_cell_of
 
 SETTLE_STEPS = 5  # steps a neighbourhood stands still before its lists are made (~50 us each)
@@ -137,22 +137,14 @@ def _pin(centers: np.ndarray, still: np.ndarray, pinned: np.ndarray, max_range: 
     to ``items[:used]``; returns the items and how many are used."""
     near, index = SegmentGrid(*near_lists), RobotIndex(*robots)
     items, used = _compact(pinned, spans, items, used)
-    nx, ny = index.shape[0], index.shape[1]
     candidates = np.empty(index.grid_items.shape[0], dtype=np.int64)
     for i in range(centers.shape[0]):
         ox, oy = centers[i, 0], centers[i, 1]
         cell = near_cell_of(near, ox, oy)
         if pinned[i] or still[i] < SETTLE_STEPS or max_range[i] <= 0.0 or cell < 0:
             continue
-        # the robots the ranger would list: those of the index cells within range
-        span = max_range[i] + index.max_radius
-        ix0, ix1 = cell_span(ox - span, ox + span, index.origin[0], index.cell, nx)
-        iy0, iy1 = cell_span(oy - span, oy + span, index.origin[1], index.cell, ny)
-        found = 0
-        for iy in range(iy0, iy1 + 1):
-            for p in range(index.grid_start[iy * nx + ix0], index.grid_start[iy * nx + ix1 + 1]):
-                candidates[found] = index.grid_items[p]
-                found += 1
+        # the robots the ranger would list
+        found = robots_near(index, ox, oy, max_range[i] + index.max_radius, candidates)
         walls, seen = sight_lists(ox, oy, max_range[i], i,
                                   near.cell_items[near.cell_start[cell]:near.cell_start[cell + 1]],
                                   near.segments, candidates[:found], index.centers, index.radius,
