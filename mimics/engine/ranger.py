@@ -22,15 +22,15 @@ The order of the sweep changes no result: a hit replaces another only when
 nearer, or as near with a lower owner. Beyond the walls' sweep reach (maps
 too big for the near lists), beams walk the fine walls grid cell by cell
 (Amanatides-Woo) until their first hit. Scanning robots run in parallel:
-chunks of rows, interleaved over Numba's thread count (at most one part per
-``MIN_BEAMS_PER_PART`` beams: a small scan does not pay for waking a thread),
-one part on the calling thread and the others on Python threads, as the
-kernel releases the GIL (``nogil``). Not a ``prange`` kernel: its parallel
-wrapper took a fifth of the first-run compile, and OpenMP's threads spin
-between steps, which on a busy
-machine starves the Python side of the step. Each row is computed from its
-own inputs only, so the results are the same bit for bit whatever the number
-of threads.
+chunks of rows taken in turn by the calling thread and up to Numba's thread
+count less one helper threads (``kernel_threads.py``; one thread per
+``MIN_BEAMS_PER_PART`` beams at most: a small scan does not pay for a
+second core), as the kernel releases the GIL (``nogil``). Not a ``prange``
+kernel: its parallel wrapper took a fifth of the first-run compile, and
+OpenMP's threads spin for long between steps, which on a busy machine
+starves the Python side of the step. Each row is computed from its own
+inputs only, so the results are the same bit for bit whatever the number
+of threads and whichever thread takes a chunk.
 
 The geometry (see :func:`ray_segment_distance`):
 
@@ -54,8 +54,6 @@ The geometry (see :func:`ray_segment_distance`):
 from __future__ import annotations
 
 import math
-import os
-from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import numpy as np
@@ -85,6 +83,7 @@ from mimics.engine.beam_sweep import (
     _trace,
 )
 from mimics.engine.beam_sweep import ray_segment_distance as ray_segment_distance
+from mimics.engine.kernel_threads import close_call, helpers, next_chunk, open_call, solo_arrays
 from mimics.engine.point_cull import SightLists, no_sight_lists
 from mimics.engine.robot_index import RobotIndex, coerce_robot_index, robots_near
 from mimics.engine.spatial_index import SegmentGrid, coerce_array
@@ -96,11 +95,11 @@ from mimics.engine.wall_index import (
 )
 
 RINGS = 16  # distance classes in which walls and robots are swept, nearest first
-# robots per chunk; a thread takes every n-th chunk, so neighbours (alike in cost) spread
+# robots per chunk, the unit the threads take in turn (4 measured the same as 10)
 CHUNK_ROBOTS = 10
-# beams per thread below which a scan runs on the calling thread alone: waking a thread
-# and waiting for it costs 40 to 70 us on 2 cores, about 1,000 to 2,000 beams' work
-MIN_BEAMS_PER_PART = 2048
+# beams per thread below which a scan runs on the calling thread alone: a spinning
+# helper joins within microseconds, a sleeping one within 40 to 70 us (kernel_threads)
+MIN_BEAMS_PER_PART = 256
 NO_SIGHT_LISTS = no_sight_lists()  # no robot pinned
 
 
@@ -265,10 +264,13 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
 @njit(cache=True, nogil=True)
 def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
                robot_index: tuple, sight_lists: tuple, ranges: np.ndarray,
-               hit_owner: np.ndarray, part: int, parts: int) -> None:
-    """Fill rows of ``ranges`` and ``hit_owner``: chunks ``part``, ``part + parts``, ...
+               hit_owner: np.ndarray, control: np.ndarray, share: np.ndarray,
+               lead: bool) -> None:
+    """Fill rows of ``ranges`` and ``hit_owner``, a chunk of ``CHUNK_ROBOTS`` rows at a
+    time, taking chunks with the helper threads that join (``kernel_threads``: ``lead``
+    for the calling thread).
 
-    Work items are chunks of ``CHUNK_ROBOTS`` rows sharing one scratch space.
+    A thread's chunks share one scratch space.
     ``beams``, ``wall_grid``, ``near_lists``, ``robot_index`` and ``sight_lists`` are
     the fields of a ``RangerQuery``, two ``SegmentGrid``, a ``RobotIndex`` and
     ``SightLists`` as plain tuples:
@@ -284,10 +286,17 @@ def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
     best_o = np.empty(padded, dtype=np.int64)
     distance = np.empty(capacity)
     lists = np.empty((3, capacity), dtype=np.int64)
-    for chunk in range(part, (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS, parts):
+    if lead:
+        open_call(control)
+    chunks = (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS
+    chunk = next_chunk(share)
+    while chunk < chunks:
         for i in range(chunk * CHUNK_ROBOTS, min(k, (chunk + 1) * CHUNK_ROBOTS)):
             _scan_row(query, i, grid, near, reach, robots, sight, ranges[i], hit_owner[i], work,
                       best_o, distance, lists)
+        chunk = next_chunk(share)
+    if lead:
+        close_call(share)
 
 
 @njit(cache=True)
@@ -370,26 +379,7 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
         parts = min(get_num_threads(), (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS,
                     k * beams // MIN_BEAMS_PER_PART)
         if parts <= 1:
-            _cast_rows(*args, 0, 1)
-        else:  # interleaved chunks: neighbouring robots cost alike, so the parts balance
-            pool = _pool(parts - 1)
-            others = [pool.submit(_cast_rows, *args, p, parts) for p in range(1, parts)]
-            _cast_rows(*args, 0, parts)
-            for other in others:
-                other.result()
+            _cast_rows(*args, *solo_arrays(), True)
+        else:
+            helpers(parts - 1).run(_cast_rows, args)
     return ranges, hit_owner
-
-
-_pools: dict[int, ThreadPoolExecutor] = {}
-
-
-# a forked child has none of its parent's threads: it makes its own pools
-os.register_at_fork(after_in_child=_pools.clear)
-
-
-def _pool(workers: int) -> ThreadPoolExecutor:
-    """Threads that run kernel parts beside the caller (the kernels release the GIL)."""
-    pool = _pools.get(workers)
-    if pool is None:
-        pool = _pools[workers] = ThreadPoolExecutor(workers, thread_name_prefix="mimics-rays")
-    return pool

@@ -25,6 +25,7 @@ import numpy as np
 
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
 from mimics.engine.dynamics import move_robots
+from mimics.engine.kernel_threads import _finish_and_wait, _join, solo_arrays
 from mimics.engine.point_cull import no_sight_lists
 from mimics.engine.ranger import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
@@ -38,7 +39,8 @@ from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
               "motion": (_check_kernel, move_robots),
-              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin)}
+              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin,
+                      _finish_and_wait, _join)}
 
 
 # Built by hand, not with build_segment_grid or empty_robot_index: those would compile the
@@ -84,12 +86,12 @@ def compile_ray_kernel() -> None:
                         np.zeros((0, 1, 2)), np.zeros((0, FAN_COLUMNS)))
     _cast_rows(tuple(query), tuple(_empty_grid()), tuple(_empty_grid()), 0.0,
                tuple(_empty_robots()), tuple(no_sight_lists()), np.zeros((0, 1)),
-               np.zeros((0, 1), np.int64), 0, 1)
+               np.zeros((0, 1), np.int64), *solo_arrays(), True)
 
 
 def compile_ray_helpers() -> None:
     """What the ray kernel's callers need first: the walls' near lists (and their culling),
-    the beams' fans, the sight lists of robots standing still."""
+    the beams' fans, the sight lists of robots standing still, the helper threads' waits."""
     start, items = _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
     cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
@@ -98,6 +100,9 @@ def compile_ray_helpers() -> None:
     _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
     _pin(rows, counts, flags, none, none, tuple(_empty_grid()), tuple(_empty_robots()),
          np.zeros((0, 4), np.int64), counts, 0)
+    control, share = solo_arrays()
+    _join(share)
+    _finish_and_wait(control, share, False, 0, 1)
 
 
 def compile_ray_part() -> None:
