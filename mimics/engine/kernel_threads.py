@@ -23,9 +23,23 @@ Which thread computes which chunk changes from call to call; a kernel whose
 chunks depend only on their own inputs gives the same bits whatever the
 split (the ray kernel's rows do: ``tests/engine/test_threads.py``).
 
-A kernel run this way takes ``(..., control, share, lead)`` as its last
-arguments: it calls :func:`open_call` first when ``lead``, takes chunks
-with :func:`next_chunk`, and calls :func:`close_call` last when ``lead``.
+The calling thread may also start a call and go on with its own Python
+work while the helpers take the chunks (:meth:`Helpers.start`): it then asks
+for one chunk when it needs it (:meth:`Flight.wait_for`, which computes
+chunks itself until that one is done) and for all at the end
+(:meth:`Flight.finish`). A per-robot algorithm reads its robot's scan while
+a helper traces the next robots' scans.
+
+A kernel run this way takes ``(..., control, share, role, until)`` as its
+last arguments and loops::
+
+    begin(control, role)
+    chunk = take(share, role, until, chunks)
+    while chunk >= 0:
+        ...  # compute the chunk
+        chunk_done(share, chunk)
+        chunk = take(share, role, until, chunks)
+    end(share, role, until, chunks)
 """
 
 from __future__ import annotations
@@ -48,10 +62,14 @@ from numba.extending import intrinsic
 # slots of the arrays below, one cache line (8 int64) apart so that threads writing
 # different slots do not share a line
 CALLS = 0  # control: calls posted so far
-# share: next chunk, helpers joined, helpers finished, a helper's kernel raised
+# share: next chunk, helpers joined, helpers finished, a helper's kernel raised; then
+# one flag per chunk, set once it is computed
 NEXT, JOINED, FINISHED, FAILED = 0, 8, 16, 24
 CLOSED = 1 << 40  # added to JOINED by the caller when it has no chunk left
 SHARE_SLOTS = 32
+# a kernel call's role: the caller of a call it waits for (run); a helper; the caller of
+# a call it goes on beside (start: the first chunks; ahead: a later chunk; end: all)
+LEAD, HELPER, START, AHEAD, END = 0, 1, 2, 3, 4
 SPIN_SECONDS = 0.001  # how long an idle helper spins before it sleeps
 _PAUSES_PER_YIELD = 64
 
@@ -107,23 +125,52 @@ def _yield_core(typingctx: Any) -> Any:
 
 
 @njit(cache=True, nogil=True, inline="always")
-def open_call(control: np.ndarray) -> None:
-    """The caller's first act inside its kernel: wake the spinning helpers."""
-    atomic_add(control, CALLS, 1)
+def begin(control: np.ndarray, role: int) -> None:
+    """A kernel's first act: the caller starting a call wakes the spinning helpers."""
+    if role in (LEAD, START):
+        atomic_add(control, CALLS, 1)
 
 
 @njit(cache=True, nogil=True, inline="always")
-def next_chunk(share: np.ndarray) -> int:
-    """The next chunk of this call (chunks past the last mean: nothing left)."""
-    return atomic_add(share, NEXT, 1)
+def _is_done(share: np.ndarray, chunk: int) -> bool:
+    return atomic_load(share, SHARE_SLOTS + chunk) != 0
 
 
 @njit(cache=True, nogil=True, inline="always")
-def close_call(share: np.ndarray) -> None:
-    """The caller's last act: no helper joins from now on; wait for those who did."""
-    joined = atomic_add(share, JOINED, CLOSED)
-    while atomic_load(share, FINISHED) != joined:
-        _relax()
+def take(share: np.ndarray, role: int, until: int, chunks: int) -> int:
+    """The next chunk this thread computes, or -1: none left, or chunk ``until`` is done
+    (ahead) and a helper has joined (start: the caller stays in the kernel, without the
+    GIL, until a helper that slept has woken and taken the GIL to join)."""
+    if role == AHEAD and _is_done(share, until):
+        return -1
+    if role == START and _is_done(share, until) and atomic_load(share, JOINED) > 0:
+        return -1
+    chunk = atomic_add(share, NEXT, 1)
+    return chunk if chunk < chunks else -1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def chunk_done(share: np.ndarray, chunk: int) -> None:
+    """Publish a computed chunk (its results are written before the flag)."""
+    atomic_add(share, SHARE_SLOTS + chunk, 1)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def end(share: np.ndarray, role: int, until: int, chunks: int) -> None:
+    """A kernel's last act. The caller of ``run`` closes the call and waits for the
+    helpers that joined; ``start`` and ``ahead`` wait for chunk ``until``, ``end`` for
+    every chunk (a failed helper's chunk never comes: the flag ends the wait)."""
+    if role == LEAD:
+        joined = atomic_add(share, JOINED, CLOSED)
+        while atomic_load(share, FINISHED) != joined:
+            _relax()
+    elif role != HELPER:
+        if role == END:
+            atomic_add(share, JOINED, CLOSED)
+        first = until if role != END else 0
+        for chunk in range(first, until + 1 if role != END else chunks):
+            while not _is_done(share, chunk) and atomic_load(share, FAILED) == 0:
+                _relax()
 
 
 @njit(cache=True, nogil=True)
@@ -163,7 +210,7 @@ def _spins_for(seconds: float) -> int:
 
 
 class Helpers:
-    """``count`` daemon threads that join the caller in ``run``'s kernel calls."""
+    """``count`` daemon threads that join the caller's kernel calls (``run``, ``start``)."""
 
     def __init__(self, count: int) -> None:
         self.control = np.zeros(SHARE_SLOTS, np.int64)
@@ -178,16 +225,34 @@ class Helpers:
         for thread in self._threads:
             thread.start()
 
-    def run(self, kernel: Callable[..., None], args: tuple[Any, ...]) -> None:
-        """``kernel(*args, control, share, True)`` here, with the helpers that come."""
-        share = np.zeros(SHARE_SLOTS, np.int64)
+    def run(self, kernel: Callable[..., None], args: tuple[Any, ...], chunks: int) -> None:
+        """``kernel(*args, control, share, LEAD, 0)`` here, with the helpers that come."""
+        share = self._post(kernel, args, chunks)
+        kernel(*args, self.control, share, LEAD, 0)
+        self.check(share)
+
+    def start(self, kernel: Callable[..., None], args: tuple[Any, ...], chunks: int,
+              until: int) -> Flight:
+        """Start a call of ``chunks`` chunks and return once chunk ``until`` is done; the
+        helpers go on with the others."""
+        share = self._post(kernel, args, chunks)
+        kernel(*args, self.control, share, START, until)
+        self.check(share)
+        return Flight(self, kernel, args, share, chunks)
+
+    def check(self, share: np.ndarray) -> None:
+        """Raise if a helper's kernel failed in the call of ``share``."""
+        if share[FAILED]:  # never silent: the failed helper's chunks hold garbage
+            raise RuntimeError("a helper thread's kernel call failed") from self._error
+
+    def _post(self, kernel: Callable[..., None], args: tuple[Any, ...],
+              chunks: int) -> np.ndarray:
+        share = np.zeros(SHARE_SLOTS + chunks, np.int64)
         self._job = (kernel, args, share)
         if self._sleeping:  # read without the lock: a helper missed now helps next time
             with self._wake:
                 self._wake.notify_all()
-        kernel(*args, self.control, share, True)
-        if share[FAILED]:  # never silent: the failed helper's chunks hold garbage
-            raise RuntimeError("a helper thread's kernel call failed") from self._error
+        return share
 
     def stop(self) -> None:
         """End the threads (they may be in the middle of a spin: it ends within
@@ -213,7 +278,7 @@ class Helpers:
             if _join(share):
                 joined = True  # reported by the next wait, even if the kernel raised
                 try:
-                    kernel(*args, self.control, share, False)
+                    kernel(*args, self.control, share, HELPER, 0)
                 except BaseException as error:  # handed to the caller, which raises it
                     self._error = error
                     share[FAILED] = 1
@@ -227,6 +292,30 @@ class Helpers:
             finally:
                 self._sleeping -= 1
         return int(self.control[CALLS])
+
+
+class Flight:
+    """A call started by :meth:`Helpers.start`: its chunks are computed meanwhile."""
+
+    def __init__(self, helpers: Helpers, kernel: Callable[..., None], args: tuple[Any, ...],
+                 share: np.ndarray, chunks: int) -> None:
+        self._helpers, self._kernel, self._args = helpers, kernel, args
+        self._share, self._chunks = share, chunks
+        self._flags = share[SHARE_SLOTS:]
+
+    def wait_for(self, chunk: int) -> None:
+        """Return once ``chunk`` is done, computing chunks here until it is."""
+        # x86 keeps loads in order: a flag seen set means the chunk's results are seen
+        if _X86 and self._flags[chunk]:
+            return
+        self._kernel(*self._args, self._helpers.control, self._share, AHEAD, chunk)
+        self._helpers.check(self._share)
+
+    def finish(self) -> None:
+        """Return once every chunk is done (computing those left here); no helper
+        touches the results afterwards."""
+        self._kernel(*self._args, self._helpers.control, self._share, END, 0)
+        self._helpers.check(self._share)
 
 
 _helpers: dict[int, Helpers] = {}
@@ -250,6 +339,7 @@ atexit.register(_stop_all)
 os.register_at_fork(after_in_child=_helpers.clear)
 
 
-def solo_arrays() -> tuple[np.ndarray, np.ndarray]:
-    """``control`` and ``share`` for a call on the calling thread alone."""
-    return np.zeros(SHARE_SLOTS, np.int64), np.zeros(SHARE_SLOTS, np.int64)
+def solo_arrays(chunks: int) -> tuple[np.ndarray, np.ndarray]:
+    """``control`` and ``share`` for a call of ``chunks`` chunks on the calling thread
+    alone (role ``LEAD``)."""
+    return np.zeros(SHARE_SLOTS, np.int64), np.zeros(SHARE_SLOTS + chunks, np.int64)

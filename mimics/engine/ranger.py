@@ -83,7 +83,16 @@ from mimics.engine.beam_sweep import (
     _trace,
 )
 from mimics.engine.beam_sweep import ray_segment_distance as ray_segment_distance
-from mimics.engine.kernel_threads import close_call, helpers, next_chunk, open_call, solo_arrays
+from mimics.engine.kernel_threads import (
+    LEAD,
+    Flight,
+    begin,
+    chunk_done,
+    end,
+    helpers,
+    solo_arrays,
+    take,
+)
 from mimics.engine.point_cull import SightLists, no_sight_lists
 from mimics.engine.robot_index import RobotIndex, coerce_robot_index, robots_near
 from mimics.engine.spatial_index import SegmentGrid, coerce_array
@@ -265,10 +274,10 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
 def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
                robot_index: tuple, sight_lists: tuple, ranges: np.ndarray,
                hit_owner: np.ndarray, control: np.ndarray, share: np.ndarray,
-               lead: bool) -> None:
+               role: int, until: int) -> None:
     """Fill rows of ``ranges`` and ``hit_owner``, a chunk of ``CHUNK_ROBOTS`` rows at a
-    time, taking chunks with the helper threads that join (``kernel_threads``: ``lead``
-    for the calling thread).
+    time, taking chunks with the helper threads that join (``kernel_threads``: the
+    thread's ``role``, and the chunk it waits for).
 
     A thread's chunks share one scratch space.
     ``beams``, ``wall_grid``, ``near_lists``, ``robot_index`` and ``sight_lists`` are
@@ -286,17 +295,16 @@ def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
     best_o = np.empty(padded, dtype=np.int64)
     distance = np.empty(capacity)
     lists = np.empty((3, capacity), dtype=np.int64)
-    if lead:
-        open_call(control)
     chunks = (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS
-    chunk = next_chunk(share)
-    while chunk < chunks:
+    begin(control, role)
+    chunk = take(share, role, until, chunks)
+    while chunk >= 0:
         for i in range(chunk * CHUNK_ROBOTS, min(k, (chunk + 1) * CHUNK_ROBOTS)):
             _scan_row(query, i, grid, near, reach, robots, sight, ranges[i], hit_owner[i], work,
                       best_o, distance, lists)
-        chunk = next_chunk(share)
-    if lead:
-        close_call(share)
+        chunk_done(share, chunk)
+        chunk = take(share, role, until, chunks)
+    end(share, role, until, chunks)
 
 
 @njit(cache=True)
@@ -374,12 +382,53 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
         out = (np.empty((k, beams)), np.empty((k, beams), dtype=np.int64))
     ranges, hit_owner = out
     if k and beams:
-        args = (tuple(query), tuple(walls.grid), tuple(walls.near), walls.reach,
-                tuple(robots), tuple(sight), ranges, hit_owner)
-        parts = min(get_num_threads(), (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS,
-                    k * beams // MIN_BEAMS_PER_PART)
+        args = _kernel_args(query, walls, robots, sight, ranges, hit_owner)
+        chunks, parts = _chunks_and_parts(k, beams)
         if parts <= 1:
-            _cast_rows(*args, *solo_arrays(), True)
+            _cast_rows(*args, *solo_arrays(chunks), LEAD, 0)
         else:
-            helpers(parts - 1).run(_cast_rows, args)
+            helpers(parts - 1).run(_cast_rows, args, chunks)
     return ranges, hit_owner
+
+
+class RowsInFlight:
+    """A trace that helper threads go on with (:func:`start_beams`)."""
+
+    def __init__(self, flight: Flight) -> None:
+        self._flight = flight
+
+    def wait_for_row(self, row: int) -> None:
+        """Return once ``row`` is traced (tracing rows on this thread until it is)."""
+        self._flight.wait_for(row // CHUNK_ROBOTS)
+
+    def finish(self) -> None:
+        """Return once every row is traced; no thread writes them afterwards."""
+        self._flight.finish()
+
+
+def start_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
+                out: tuple[np.ndarray, np.ndarray], sight: SightLists,
+                first_row: int) -> RowsInFlight | None:
+    """:func:`trace_beams` into ``out`` on helper threads, returning once row
+    ``first_row`` is traced, so that the caller can read it while the others are
+    traced; None, with nothing traced, when the scan is for one thread alone. The
+    query must have its ``offset_units`` and ``fans``."""
+    k, beams = query.offsets.shape
+    chunks, parts = _chunks_and_parts(k, beams)
+    if parts <= 1:
+        return None
+    args = _kernel_args(query, walls, robots, sight, *out)
+    return RowsInFlight(helpers(parts - 1).start(_cast_rows, args, chunks,
+                                                 first_row // CHUNK_ROBOTS))
+
+
+def _kernel_args(query: RangerQuery, walls: WallIndex, robots: RobotIndex, sight: SightLists,
+                 ranges: np.ndarray, hit_owner: np.ndarray) -> tuple:
+    return (tuple(query), tuple(walls.grid), tuple(walls.near), walls.reach, tuple(robots),
+            tuple(sight), ranges, hit_owner)
+
+
+def _chunks_and_parts(k: int, beams: int) -> tuple[int, int]:
+    """The chunks of a scan of ``k`` robots and the threads it is worth."""
+    chunks = (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS
+    return chunks, min(get_num_threads(), chunks, k * beams // MIN_BEAMS_PER_PART)

@@ -59,8 +59,11 @@ class Scan:
     @property
     def ranges(self) -> np.ndarray:
         """Distance per beam (m); ``max_range`` where nothing was hit."""
+        state = self._sim.state
+        if state.pending_scan is not None:  # this row only: the others may be traced meanwhile
+            state.scan_row(self._index)
         hit = self._views.get("ranges")
-        source = self._sim.state.scan
+        source = state.scan_buffer
         if hit is not None and hit[0] is source:  # the common case, inlined
             return hit[1]
         return _row_view(self._views, "ranges", source, self._beams())
@@ -77,8 +80,11 @@ class Scan:
     @property
     def hits(self) -> np.ndarray:
         """True where a beam hit something within range."""
+        state = self._sim.state
+        if state.pending_scan is not None:
+            state.scan_row(self._index)
         count = self._sim.types.beam_count[self._index]
-        return self._sim.state.scan_hit[self._index, :count] != -2
+        return state.scan_hit_buffer[self._index, :count] != -2
 
     @property
     def max_range(self) -> float:

@@ -6,6 +6,12 @@ read of ``state.scan`` or ``state.scan_hit`` after it, from that same state
 readers read no scan casts no ray, as Stage updates no sensor that has no
 subscriber. The ranger's noise has one random stream per step, so a scan's
 noise does not depend on which earlier scans were read.
+
+A robot's own read (``robot.scan``, per-robot algorithms) asks for its row
+only: the first one starts the trace on the helper threads and each later
+one waits for its row, so the rays of the next robots are cast while the
+algorithm runs for this one. Every row is the same, bit for bit, as in one
+whole trace.
 """
 
 from __future__ import annotations
@@ -14,7 +20,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from mimics.engine.ranger import RangerQuery, trace_beams
+from mimics.engine.point_cull import SightLists
+from mimics.engine.ranger import RangerQuery, RowsInFlight, start_beams, trace_beams
 from mimics.engine.robot_index import RobotIndex
 from mimics.engine.sensors import add_ranger_noise
 from mimics.engine.state import TypeArrays, WorldState
@@ -44,16 +51,51 @@ class Scanner:
                                  np.minimum(types.half_length, types.half_width))
         self._ids = np.zeros(0, dtype=np.int64)  # the robots of the last sensing's scan
         self._all_beams: tuple[np.ndarray, ...] | None = None  # every robot's beams
+        self._flight: RowsInFlight | None = None  # a trace the helper threads go on with
 
     def sense(self) -> None:
         """Note the robots that scan now: their rays wait for the first read (before the
         robots move, so ``state.step`` is still this sensing's step then)."""
         state = self._state
         self._ids = (state.active & self._has_ranger).nonzero()[0]
-        state.pending_scan = self._trace if self._ids.size else None
+        self.drop()  # (the step has ended any trace under way already)
+        state.pending_scan = self if self._ids.size else None
 
-    def _trace(self) -> None:
+    # -- PendingScan (state.py): what the state asks for when the scan is read -------
+
+    def trace_all(self) -> None:
         """Cast the rays of the last sensing into the state's scan buffers."""
+        if self._flight is not None:
+            self.drop()
+        else:
+            self._trace()
+
+    def trace_row(self, robot: int) -> bool:
+        """Trace ``robot``'s row; when every robot scans without noise, the helper
+        threads trace the next rows while the caller reads this one (a per-robot
+        algorithm's turn). True if every row is traced now."""
+        if self._flight is not None:
+            self._flight.wait_for_row(robot)
+            return False
+        state = self._state
+        if self._ids.size == state.n and "sigma_range" not in self._types.noisy:
+            query, walls, robots, sight = self._query()
+            self._flight = start_beams(query, walls, robots,
+                                       (state.scan_buffer, state.scan_hit_buffer), sight, robot)
+            if self._flight is not None:
+                return False
+        self._trace()
+        return True
+
+    def drop(self) -> None:
+        """End the trace under way, if any: no thread writes the buffers afterwards."""
+        flight, self._flight = self._flight, None
+        if flight is not None:
+            flight.finish()
+
+    def _query(self) -> tuple[RangerQuery, WallIndex, RobotIndex, SightLists]:
+        """The last sensing's beams, walls, robots and sight lists (waits for the ray
+        kernel's compile if another process is at it)."""
         await_ray_part()
         state, types, ids = self._state, self._types, self._ids
         # every robot scanning (the usual case): whole arrays, no gathering copies
@@ -68,9 +110,16 @@ class Scanner:
                 self._all_beams = beams
         query = RangerQuery(np.ascontiguousarray(state.pose[rows, :2]),
                             np.ascontiguousarray(state.pose[rows, 2]), *beams)
-        scan, hit = state.scan_buffer, state.scan_hit_buffer
         walls, robots = self._walls(), self._robots()
-        sight = self._still.update(robots.centers, walls, robots)
+        return query, walls, robots, self._still.update(robots.centers, walls, robots)
+
+    def _trace(self) -> None:
+        """Cast every ray of the last sensing into the state's scan buffers."""
+        query, walls, robots, sight = self._query()
+        state, types, ids = self._state, self._types, self._ids
+        everyone = ids.size == state.n
+        rows = slice(None) if everyone else ids
+        scan, hit = state.scan_buffer, state.scan_hit_buffer
         if everyone:  # the kernel writes straight into the state
             trace_beams(query, walls, robots, (scan, hit), sight)
         else:

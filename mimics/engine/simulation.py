@@ -240,7 +240,7 @@ class Simulation:
     def _move(self, ids: np.ndarray) -> None:
         """PID loops and exact integration of the dynamics for robots ``ids``."""
         state, types = self.state, self.types
-        state.pending_scan = None  # the scan nobody read is never traced: robots move now
+        state.drop_pending_scan()  # robots move now
         n = state.n
         odometer_exact = odometry_is_exact(state, types)  # checked before the pose moves
         distance, turn = np.zeros(n), np.zeros(n)

@@ -6,16 +6,29 @@ objects user code sees are views into these rows (``robot_view.py``).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field, fields
 from enum import IntEnum
 from functools import cached_property
+from typing import Protocol
 
 import numpy as np
 
 from mimics.engine.dynamics import PidArrays, Plant
 from mimics.engine.ranger import beam_fans, offset_units
 from mimics.world.scenario import Scenario
+
+
+class PendingScan(Protocol):
+    """The rays of the last sensing, traced when first read (``scanner.Scanner``)."""
+
+    def trace_all(self) -> None:
+        """Trace every scanning robot's row."""
+
+    def trace_row(self, robot: int) -> bool:
+        """Trace at least ``robot``'s row; True if every row is traced now."""
+
+    def drop(self) -> None:
+        """No more reads: end any tracing still going on (the robots move next)."""
 
 
 class Status(IntEnum):
@@ -141,11 +154,11 @@ class WorldState:
     user_message: list[str] = field(default_factory=list)
     system_message: list[str] = field(default_factory=list)
     memory: list[dict] = field(default_factory=list)
-    #: Traces the rays of the last sensing, set by the simulation when it senses: the
-    #: first read of ``scan`` or ``scan_hit`` calls it, so a step whose readers (the
+    #: The rays of the last sensing, set by the simulation when it senses: the first
+    #: read of ``scan`` or ``scan_hit`` traces them, so a step whose readers (the
     #: algorithm, the observers) read no ranger casts no ray (Stage's habit: sensors of
     #: no subscriber are not updated).
-    pending_scan: Callable[[], None] | None = None
+    pending_scan: PendingScan | None = None
 
     @classmethod
     def from_scenario(cls, scenario: Scenario, beams: int) -> WorldState:
@@ -186,8 +199,21 @@ class WorldState:
         return self.scan_hit_buffer
 
     def _trace_pending(self) -> None:
-        trace, self.pending_scan = self.pending_scan, None
-        trace()  # type: ignore[misc]
+        pending, self.pending_scan = self.pending_scan, None
+        pending.trace_all()  # type: ignore[union-attr]
+
+    def scan_row(self, robot: int) -> None:
+        """Make ``robot``'s rows of ``scan_buffer`` and ``scan_hit_buffer`` current; other
+        rows may still be being traced (read them through ``scan``)."""
+        pending = self.pending_scan
+        if pending is not None and pending.trace_row(robot):
+            self.pending_scan = None
+
+    def drop_pending_scan(self) -> None:
+        """The scan nobody read is never traced; a trace under way is ended."""
+        pending, self.pending_scan = self.pending_scan, None
+        if pending is not None:
+            pending.drop()
 
     @property
     def active(self) -> np.ndarray:

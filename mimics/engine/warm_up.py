@@ -25,7 +25,7 @@ import numpy as np
 
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
 from mimics.engine.dynamics import move_robots
-from mimics.engine.kernel_threads import _finish_and_wait, _join, solo_arrays
+from mimics.engine.kernel_threads import LEAD, _finish_and_wait, _join, solo_arrays
 from mimics.engine.point_cull import no_sight_lists
 from mimics.engine.ranger import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
@@ -86,7 +86,7 @@ def compile_ray_kernel() -> None:
                         np.zeros((0, 1, 2)), np.zeros((0, FAN_COLUMNS)))
     _cast_rows(tuple(query), tuple(_empty_grid()), tuple(_empty_grid()), 0.0,
                tuple(_empty_robots()), tuple(no_sight_lists()), np.zeros((0, 1)),
-               np.zeros((0, 1), np.int64), *solo_arrays(), True)
+               np.zeros((0, 1), np.int64), *solo_arrays(0), LEAD, 0)
 
 
 def compile_ray_helpers() -> None:
@@ -100,7 +100,7 @@ def compile_ray_helpers() -> None:
     _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
     _pin(rows, counts, flags, none, none, tuple(_empty_grid()), tuple(_empty_robots()),
          np.zeros((0, 4), np.int64), counts, 0)
-    control, share = solo_arrays()
+    control, share = solo_arrays(0)
     _join(share)
     _finish_and_wait(control, share, False, 0, 1)
 

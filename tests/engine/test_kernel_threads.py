@@ -12,11 +12,13 @@ from numba import njit
 
 from mimics.engine import kernel_threads
 from mimics.engine.kernel_threads import (
+    LEAD,
     Helpers,
-    close_call,
-    next_chunk,
-    open_call,
+    begin,
+    chunk_done,
+    end,
     solo_arrays,
+    take,
 )
 
 CALLER, HELPER = 1, 1000  # what each adds to a chunk's count
@@ -24,20 +26,20 @@ CALLER, HELPER = 1, 1000  # what each adds to a chunk's count
 
 @njit(nogil=True)
 def _count_chunks(counts: np.ndarray, work: int, sink: np.ndarray, control: np.ndarray,
-                  share: np.ndarray, lead: bool) -> None:
+                  share: np.ndarray, role: int, until: int) -> None:
     """Add CALLER or HELPER to each chunk taken, after ``work`` square roots."""
-    if lead:
-        open_call(control)
-    chunk = next_chunk(share)
-    while chunk < counts.shape[0]:
+    chunks = counts.shape[0]
+    begin(control, role)
+    chunk = take(share, role, until, chunks)
+    while chunk >= 0:
         total = 0.0
         for i in range(work):
             total += math.sqrt(i + chunk)
         sink[chunk] = total
-        counts[chunk] += CALLER if lead else HELPER
-        chunk = next_chunk(share)
-    if lead:
-        close_call(share)
+        counts[chunk] += HELPER if role == kernel_threads.HELPER else CALLER
+        chunk_done(share, chunk)
+        chunk = take(share, role, until, chunks)
+    end(share, role, until, chunks)
 
 
 def _calls_until_helped(helpers: Helpers, calls: int, chunks: int = 40,
@@ -46,7 +48,7 @@ def _calls_until_helped(helpers: Helpers, calls: int, chunks: int = 40,
     helped = 0
     for made in range(1, calls + 1):
         counts, sink = np.zeros(chunks, np.int64), np.zeros(chunks)
-        helpers.run(_count_chunks, (counts, work, sink))
+        helpers.run(_count_chunks, (counts, work, sink), chunks)
         # every chunk exactly once, by the caller or by one helper
         assert np.all((counts == CALLER) | (counts == HELPER)), counts
         helped += int(np.count_nonzero(counts == HELPER))
@@ -76,34 +78,55 @@ def test_a_sleeping_helper_is_woken_by_the_next_call(monkeypatch: pytest.MonkeyP
         helpers.stop()
 
 
+def test_a_started_call_gives_each_chunk_when_asked_and_every_chunk_at_the_end():
+    """``start`` returns once the first chunk asked for is done; the helper goes on while
+    the caller does other things; ``wait_for`` and ``finish`` see chunks done once."""
+    helpers = Helpers(1)
+    helped = 0
+    try:
+        for _ in range(50):
+            counts, sink = np.zeros(40, np.int64), np.zeros(40)
+            flight = helpers.start(_count_chunks, (counts, 20_000, sink), 40, 3)
+            assert counts[3] in (CALLER, HELPER)
+            for chunk in (10, 2, 25, 39):
+                flight.wait_for(chunk)
+                assert counts[chunk] in (CALLER, HELPER)
+            flight.finish()
+            assert np.all((counts == CALLER) | (counts == HELPER)), counts
+            helped += int(np.count_nonzero(counts == HELPER))
+        assert helped > 0
+    finally:
+        helpers.stop()
+
+
 def test_the_calling_thread_alone_computes_every_chunk():
     counts, sink = np.zeros(25, np.int64), np.zeros(25)
-    _count_chunks(counts, 10, sink, *solo_arrays(), True)
+    _count_chunks(counts, 10, sink, *solo_arrays(25), LEAD, 0)
     assert np.all(counts == CALLER)
 
 
 def test_a_failing_helper_makes_the_call_raise_not_return_holes():
     """A kernel raising in a helper: the caller raises once its own chunks are done."""
-    def kernel(counts: np.ndarray, control: np.ndarray, share: np.ndarray,
-               lead: bool) -> None:
+    def kernel(counts: np.ndarray, control: np.ndarray, share: np.ndarray, role: int,
+               until: int) -> None:
         # a Python kernel, so that it can raise; the helper's first chunk fails
-        if lead:
-            open_call(control)
-        chunk = next_chunk(share)
-        while chunk < counts.shape[0]:
-            if not lead:
+        chunks = counts.shape[0]
+        begin(control, role)
+        chunk = take(share, role, until, chunks)
+        while chunk >= 0:
+            if role == kernel_threads.HELPER:
                 raise ValueError("helper failed")
             counts[chunk] += 1
+            chunk_done(share, chunk)
             time.sleep(0.0005)  # lets the helper take the GIL, as a blocking call would
-            chunk = next_chunk(share)
-        if lead:
-            close_call(share)
+            chunk = take(share, role, until, chunks)
+        end(share, role, until, chunks)
 
     helpers = Helpers(1)
     try:
         with pytest.raises(RuntimeError, match="helper") as failure:
             for _ in range(200):
-                helpers.run(kernel, (np.zeros(50, np.int64),))
+                helpers.run(kernel, (np.zeros(50, np.int64),), 50)
         assert isinstance(failure.value.__cause__, ValueError)
     finally:
         helpers.stop()
@@ -111,7 +134,7 @@ def test_a_failing_helper_makes_the_call_raise_not_return_holes():
 
 def test_stopped_helpers_end_their_threads():
     helpers = Helpers(2)
-    helpers.run(_count_chunks, (np.zeros(4, np.int64), 10, np.zeros(4)))
+    helpers.run(_count_chunks, (np.zeros(4, np.int64), 10, np.zeros(4)), 4)
     helpers.stop()
     for thread in helpers._threads:
         thread.join(timeout=10)

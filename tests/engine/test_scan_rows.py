@@ -1,0 +1,95 @@
+"""A robot's own scan read traces its row while helper threads trace the others; every
+row read is the one a whole trace gives, bit for bit, and no trace outlives its step."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+import pytest
+
+import mimics.engine.ranger as ranger_module
+import mimics.engine.scanner as scanner_module
+from mimics.catalog import load_scenario
+from mimics.engine.simulation import Simulation
+
+needs_two_threads = pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2,
+                                       reason="needs two threads")
+
+
+class RowRecorder:
+    """Keeps a copy of each robot's ranges and hits as it read them (``readers``: the
+    robots that read their scan at all), and turns on the spot: the scans change at
+    every step, and the robots read them faster than a helper traces them."""
+
+    def __init__(self, readers: set[int] | None = None) -> None:
+        self.readers = readers
+        self.rows: dict[tuple[int, int], tuple[bytes, bytes]] = {}
+
+    def step(self, robot):
+        if self.readers is not None and robot.id not in self.readers:
+            return 0.0, robot.heading
+        self.rows[(robot._sim.state.step, robot.id)] = (robot.scan.ranges.tobytes(),
+                                                        robot.scan.hits.tobytes())
+        return 0.0, robot.heading + 0.3
+
+
+def recorded_run(threads: int, readers: set[int] | None = None,
+                 robots: int = 60) -> tuple[RowRecorder, Simulation]:
+    before = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    recorder = RowRecorder(readers)
+    try:
+        sim = Simulation(load_scenario("obstacle_room", robots=robots), recorder.step, seed=5,
+                         time_limit=4.0)
+        sim.run()
+    finally:
+        numba.set_num_threads(before)
+    return recorder, sim
+
+
+@pytest.fixture
+def flights(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
+    """Counts the traces started on helper threads and the ends of those traces."""
+    counts = {"started": 0, "finished": 0}
+    start = ranger_module.start_beams
+
+    def counted_start(*args, **kwargs):
+        flight = start(*args, **kwargs)
+        if flight is not None:
+            counts["started"] += 1
+            finish = flight.finish
+
+            def counted_finish() -> None:
+                counts["finished"] += 1
+                finish()
+
+            flight.finish = counted_finish  # type: ignore[method-assign]
+        return flight
+
+    monkeypatch.setattr(scanner_module, "start_beams", counted_start)
+    return counts
+
+
+@needs_two_threads
+def test_rows_read_by_the_robots_are_those_of_a_whole_trace(flights):
+    alone, alone_sim = recorded_run(threads=1)  # one thread: whole traces, no helpers
+    assert flights["started"] == 0
+    shared, shared_sim = recorded_run(threads=2)
+    assert flights["started"] == shared_sim.state.step  # every step's reads went by rows
+    assert shared.rows.keys() == alone.rows.keys()
+    assert shared.rows == alone.rows
+    np.testing.assert_array_equal(shared_sim.state.pose, alone_sim.state.pose)
+
+
+@needs_two_threads
+def test_a_row_read_waits_for_its_trace_and_the_step_ends_the_rest(flights):
+    """Robot 0 reads, then at once robot 59, whose row the helper may not have traced
+    yet: it waits for it. Rows between are traced meanwhile, and the step ends that
+    trace (the buffers are never written while robots move)."""
+    shared, sim = recorded_run(threads=2, readers={0, 59})
+    assert flights["started"] == flights["finished"] == sim.state.step
+    alone, alone_sim = recorded_run(threads=1, readers={0, 59})
+    assert shared.rows == alone.rows
+    # after the run: the last sensing's whole scan, equal with or without helpers
+    np.testing.assert_array_equal(sim.state.scan, alone_sim.state.scan)
+    np.testing.assert_array_equal(sim.state.scan_hit, alone_sim.state.scan_hit)
