@@ -62,11 +62,11 @@ from numba.extending import intrinsic
 # slots of the arrays below, one cache line (8 int64) apart so that threads writing
 # different slots do not share a line
 CALLS = 0  # control: calls posted so far
-# share: next chunk, helpers joined, helpers finished, a helper's kernel raised; then
-# one flag per chunk, set once it is computed
-NEXT, JOINED, FINISHED, FAILED = 0, 8, 16, 24
+# share: next chunk, helpers joined, helpers finished, a helper's kernel raised, helpers
+# wanted at most; then one flag per chunk, set once it is computed
+NEXT, JOINED, FINISHED, FAILED, LIMIT = 0, 8, 16, 24, 32
 CLOSED = 1 << 40  # added to JOINED by the caller when it has no chunk left
-SHARE_SLOTS = 32
+SHARE_SLOTS = 40
 # a kernel call's role: the caller of a call it waits for (run); a helper; the caller of
 # a call it goes on beside (start: the first chunks; ahead: a later chunk; end: all)
 LEAD, HELPER, START, AHEAD, END = 0, 1, 2, 3, 4
@@ -175,8 +175,15 @@ def end(share: np.ndarray, role: int, until: int, chunks: int) -> None:
 
 @njit(cache=True, nogil=True)
 def _join(share: np.ndarray) -> bool:
-    """A helper's claim on a call: False once the caller has closed it."""
-    return atomic_add(share, JOINED, 1) < CLOSED
+    """A helper's claim on a call: False once the caller has closed it, or when enough
+    helpers have joined (that claim is reported finished at once)."""
+    before = atomic_add(share, JOINED, 1)
+    if before >= CLOSED:
+        return False
+    if before >= atomic_load(share, LIMIT):
+        atomic_add(share, FINISHED, 1)
+        return False
+    return True
 
 
 @njit(cache=True, nogil=True)
@@ -210,7 +217,9 @@ def _spins_for(seconds: float) -> int:
 
 
 class Helpers:
-    """``count`` daemon threads that join the caller's kernel calls (``run``, ``start``)."""
+    """Daemon threads that join the caller's kernel calls (``run``, ``start``); as many
+    as the calls have asked for at most (``grow``), each call taking up to its own
+    number."""
 
     def __init__(self, count: int) -> None:
         self.control = np.zeros(SHARE_SLOTS, np.int64)
@@ -220,39 +229,56 @@ class Helpers:
         self._sleeping = 0
         self._stopped = False
         self._error: BaseException | None = None
-        self._threads = [threading.Thread(target=self._serve, name=f"mimics-helper-{i}",
-                                          daemon=True) for i in range(count)]
-        for thread in self._threads:
+        self._threads: list[threading.Thread] = []
+        self.grow(count)
+
+    def grow(self, count: int) -> None:
+        """Have at least ``count`` threads."""
+        while len(self._threads) < count:
+            thread = threading.Thread(target=self._serve, daemon=True,
+                                      name=f"mimics-helper-{len(self._threads)}")
+            self._threads.append(thread)
             thread.start()
 
-    def run(self, kernel: Callable[..., None], args: tuple[Any, ...], chunks: int) -> None:
-        """``kernel(*args, control, share, LEAD, 0)`` here, with the helpers that come."""
-        share = self._post(kernel, args, chunks)
-        kernel(*args, self.control, share, LEAD, 0)
+    def run(self, kernel: Callable[..., None], args: tuple[Any, ...], chunks: int,
+            count: int) -> None:
+        """``kernel(*args, control, share, LEAD, 0)`` here, with up to ``count`` helpers."""
+        share = self._post(kernel, args, chunks, count)
+        try:
+            kernel(*args, self.control, share, LEAD, 0)
+        finally:
+            self._release(share)
         self.check(share)
 
     def start(self, kernel: Callable[..., None], args: tuple[Any, ...], chunks: int,
-              until: int) -> Flight:
-        """Start a call of ``chunks`` chunks and return once chunk ``until`` is done; the
-        helpers go on with the others."""
-        share = self._post(kernel, args, chunks)
+              count: int, until: int) -> Flight:
+        """Start a call of ``chunks`` chunks with up to ``count`` helpers and return once
+        chunk ``until`` is done; the helpers go on with the others."""
+        share = self._post(kernel, args, chunks, count)
         kernel(*args, self.control, share, START, until)
         self.check(share)
-        return Flight(self, kernel, args, share, chunks)
+        return Flight(self, kernel, args, share)
 
     def check(self, share: np.ndarray) -> None:
         """Raise if a helper's kernel failed in the call of ``share``."""
         if share[FAILED]:  # never silent: the failed helper's chunks hold garbage
             raise RuntimeError("a helper thread's kernel call failed") from self._error
 
-    def _post(self, kernel: Callable[..., None], args: tuple[Any, ...],
-              chunks: int) -> np.ndarray:
+    def _post(self, kernel: Callable[..., None], args: tuple[Any, ...], chunks: int,
+              count: int) -> np.ndarray:
         share = np.zeros(SHARE_SLOTS + chunks, np.int64)
+        share[LIMIT] = count
         self._job = (kernel, args, share)
         if self._sleeping:  # read without the lock: a helper missed now helps next time
             with self._wake:
                 self._wake.notify_all()
         return share
+
+    def _release(self, share: np.ndarray) -> None:
+        """Forget a call that is over (its arrays are not kept alive by the helpers)."""
+        job = self._job
+        if job is not None and job[2] is share:
+            self._job = None
 
     def stop(self) -> None:
         """End the threads (they may be in the middle of a spin: it ends within
@@ -298,9 +324,8 @@ class Flight:
     """A call started by :meth:`Helpers.start`: its chunks are computed meanwhile."""
 
     def __init__(self, helpers: Helpers, kernel: Callable[..., None], args: tuple[Any, ...],
-                 share: np.ndarray, chunks: int) -> None:
-        self._helpers, self._kernel, self._args = helpers, kernel, args
-        self._share, self._chunks = share, chunks
+                 share: np.ndarray) -> None:
+        self._helpers, self._kernel, self._args, self._share = helpers, kernel, args, share
         self._flags = share[SHARE_SLOTS:]
 
     def wait_for(self, chunk: int) -> None:
@@ -314,18 +339,22 @@ class Flight:
     def finish(self) -> None:
         """Return once every chunk is done (computing those left here); no helper
         touches the results afterwards."""
-        self._kernel(*self._args, self._helpers.control, self._share, END, 0)
+        try:
+            self._kernel(*self._args, self._helpers.control, self._share, END, 0)
+        finally:
+            self._helpers._release(self._share)
         self._helpers.check(self._share)
 
 
-_helpers: dict[int, Helpers] = {}
+_helpers: dict[str, Helpers] = {}  # this process's, under "threads" once started
 
 
 def helpers(count: int) -> Helpers:
-    """This process's ``count`` helper threads (started on first use)."""
-    found = _helpers.get(count)
+    """This process's helper threads, at least ``count`` of them (started on first use)."""
+    found = _helpers.get("threads")
     if found is None:
-        found = _helpers[count] = Helpers(count)
+        found = _helpers["threads"] = Helpers(count)
+    found.grow(count)
     return found
 
 

@@ -387,7 +387,7 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
         if parts <= 1:
             _cast_rows(*args, *solo_arrays(chunks), LEAD, 0)
         else:
-            helpers(parts - 1).run(_cast_rows, args, chunks)
+            helpers(parts - 1).run(_cast_rows, args, chunks, parts - 1)
     return ranges, hit_owner
 
 
@@ -418,7 +418,7 @@ def start_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
     if parts <= 1:
         return None
     args = _kernel_args(query, walls, robots, sight, *out)
-    return RowsInFlight(helpers(parts - 1).start(_cast_rows, args, chunks,
+    return RowsInFlight(helpers(parts - 1).start(_cast_rows, args, chunks, parts - 1,
                                                  first_row // CHUNK_ROBOTS))
 
 

@@ -48,7 +48,7 @@ def _calls_until_helped(helpers: Helpers, calls: int, chunks: int = 40,
     helped = 0
     for made in range(1, calls + 1):
         counts, sink = np.zeros(chunks, np.int64), np.zeros(chunks)
-        helpers.run(_count_chunks, (counts, work, sink), chunks)
+        helpers.run(_count_chunks, (counts, work, sink), chunks, 1)
         # every chunk exactly once, by the caller or by one helper
         assert np.all((counts == CALLER) | (counts == HELPER)), counts
         helped += int(np.count_nonzero(counts == HELPER))
@@ -62,6 +62,7 @@ def test_each_chunk_is_computed_once_and_the_helper_takes_some():
     try:
         _made, helped = _calls_until_helped(helpers, 2_000)
         assert helped > 0
+        assert helpers._job is None  # a call over is forgotten: its arrays are not kept
     finally:
         helpers.stop()
 
@@ -86,7 +87,7 @@ def test_a_started_call_gives_each_chunk_when_asked_and_every_chunk_at_the_end()
     try:
         for _ in range(50):
             counts, sink = np.zeros(40, np.int64), np.zeros(40)
-            flight = helpers.start(_count_chunks, (counts, 20_000, sink), 40, 3)
+            flight = helpers.start(_count_chunks, (counts, 20_000, sink), 40, 1, 3)
             assert counts[3] in (CALLER, HELPER)
             for chunk in (10, 2, 25, 39):
                 flight.wait_for(chunk)
@@ -126,7 +127,7 @@ def test_a_failing_helper_makes_the_call_raise_not_return_holes():
     try:
         with pytest.raises(RuntimeError, match="helper") as failure:
             for _ in range(200):
-                helpers.run(kernel, (np.zeros(50, np.int64),), 50)
+                helpers.run(kernel, (np.zeros(50, np.int64),), 50, 1)
         assert isinstance(failure.value.__cause__, ValueError)
     finally:
         helpers.stop()
@@ -134,8 +135,27 @@ def test_a_failing_helper_makes_the_call_raise_not_return_holes():
 
 def test_stopped_helpers_end_their_threads():
     helpers = Helpers(2)
-    helpers.run(_count_chunks, (np.zeros(4, np.int64), 10, np.zeros(4)), 4)
+    helpers.run(_count_chunks, (np.zeros(4, np.int64), 10, np.zeros(4)), 4, 2)
     helpers.stop()
     for thread in helpers._threads:
         thread.join(timeout=10)
         assert not thread.is_alive()
+
+
+def test_a_call_takes_no_more_helpers_than_it_asks_for():
+    """Past the call's limit a helper's claim is refused and counted finished at once
+    (the caller waits for every claim it did not refuse); after the close, for none."""
+    share = np.zeros(kernel_threads.SHARE_SLOTS, np.int64)
+    share[kernel_threads.LIMIT] = 1
+    assert kernel_threads._join(share)
+    assert not kernel_threads._join(share)
+    assert share[kernel_threads.FINISHED] == 1
+    share[kernel_threads.JOINED] += kernel_threads.CLOSED
+    assert not kernel_threads._join(share)
+    assert share[kernel_threads.FINISHED] == 1
+    helpers = Helpers(3)  # three threads, calls of one helper: still each chunk once
+    try:
+        _made, helped = _calls_until_helped(helpers, 2_000)
+        assert helped > 0
+    finally:
+        helpers.stop()
