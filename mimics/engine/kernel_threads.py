@@ -24,11 +24,12 @@ chunks depend only on their own inputs gives the same bits whatever the
 split (the ray kernel's rows do: ``tests/engine/test_threads.py``).
 
 The calling thread may also start a call and go on with its own Python
-work while the helpers take the chunks (:meth:`Helpers.start`): it then asks
-for one chunk when it needs it (:meth:`Flight.wait_for`, which computes
-chunks itself until that one is done) and for all at the end
-(:meth:`Flight.finish`). A per-robot algorithm reads its robot's scan while
-a helper traces the next robots' scans.
+work while the helpers take the chunks (:meth:`Helpers.start`): it then
+looks whether the chunk it needs is done (:meth:`Flight.done`) and, when one
+is not, takes the chunks left with the helpers and waits for all
+(:meth:`Flight.finish`: one more kernel call at most). A per-robot
+algorithm reads its robot's scan while a helper traces the next robots'
+scans.
 
 A kernel run this way takes ``(..., control, share, role, until)`` as its
 last arguments and loops::
@@ -68,8 +69,8 @@ NEXT, JOINED, FINISHED, FAILED, LIMIT = 0, 8, 16, 24, 32
 CLOSED = 1 << 40  # added to JOINED by the caller when it has no chunk left
 SHARE_SLOTS = 40
 # a kernel call's role: the caller of a call it waits for (run); a helper; the caller of
-# a call it goes on beside (start: the first chunks; ahead: a later chunk; end: all)
-LEAD, HELPER, START, AHEAD, END = 0, 1, 2, 3, 4
+# a call it goes on beside (start: the first chunks; end: all the others)
+LEAD, HELPER, START, END = 0, 1, 2, 3
 SPIN_SECONDS = 0.001  # how long an idle helper spins before it sleeps
 _PAUSES_PER_YIELD = 64
 
@@ -138,11 +139,9 @@ def _is_done(share: np.ndarray, chunk: int) -> bool:
 
 @njit(cache=True, nogil=True, inline="always")
 def take(share: np.ndarray, role: int, until: int, chunks: int) -> int:
-    """The next chunk this thread computes, or -1: none left, or chunk ``until`` is done
-    (ahead) and a helper has joined (start: the caller stays in the kernel, without the
-    GIL, until a helper that slept has woken and taken the GIL to join)."""
-    if role == AHEAD and _is_done(share, until):
-        return -1
+    """The next chunk this thread computes, or -1: none left, or (start) chunk ``until``
+    is done and a helper has joined (the caller stays in the kernel, without the GIL,
+    until a helper that slept has woken and taken the GIL to join)."""
     if role == START and _is_done(share, until) and atomic_load(share, JOINED) > 0:
         return -1
     chunk = atomic_add(share, NEXT, 1)
@@ -158,8 +157,9 @@ def chunk_done(share: np.ndarray, chunk: int) -> None:
 @njit(cache=True, nogil=True, inline="always")
 def end(share: np.ndarray, role: int, until: int, chunks: int) -> None:
     """A kernel's last act. The caller of ``run`` closes the call and waits for the
-    helpers that joined; ``start`` and ``ahead`` wait for chunk ``until``, ``end`` for
-    every chunk (a failed helper's chunk never comes: the flag ends the wait)."""
+    helpers that joined; ``start`` waits for chunk ``until``, ``end`` closes the call
+    and waits for every chunk (a failed helper's chunk never comes: the flag ends the
+    wait)."""
     if role == LEAD:
         joined = atomic_add(share, JOINED, CLOSED)
         while atomic_load(share, FINISHED) != joined:
@@ -328,13 +328,11 @@ class Flight:
         self._helpers, self._kernel, self._args, self._share = helpers, kernel, args, share
         self._flags = share[SHARE_SLOTS:]
 
-    def wait_for(self, chunk: int) -> None:
-        """Return once ``chunk`` is done, computing chunks here until it is."""
+    def done(self, chunk: int) -> bool:
+        """Whether ``chunk`` is done (and its results may be read): a look, no wait."""
         # x86 keeps loads in order: a flag seen set means the chunk's results are seen
-        if _X86 and self._flags[chunk]:
-            return
-        self._kernel(*self._args, self._helpers.control, self._share, AHEAD, chunk)
-        self._helpers.check(self._share)
+        # (elsewhere, False: the caller finishes, whose atomic waits order the loads)
+        return _X86 and bool(self._flags[chunk])
 
     def finish(self) -> None:
         """Return once every chunk is done (computing those left here); no helper

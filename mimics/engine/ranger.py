@@ -397,9 +397,9 @@ class RowsInFlight:
     def __init__(self, flight: Flight) -> None:
         self._flight = flight
 
-    def wait_for_row(self, row: int) -> None:
-        """Return once ``row`` is traced (tracing rows on this thread until it is)."""
-        self._flight.wait_for(row // CHUNK_ROBOTS)
+    def row_done(self, row: int) -> bool:
+        """Whether ``row`` is traced (a look, no wait)."""
+        return self._flight.done(row // CHUNK_ROBOTS)
 
     def finish(self) -> None:
         """Return once every row is traced; no thread writes them afterwards."""

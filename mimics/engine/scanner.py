@@ -8,10 +8,10 @@ subscriber. The ranger's noise has one random stream per step, so a scan's
 noise does not depend on which earlier scans were read.
 
 A robot's own read (``robot.scan``, per-robot algorithms) asks for its row
-only: the first one starts the trace on the helper threads and each later
-one waits for its row, so the rays of the next robots are cast while the
-algorithm runs for this one. Every row is the same, bit for bit, as in one
-whole trace.
+only: the first one starts the trace on the helper threads, so the rays of
+the next robots are cast while the algorithm runs for this one; a later read
+whose row is not traced yet finishes the whole trace with the helpers. Every
+row is the same, bit for bit, as in one whole trace.
 """
 
 from __future__ import annotations
@@ -73,10 +73,14 @@ class Scanner:
     def trace_row(self, robot: int) -> bool:
         """Trace ``robot``'s row; when every robot scans without noise, the helper
         threads trace the next rows while the caller reads this one (a per-robot
-        algorithm's turn). True if every row is traced now."""
+        algorithm's turn). A row not traced yet when read ends the trace here, with the
+        helpers (a kernel call per row waited for would cost more than the rows). True
+        if every row is traced now."""
         if self._flight is not None:
-            self._flight.wait_for_row(robot)
-            return False
+            if self._flight.row_done(robot):
+                return False
+            self.drop()
+            return True
         state = self._state
         if self._ids.size == state.n and "sigma_range" not in self._types.noisy:
             query, walls, robots, sight = self._query()
