@@ -39,7 +39,7 @@ from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.step_checks import check_moved
-from mimics.engine.wall_index import WallIndex, build_wall_index
+from mimics.engine.wall_index import WallIndex, shared_wall_index
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
@@ -195,7 +195,7 @@ class Simulation:
     def walls(self) -> WallIndex:
         """The walls indexed for the ranger (built when a scan is first traced)."""
         scenario = self.scenario
-        return build_wall_index(scenario.map.segments, scenario.map.bounds,
+        return shared_wall_index(scenario.map.segments, scenario.map.bounds,
                                 float(np.max(self.types.max_range, initial=0.0)),
                                 grid=self.wall_grid)
 

@@ -96,3 +96,26 @@ def test_reach_shrinks_to_fit_the_memory_budget_and_beams_still_hit(monkeypatch)
 def test_bad_reach_raises():
     with pytest.raises(ValueError, match="reach"):
         build_wall_index(np.zeros((0, 4)), (0, 0, 1, 1), reach=float("nan"))
+
+
+def test_a_map_asked_for_again_shares_its_index_and_a_changed_map_does_not():
+    from mimics.engine.spatial_index import build_segment_grid
+
+    rng = np.random.default_rng(7)
+    segments = rng.uniform(-5, 5, (30, 4))
+    bounds = (-6.0, -6.0, 6.0, 6.0)
+    grid = build_segment_grid(segments, bounds)
+    first = wall_index.shared_wall_index(segments, bounds, 3.0, grid)
+    assert wall_index.shared_wall_index(segments.copy(), bounds, 3.0, grid) is first
+    fresh = build_wall_index(segments, bounds, 3.0, grid=grid)
+    assert near_sets(first) == near_sets(fresh)  # the shared index is the plain one
+    assert wall_index.shared_wall_index(segments, bounds, 2.0, grid) is not first
+    moved = segments.copy()
+    moved[3, 0] += 1e-9  # one coordinate, one ulp-scale move: another map
+    moved_grid = build_segment_grid(moved, bounds)
+    other = wall_index.shared_wall_index(moved, bounds, 3.0, moved_grid)
+    assert other is not first
+    assert near_sets(other) == near_sets(build_wall_index(moved, bounds, 3.0, grid=moved_grid))
+    for reach in (4.0, 5.0, 6.0, 7.0):  # more maps than are kept: the first is gone
+        wall_index.shared_wall_index(segments, bounds, reach, grid)
+    assert wall_index.shared_wall_index(segments, bounds, 3.0, grid) is not first
