@@ -38,6 +38,9 @@ from mimics.world.errors import MimicsError
 
 COMPRESSION = "zstd"
 _PART_GLOB = "part-*.parquet"
+# the parts written are also kept in memory up to this many bytes, so that the merge
+# does not read them back (a 600 s Cave run's trajectory: about 60 MB)
+KEPT_BYTES = 128 * 1024 * 1024
 
 
 class PartWriter:
@@ -58,6 +61,8 @@ class PartWriter:
         #: after ``merge(..., keep=True)`` of several parts: the merged table, else None
         self.merged: pa.Table | None = None
         self._last: pa.Table | None = None  # the whole table, held for merge (see write)
+        self._kept: dict[Path, pa.Table] = {}  # parts written, while they fit KEPT_BYTES
+        self._kept_bytes = 0
 
     def write(self, table: pa.Table, last: bool = False) -> None:
         """Write ``table`` as the next part (nothing for an empty table).
@@ -82,6 +87,9 @@ class PartWriter:
         os.replace(tmp, path)
         self.parts += 1
         self.rows += table.num_rows
+        if self._kept_bytes + table.nbytes <= KEPT_BYTES:
+            self._kept[path] = table
+            self._kept_bytes += table.nbytes
 
     def merge(self, target: Path, keep: bool = False) -> int:
         """Merge every part into ``target`` (an empty table when none); returns its rows.
@@ -107,7 +115,9 @@ class PartWriter:
             kept = []
             with pq.ParquetWriter(tmp, self.schema, **self._options()) as writer:
                 for part in parts:
-                    table = pq.read_table(part)
+                    table = self._kept.get(part)
+                    if table is None:  # too big to keep, or found on disk
+                        table = pq.read_table(part)
                     writer.write_table(table, row_group_size=max(table.num_rows, 1))
                     rows += table.num_rows
                     if keep:
@@ -115,6 +125,8 @@ class PartWriter:
             os.replace(tmp, target)
             if keep:
                 self.merged = pa.concat_tables(kept) if kept else empty_table(self.schema)
+        self._kept.clear()
+        self._kept_bytes = 0
         shutil.rmtree(self.folder, ignore_errors=True)
         return rows
 
