@@ -15,11 +15,27 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import get_num_threads, njit
 
 from mimics.engine.collision import NONE, Bodies, touching
+from mimics.engine.kernel_threads import (
+    HELPER,
+    LEAD,
+    atomic_add,
+    begin,
+    chunk_done,
+    end,
+    helpers,
+    solo_arrays,
+    take,
+)
 from mimics.engine.robot_index import RobotIndex
 from mimics.engine.spatial_index import SegmentGrid
+
+CHUNK = 128  # robots per chunk
+# robots per thread below which the checks run on the calling thread alone (a Cave of
+# 100 robots takes 40 us: less than handing a share over is worth)
+MIN_ROBOTS_PER_THREAD = 512
 
 
 class StepChecks(NamedTuple):
@@ -51,35 +67,54 @@ def check_moved(robots: RobotIndex, pose: np.ndarray, half_length: np.ndarray,
     n = pose.shape[0]
     distance = np.empty(n)
     with_whom = np.empty(n, dtype=np.int64)
+    found = np.zeros(2, dtype=np.int64)  # robots touching something, robots not quiet
     xmin, ymin, xmax, ymax = bounds
-    count, quiet = _check_kernel(tuple(robots), half_length, half_width, ids, tuple(wall_grid),
-                                 pose, goal, float(xmin), float(ymin), float(xmax),
-                                 float(ymax), float(tolerance), distance, with_whom)
-    return StepChecks(with_whom, distance, count, quiet)
+    args = (tuple(robots), half_length, half_width, ids, tuple(wall_grid), pose, goal,
+            float(xmin), float(ymin), float(xmax), float(ymax), float(tolerance), distance,
+            with_whom, found)
+    chunks = (ids.shape[0] + CHUNK - 1) // CHUNK
+    helping = min(get_num_threads(), ids.shape[0] // MIN_ROBOTS_PER_THREAD) - 1
+    if helping > 0:
+        helpers(helping).run(_check_kernel, args, chunks, helping)
+    else:
+        _check_kernel(*args, *solo_arrays(chunks), LEAD, 0)
+    return StepChecks(with_whom, distance, int(found[0]), not found[1])
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _check_kernel(robot_index: tuple, half_length: np.ndarray, half_width: np.ndarray,
                   ids: np.ndarray, wall_grid: tuple, pose: np.ndarray, goal: np.ndarray,
                   xmin: float, ymin: float, xmax: float, ymax: float, tolerance: float,
-                  distance: np.ndarray, with_whom: np.ndarray) -> tuple[int, bool]:
+                  distance: np.ndarray, with_whom: np.ndarray, found: np.ndarray,
+                  control: np.ndarray, share: np.ndarray, role: int, until: int) -> None:
     """Collisions, distances and the screen of :func:`check_moved` (``robot_index`` and
     ``wall_grid``: a ``RobotIndex``'s and a ``SegmentGrid``'s fields as plain tuples,
-    which the dispatcher types in C); returns ``touching`` and ``quiet``."""
+    which the dispatcher types in C), chunks of ``ids`` shared with the helper threads
+    that join (``kernel_threads``); adds the robots touching something and those not
+    quiet to ``found``."""
     n = pose.shape[0]
     robots, walls = RobotIndex(*robot_index), SegmentGrid(*wall_grid)
     bodies = Bodies(robots.centers, np.ascontiguousarray(pose[:, 2]), half_length, half_width)
-    for i in range(n):
-        with_whom[i] = NONE
-        distance[i] = np.hypot(goal[i, 0] - pose[i, 0], goal[i, 1] - pose[i, 1])
+    if role != HELPER:  # before any chunk: the screen reads the distances
+        for i in range(n):
+            with_whom[i] = NONE
+            distance[i] = np.hypot(goal[i, 0] - pose[i, 0], goal[i, 1] - pose[i, 1])
+    chunks = (ids.shape[0] + CHUNK - 1) // CHUNK
+    begin(control, role)
     count = 0
-    quiet = True
-    for i in ids:
-        with_whom[i] = touching(bodies, i, walls, robots)[0]
-        if with_whom[i] != NONE:
-            count += 1
-        # the goals-and-bounds screen: anyone outside or arrived takes the long way
-        x, y = pose[i, 0], pose[i, 1]
-        if x < xmin or x > xmax or y < ymin or y > ymax or distance[i] <= tolerance:
-            quiet = False
-    return count, quiet
+    loud = 0
+    chunk = take(share, role, until, chunks)
+    while chunk >= 0:
+        for i in ids[chunk * CHUNK:(chunk + 1) * CHUNK]:
+            with_whom[i] = touching(bodies, i, walls, robots)[0]
+            if with_whom[i] != NONE:
+                count += 1
+            # the goals-and-bounds screen: anyone outside or arrived takes the long way
+            x, y = pose[i, 0], pose[i, 1]
+            if x < xmin or x > xmax or y < ymin or y > ymax or distance[i] <= tolerance:
+                loud += 1
+        chunk_done(share, chunk)
+        chunk = take(share, role, until, chunks)
+    atomic_add(found, 0, count)
+    atomic_add(found, 1, loud)
+    end(share, role, until, chunks)

@@ -38,9 +38,8 @@ from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
-              "motion": (_check_kernel, move_robots),
-              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin,
-                      _finish_and_wait, _join)}
+              "motion": (_check_kernel, move_robots, _finish_and_wait, _join),
+              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin)}
 
 
 # Built by hand, not with build_segment_grid or empty_robot_index: those would compile the
@@ -66,15 +65,18 @@ def compile_index_kernels() -> None:
 
 
 def compile_motion_kernels() -> None:
-    """The checks after the robots move and the dynamics, for the engine's argument
-    types."""
+    """The checks after the robots move, the dynamics and the helper threads' waits, for
+    the engine's argument types."""
     none, rows = np.zeros(0), np.zeros((0, 2))
     _check_kernel(tuple(_empty_robots()), none, none, np.zeros(0, np.int64),
                   tuple(_empty_grid()), np.zeros((0, 3)), rows, 0.0, 0.0, 1.0, 1.0, 0.1, none,
-                  np.zeros(0, np.int64))
+                  np.zeros(0, np.int64), np.zeros(2, np.int64), *solo_arrays(0), LEAD, 0)
     gains = np.zeros((0, 3))
     move_robots(np.zeros(0, np.int64), rows, rows, rows, rows, rows, rows, none, gains, gains,
                 none, none, none, none, 0.1, none, none)
+    control, share = solo_arrays(0)  # the helper threads' waits (checks and rays use them)
+    _join(share)
+    _finish_and_wait(control, share, False, 0, 1)
 
 
 def compile_ray_kernel() -> None:
@@ -91,7 +93,7 @@ def compile_ray_kernel() -> None:
 
 def compile_ray_helpers() -> None:
     """What the ray kernel's callers need first: the walls' near lists (and their culling),
-    the beams' fans, the sight lists of robots standing still, the helper threads' waits."""
+    the beams' fans, the sight lists of robots standing still."""
     start, items = _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
     cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
@@ -100,9 +102,6 @@ def compile_ray_helpers() -> None:
     _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
     _pin(rows, counts, flags, none, none, tuple(_empty_grid()), tuple(_empty_robots()),
          np.zeros((0, 4), np.int64), counts, 0)
-    control, share = solo_arrays(0)
-    _join(share)
-    _finish_and_wait(control, share, False, 0, 1)
 
 
 def compile_ray_part() -> None:

@@ -3,7 +3,9 @@ collisions, goal distances and the goals-and-bounds screen."""
 
 from __future__ import annotations
 
+import numba
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -24,9 +26,28 @@ def _bits(values: np.ndarray) -> np.ndarray:
        tolerance=st.sampled_from([0.0, 0.2, 1.5]))
 def test_one_call_equals_index_collide_distance_and_screen(seed: int, n: int, walls: int,
                                                            tolerance: float) -> None:
+    _check_against_the_separate_functions(seed, n, walls, tolerance)
+
+
+@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads")
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_big_teams_checked_on_helper_threads_give_the_same_bits(seed: int) -> None:
+    """3,000 robots: the checks run in chunks on the helper threads too (called again and
+    again: a helper that slept joins the calls after the first)."""
+    before = numba.get_num_threads()
+    numba.set_num_threads(2)
+    try:
+        for _ in range(5):
+            _check_against_the_separate_functions(seed, 3000, 40, 0.2, spread=20.0)
+    finally:
+        numba.set_num_threads(before)
+
+
+def _check_against_the_separate_functions(seed: int, n: int, walls: int, tolerance: float,
+                                          spread: float = 1.0) -> None:
     rng = np.random.default_rng(seed)
     # robots crowded into a box a little larger than the bounds: some touch, some leave
-    pose = np.column_stack([rng.uniform(-5, 6, n), rng.uniform(-4, 5, n),
+    pose = np.column_stack([rng.uniform(-5, 6, n) * spread, rng.uniform(-4, 5, n) * spread,
                             rng.uniform(-np.pi, np.pi, n)])
     half_length, half_width = rng.uniform(0.05, 0.8, n), rng.uniform(0.05, 0.5, n)
     radius = np.hypot(half_length, half_width)
