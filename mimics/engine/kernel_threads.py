@@ -6,10 +6,12 @@ thread and waiting on a future cost 70 us here, a third of what a second
 core saves. So the helpers are woken and waited for without the kernel
 (futex) and without the GIL:
 
-- Each helper spins (x86 ``pause``, and ``sched_yield`` now and then so a
-  busy machine's other threads get the core) in a ``nogil`` kernel until
+- The first helper spins (x86 ``pause``, and ``sched_yield`` now and then so
+  a busy machine's other threads get the core) in a ``nogil`` kernel until
   the call counter in ``control`` changes, for about ``SPIN_SECONDS``;
-  then it sleeps on a condition, and the next call wakes it.
+  then it sleeps on a condition, and the next call wakes it. The others (on
+  machines of more than two cores) sleep at once: a core each spinning
+  through the Python part of every step would be too much to burn.
 - The calling thread bumps the counter from inside its own ``nogil`` kernel
   call (the GIL is free by then, so a helper that sees it can take the GIL
   at once), takes chunks from a counter shared by the call (``share``,
@@ -235,7 +237,8 @@ class Helpers:
     def grow(self, count: int) -> None:
         """Have at least ``count`` threads."""
         while len(self._threads) < count:
-            thread = threading.Thread(target=self._serve, daemon=True,
+            first = not self._threads
+            thread = threading.Thread(target=self._serve, args=(first,), daemon=True,
                                       name=f"mimics-helper-{len(self._threads)}")
             self._threads.append(thread)
             thread.start()
@@ -289,10 +292,11 @@ class Helpers:
         with self._wake:
             self._wake.notify_all()
 
-    def _serve(self) -> None:
+    def _serve(self, spins: bool) -> None:
         calls, share, joined = int(self.control[CALLS]), np.zeros(SHARE_SLOTS, np.int64), False
+        turns = self._spins if spins else 0
         while not self._stopped:
-            now = _finish_and_wait(self.control, share, joined, calls, self._spins)
+            now = _finish_and_wait(self.control, share, joined, calls, turns)
             joined = False
             if now == calls:
                 now = self._sleep(calls)

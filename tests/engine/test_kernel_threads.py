@@ -163,3 +163,17 @@ def test_a_call_takes_no_more_helpers_than_it_asks_for():
         assert helped > 0
     finally:
         helpers.stop()
+
+
+def test_only_the_first_helper_spins_and_every_helper_sleeps_when_idle():
+    """Helpers past the first sleep as soon as a call is over (no core spins for them);
+    the first sleeps once its spin is over."""
+    helpers = Helpers(3)
+    try:
+        helpers.run(_count_chunks, (np.zeros(4, np.int64), 10, np.zeros(4)), 4, 3)
+        deadline = time.monotonic() + 10.0
+        while helpers._sleeping < 3 and time.monotonic() < deadline:
+            time.sleep(0.001)
+        assert helpers._sleeping == 3
+    finally:
+        helpers.stop()
