@@ -165,9 +165,9 @@ def test_a_call_takes_no_more_helpers_than_it_asks_for():
         helpers.stop()
 
 
-def test_only_the_first_helper_spins_and_every_helper_sleeps_when_idle():
-    """Helpers past the first sleep as soon as a call is over (no core spins for them);
-    the first sleeps once its spin is over."""
+def test_every_helper_sleeps_once_idle():
+    """After a call, the helpers past the first sleep at once and the first once its
+    spin is over: an idle run burns no core."""
     helpers = Helpers(3)
     try:
         helpers.run(_count_chunks, (np.zeros(4, np.int64), 10, np.zeros(4)), 4, 3)
