@@ -66,10 +66,12 @@ from numba.extending import intrinsic
 # different slots do not share a line
 CALLS = 0  # control: calls posted so far
 # share: next chunk, helpers joined, helpers finished, a helper's kernel raised, helpers
-# wanted at most; then one flag per chunk, set once it is computed
+# wanted at most, two tallies the kernel's threads add to (see tally); then one flag
+# per chunk, set once it is computed
 NEXT, JOINED, FINISHED, FAILED, LIMIT = 0, 8, 16, 24, 32
+TALLIES = (40, 48)
 CLOSED = 1 << 40  # added to JOINED by the caller when it has no chunk left
-SHARE_SLOTS = 40
+SHARE_SLOTS = 56
 # a kernel call's role: the caller of a call it waits for (run); a helper; the caller of
 # a call it goes on beside (start: the first chunks; end: all the others)
 LEAD, HELPER, START, END = 0, 1, 2, 3
@@ -154,6 +156,13 @@ def take(share: np.ndarray, role: int, until: int, chunks: int) -> int:
 def chunk_done(share: np.ndarray, chunk: int) -> None:
     """Publish a computed chunk (its results are written before the flag)."""
     atomic_add(share, SHARE_SLOTS + chunk, 1)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def tally(share: np.ndarray, which: int, value: int) -> None:
+    """Add a thread's count to tally ``which`` (0 or 1) of the call: read it as
+    ``share[TALLIES[which]]`` once the call is over."""
+    atomic_add(share, TALLIES[which], value)
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -244,14 +253,16 @@ class Helpers:
             thread.start()
 
     def run(self, kernel: Callable[..., None], args: tuple[Any, ...], chunks: int,
-            count: int) -> None:
-        """``kernel(*args, control, share, LEAD, 0)`` here, with up to ``count`` helpers."""
+            count: int) -> np.ndarray:
+        """``kernel(*args, control, share, LEAD, 0)`` here, with up to ``count`` helpers;
+        returns the call's ``share`` (its tallies)."""
         share = self._post(kernel, args, chunks, count)
         try:
             kernel(*args, self.control, share, LEAD, 0)
         finally:
             self._release(share)
         self.check(share)
+        return share
 
     def start(self, kernel: Callable[..., None], args: tuple[Any, ...], chunks: int,
               count: int, until: int) -> Flight:
@@ -370,7 +381,11 @@ atexit.register(_stop_all)
 os.register_at_fork(after_in_child=_helpers.clear)
 
 
+# a call on the calling thread alone posts to no helper: one control for all of them
+_SOLO_CONTROL = np.zeros(SHARE_SLOTS, np.int64)
+
+
 def solo_arrays(chunks: int) -> tuple[np.ndarray, np.ndarray]:
     """``control`` and ``share`` for a call of ``chunks`` chunks on the calling thread
     alone (role ``LEAD``)."""
-    return np.zeros(SHARE_SLOTS, np.int64), np.zeros(SHARE_SLOTS + chunks, np.int64)
+    return _SOLO_CONTROL, np.zeros(SHARE_SLOTS + chunks, np.int64)

@@ -21,13 +21,14 @@ from mimics.engine.collision import NONE, Bodies, touching
 from mimics.engine.kernel_threads import (
     HELPER,
     LEAD,
-    atomic_add,
+    TALLIES,
     begin,
     chunk_done,
     end,
     helpers,
     solo_arrays,
     take,
+    tally,
 )
 from mimics.engine.robot_index import RobotIndex
 from mimics.engine.spatial_index import SegmentGrid
@@ -64,34 +65,36 @@ def check_moved(robots: RobotIndex, pose: np.ndarray, half_length: np.ndarray,
     The engine's own arrays, unchecked: C-contiguous float64 ``pose (n, 3)``,
     ``goal (n, 2)`` and sizes, int64 ``ids``, finite poses for checked robots.
     """
-    n = pose.shape[0]
+    n, checked = pose.shape[0], ids.shape[0]
     distance = np.empty(n)
     with_whom = np.empty(n, dtype=np.int64)
-    found = np.zeros(2, dtype=np.int64)  # robots touching something, robots not quiet
     xmin, ymin, xmax, ymax = bounds
     args = (tuple(robots), half_length, half_width, ids, tuple(wall_grid), pose, goal,
             float(xmin), float(ymin), float(xmax), float(ymax), float(tolerance), distance,
-            with_whom, found)
-    chunks = (ids.shape[0] + CHUNK - 1) // CHUNK
-    helping = min(get_num_threads(), ids.shape[0] // MIN_ROBOTS_PER_THREAD) - 1
+            with_whom)
+    chunks = (checked + CHUNK - 1) // CHUNK
+    helping = (min(get_num_threads(), checked // MIN_ROBOTS_PER_THREAD) - 1
+               if checked >= 2 * MIN_ROBOTS_PER_THREAD else 0)
     if helping > 0:
-        helpers(helping).run(_check_kernel, args, chunks, helping)
+        share = helpers(helping).run(_check_kernel, args, chunks, helping)
     else:
-        _check_kernel(*args, *solo_arrays(chunks), LEAD, 0)
-    return StepChecks(with_whom, distance, int(found[0]), not found[1])
+        control, share = solo_arrays(chunks)
+        _check_kernel(*args, control, share, LEAD, 0)
+    touching, loud = share[TALLIES[0]], share[TALLIES[1]]
+    return StepChecks(with_whom, distance, int(touching), not loud)
 
 
 @njit(cache=True, nogil=True)
 def _check_kernel(robot_index: tuple, half_length: np.ndarray, half_width: np.ndarray,
                   ids: np.ndarray, wall_grid: tuple, pose: np.ndarray, goal: np.ndarray,
                   xmin: float, ymin: float, xmax: float, ymax: float, tolerance: float,
-                  distance: np.ndarray, with_whom: np.ndarray, found: np.ndarray,
-                  control: np.ndarray, share: np.ndarray, role: int, until: int) -> None:
+                  distance: np.ndarray, with_whom: np.ndarray, control: np.ndarray,
+                  share: np.ndarray, role: int, until: int) -> None:
     """Collisions, distances and the screen of :func:`check_moved` (``robot_index`` and
     ``wall_grid``: a ``RobotIndex``'s and a ``SegmentGrid``'s fields as plain tuples,
     which the dispatcher types in C), chunks of ``ids`` shared with the helper threads
-    that join (``kernel_threads``); adds the robots touching something and those not
-    quiet to ``found``."""
+    that join (``kernel_threads``); tallies the robots touching something and those not
+    quiet."""
     n = pose.shape[0]
     robots, walls = RobotIndex(*robot_index), SegmentGrid(*wall_grid)
     bodies = Bodies(robots.centers, np.ascontiguousarray(pose[:, 2]), half_length, half_width)
@@ -115,6 +118,6 @@ def _check_kernel(robot_index: tuple, half_length: np.ndarray, half_width: np.nd
                 loud += 1
         chunk_done(share, chunk)
         chunk = take(share, role, until, chunks)
-    atomic_add(found, 0, count)
-    atomic_add(found, 1, loud)
+    tally(share, 0, count)
+    tally(share, 1, loud)
     end(share, role, until, chunks)

@@ -70,7 +70,7 @@ def compile_motion_kernels() -> None:
     none, rows = np.zeros(0), np.zeros((0, 2))
     _check_kernel(tuple(_empty_robots()), none, none, np.zeros(0, np.int64),
                   tuple(_empty_grid()), np.zeros((0, 3)), rows, 0.0, 0.0, 1.0, 1.0, 0.1, none,
-                  np.zeros(0, np.int64), np.zeros(2, np.int64), *solo_arrays(0), LEAD, 0)
+                  np.zeros(0, np.int64), *solo_arrays(0), LEAD, 0)
     gains = np.zeros((0, 3))
     move_robots(np.zeros(0, np.int64), rows, rows, rows, rows, rows, rows, none, gains, gains,
                 none, none, none, none, 0.1, none, none)
