@@ -43,6 +43,12 @@ last arguments and loops::
         chunk_done(share, chunk)
         chunk = take(share, role, until, chunks)
     end(share, role, until, chunks)
+
+These helpers are inlined into the kernels that use them, and Numba's disk
+cache looks at a kernel's own file only: after an edit here, delete the
+cached kernels (``find mimics -name '*.nb[ic]' -delete``), or ``ranger.py``
+and ``step_checks.py`` keep running the old code. An installed release is
+never stale (every file is rewritten).
 """
 
 from __future__ import annotations
