@@ -36,7 +36,7 @@ scans.
 A kernel run this way takes ``(..., control, share, role, until)`` as its
 last arguments and loops::
 
-    begin(control, role)
+    begin(control, share, role)
     chunk = take(share, role, until, chunks)
     while chunk >= 0:
         ...  # compute the chunk
@@ -72,12 +72,12 @@ from numba.extending import intrinsic
 # different slots do not share a line
 CALLS = 0  # control: calls posted so far
 # share: next chunk, helpers joined, helpers finished, a helper's kernel raised, helpers
-# wanted at most, two tallies the kernel's threads add to (see tally); then one flag
-# per chunk, set once it is computed
-NEXT, JOINED, FINISHED, FAILED, LIMIT = 0, 8, 16, 24, 32
-TALLIES = (40, 48)
+# wanted at most, whether the caller has begun, two tallies the kernel's threads add to
+# (see tally); then one flag per chunk, set once it is computed
+NEXT, JOINED, FINISHED, FAILED, LIMIT, BEGUN = 0, 8, 16, 24, 32, 40
+TALLIES = (48, 56)
 CLOSED = 1 << 40  # added to JOINED by the caller when it has no chunk left
-SHARE_SLOTS = 56
+SHARE_SLOTS = 64
 # a kernel call's role: the caller of a call it waits for (run); a helper; the caller of
 # a call it goes on beside (start: the first chunks; end: all the others)
 LEAD, HELPER, START, END = 0, 1, 2, 3
@@ -136,9 +136,11 @@ def _yield_core(typingctx: Any) -> Any:
 
 
 @njit(cache=True, nogil=True, inline="always")
-def begin(control: np.ndarray, role: int) -> None:
-    """A kernel's first act: the caller starting a call wakes the spinning helpers."""
+def begin(control: np.ndarray, share: np.ndarray, role: int) -> None:
+    """The caller starting a call lets helpers join (none joins before: what the
+    kernel wrote until then is theirs to read) and wakes the spinning ones."""
     if role in (LEAD, START):
+        atomic_add(share, BEGUN, 1)
         atomic_add(control, CALLS, 1)
 
 
@@ -192,8 +194,11 @@ def end(share: np.ndarray, role: int, until: int, chunks: int) -> None:
 
 @njit(cache=True, nogil=True)
 def _join(share: np.ndarray) -> bool:
-    """A helper's claim on a call: False once the caller has closed it, or when enough
+    """A helper's claim on a call: False before the caller has begun it (the helper
+    waits for the next call counted), once the caller has closed it, or when enough
     helpers have joined (that claim is reported finished at once)."""
+    if atomic_load(share, BEGUN) == 0:
+        return False
     before = atomic_add(share, JOINED, 1)
     if before >= CLOSED:
         return False

@@ -296,7 +296,7 @@ def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
     distance = np.empty(capacity)
     lists = np.empty((3, capacity), dtype=np.int64)
     chunks = (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS
-    begin(control, role)
+    begin(control, share, role)
     chunk = take(share, role, until, chunks)
     while chunk >= 0:
         for i in range(chunk * CHUNK_ROBOTS, min(k, (chunk + 1) * CHUNK_ROBOTS)):

@@ -103,7 +103,7 @@ def _check_kernel(robot_index: tuple, half_length: np.ndarray, half_width: np.nd
             with_whom[i] = NONE
             distance[i] = np.hypot(goal[i, 0] - pose[i, 0], goal[i, 1] - pose[i, 1])
     chunks = (ids.shape[0] + CHUNK - 1) // CHUNK
-    begin(control, role)
+    begin(control, share, role)
     count = 0
     loud = 0
     chunk = take(share, role, until, chunks)

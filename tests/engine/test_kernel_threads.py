@@ -29,7 +29,7 @@ def _count_chunks(counts: np.ndarray, work: int, sink: np.ndarray, control: np.n
                   share: np.ndarray, role: int, until: int) -> None:
     """Add CALLER or HELPER to each chunk taken, after ``work`` square roots."""
     chunks = counts.shape[0]
-    begin(control, role)
+    begin(control, share, role)
     chunk = take(share, role, until, chunks)
     while chunk >= 0:
         total = 0.0
@@ -116,7 +116,7 @@ def test_a_failing_helper_makes_the_call_raise_not_return_holes():
                until: int) -> None:
         # a Python kernel, so that it can raise; the helper's first chunk fails
         chunks = counts.shape[0]
-        begin(control, role)
+        begin(control, share, role)
         chunk = take(share, role, until, chunks)
         while chunk >= 0:
             if role == kernel_threads.HELPER:
@@ -146,11 +146,16 @@ def test_stopped_helpers_end_their_threads():
         assert not thread.is_alive()
 
 
-def test_a_call_takes_no_more_helpers_than_it_asks_for():
-    """Past the call's limit a helper's claim is refused and counted finished at once
-    (the caller waits for every claim it did not refuse); after the close, for none."""
+def test_no_helper_joins_before_the_caller_begins_nor_more_than_asked_for():
+    """Before the caller has begun, a claim is refused and not counted (the caller may
+    still be writing what helpers read); past the call's limit it is refused and
+    counted finished at once (the caller waits for every claim it did not refuse);
+    after the close, refused and not counted."""
     share = np.zeros(kernel_threads.SHARE_SLOTS, np.int64)
     share[kernel_threads.LIMIT] = 1
+    assert not kernel_threads._join(share)
+    assert share[kernel_threads.JOINED] == 0
+    begin(np.zeros(kernel_threads.SHARE_SLOTS, np.int64), share, LEAD)
     assert kernel_threads._join(share)
     assert not kernel_threads._join(share)
     assert share[kernel_threads.FINISHED] == 1
