@@ -82,13 +82,14 @@ class Scanner:
             self.drop()
             return True
         state = self._state
+        prepared = self._query()
         if self._ids.size == state.n and "sigma_range" not in self._types.noisy:
-            query, walls, robots, sight = self._query()
+            query, walls, robots, sight = prepared
             self._flight = start_beams(query, walls, robots,
                                        (state.scan_buffer, state.scan_hit_buffer), sight, robot)
             if self._flight is not None:
                 return False
-        self._trace()
+        self._trace(prepared)
         return True
 
     def drop(self) -> None:
@@ -117,9 +118,12 @@ class Scanner:
         walls, robots = self._walls(), self._robots()
         return query, walls, robots, self._still.update(robots.centers, walls, robots)
 
-    def _trace(self) -> None:
-        """Cast every ray of the last sensing into the state's scan buffers."""
-        query, walls, robots, sight = self._query()
+    def _trace(self, prepared: tuple[RangerQuery, WallIndex, RobotIndex, SightLists] | None = None
+               ) -> None:
+        """Cast every ray of the last sensing into the state's scan buffers (``prepared``:
+        what ``_query`` gave for it, if called already: it updates the sight lists, once
+        a step)."""
+        query, walls, robots, sight = self._query() if prepared is None else prepared
         state, types, ids = self._state, self._types, self._ids
         everyone = ids.size == state.n
         rows = slice(None) if everyone else ids

@@ -93,3 +93,24 @@ def test_a_row_read_waits_for_its_trace_and_the_step_ends_the_rest(flights):
     # after the run: the last sensing's whole scan, equal with or without helpers
     np.testing.assert_array_equal(sim.state.scan, alone_sim.state.scan)
     np.testing.assert_array_equal(sim.state.scan_hit, alone_sim.state.scan_hit)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_the_sight_lists_are_updated_once_per_sensing(monkeypatch: pytest.MonkeyPatch,
+                                                      threads: int):
+    """They count the steps a neighbourhood stood still: a second update in one step
+    would count one step twice."""
+    from mimics.engine.still_scans import StillScans
+
+    if threads > numba.config.NUMBA_NUM_THREADS:
+        pytest.skip("needs two threads")
+    updates: list[int] = []
+    update = StillScans.update
+
+    def counted(self, centers, walls, robots):
+        updates.append(1)
+        return update(self, centers, walls, robots)
+
+    monkeypatch.setattr(StillScans, "update", counted)
+    _recorder, sim = recorded_run(threads=threads)
+    assert len(updates) == sim.state.step  # one sensing read per step (the last unread)
