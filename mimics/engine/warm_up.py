@@ -27,7 +27,7 @@ from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
 from mimics.engine.dynamics import move_robots
 from mimics.engine.kernel_threads import LEAD, _finish_and_wait, _join, solo_arrays
 from mimics.engine.point_cull import no_sight_lists
-from mimics.engine.ranger import RangerQuery, _cast_rows
+from mimics.engine.ray_kernel import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
 from mimics.engine.stall import _record_and_screen
