@@ -7,11 +7,11 @@ it). Cell ``iy * nx + ix`` owns ``cell_items[cell_start[c]:cell_start[c + 1]]``.
 
 Each cell is tested slightly enlarged (by :func:`grid_pad`, about 1e-9 of the
 coordinates' magnitude), so that floating-point rounding in the kernels that
-walk the grid (``ranger.py``, ``collision.py``) can never miss a segment that
+walk the grid (``ray_kernel.py``, ``collision.py``) can never miss a segment that
 passes exactly through a cell's corner or along its side.
 
 Numba's on-disk cache does not notice edits to the helpers here when it
-loads the kernels of ``ranger.py`` and ``collision.py`` that call them: after
+loads the kernels of ``ray_kernel.py`` and ``collision.py`` that call them: after
 changing this file, delete ``mimics/engine/__pycache__``.
 
 >>> import numpy as np
@@ -59,7 +59,7 @@ class SegmentGrid(NamedTuple):
     cell_items: np.ndarray
 
 
-# -- small compiled helpers shared with ranger.py and collision.py -----------
+# -- small compiled helpers shared with ray_kernel.py and collision.py -----------
 
 
 @njit(cache=True)
