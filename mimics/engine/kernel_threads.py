@@ -64,7 +64,7 @@ from typing import Any
 
 import numpy as np
 from llvmlite import ir
-from numba import njit, types
+from numba import get_num_threads, njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
@@ -183,13 +183,19 @@ def end(share: np.ndarray, role: int, until: int, chunks: int) -> None:
         joined = atomic_add(share, JOINED, CLOSED)
         while atomic_load(share, FINISHED) != joined:
             _relax()
-    elif role != HELPER:
-        if role == END:
-            atomic_add(share, JOINED, CLOSED)
-        first = until if role != END else 0
-        for chunk in range(first, until + 1 if role != END else chunks):
-            while not _is_done(share, chunk) and atomic_load(share, FAILED) == 0:
-                _relax()
+    elif role == START:
+        _await_chunks(share, until, until + 1)
+    elif role == END:
+        atomic_add(share, JOINED, CLOSED)
+        _await_chunks(share, 0, chunks)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _await_chunks(share: np.ndarray, first: int, stop: int) -> None:
+    """Wait until chunks ``first`` to ``stop - 1`` are done, or a helper has failed."""
+    for chunk in range(first, stop):
+        while not _is_done(share, chunk) and atomic_load(share, FAILED) == 0:
+            _relax()
 
 
 @njit(cache=True, nogil=True)
@@ -370,20 +376,26 @@ class Flight:
         self._helpers.check(self._share)
 
 
-_helpers: dict[str, Helpers] = {}  # this process's, under "threads" once started
+_helpers: list[Helpers] = []  # this process's, once started
 
 
 def helpers(count: int) -> Helpers:
     """This process's helper threads, at least ``count`` of them (started on first use)."""
-    found = _helpers.get("threads")
-    if found is None:
-        found = _helpers["threads"] = Helpers(count)
-    found.grow(count)
-    return found
+    if not _helpers:
+        _helpers.append(Helpers(count))
+    _helpers[0].grow(count)
+    return _helpers[0]
+
+
+def helpers_worth(parts: int) -> int:
+    """How many helpers a call of ``parts`` parts, each worth a thread, should take: at
+    most Numba's thread count less the calling thread (``NUMBA_NUM_THREADS``, or
+    ``numba.set_num_threads``)."""
+    return min(get_num_threads(), parts) - 1 if parts > 1 else 0
 
 
 def _stop_all() -> None:
-    for found in _helpers.values():
+    for found in _helpers:
         found.stop()
 
 

@@ -55,14 +55,13 @@ The geometry (see :func:`ray_segment_distance`):
 from __future__ import annotations
 
 import numpy as np
-from numba import get_num_threads
 
 # "X as X": names callers import from here (the module was one before it was split)
 from mimics.engine.beam_fan import ANGLE_SLACK as ANGLE_SLACK
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans, offset_units
 from mimics.engine.beam_fan import fast_atan2 as fast_atan2
 from mimics.engine.beam_sweep import ray_segment_distance as ray_segment_distance
-from mimics.engine.kernel_threads import LEAD, Flight, helpers, solo_arrays
+from mimics.engine.kernel_threads import LEAD, Flight, helpers, helpers_worth, solo_arrays
 from mimics.engine.point_cull import SightLists, no_sight_lists
 from mimics.engine.ray_kernel import CHUNK_ROBOTS, _cast_rows
 from mimics.engine.ray_kernel import RangerQuery as RangerQuery
@@ -143,11 +142,11 @@ def trace_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
     ranges, hit_owner = out
     if k and beams:
         args = _kernel_args(query, walls, robots, sight, ranges, hit_owner)
-        chunks, parts = _chunks_and_parts(k, beams)
-        if parts <= 1:
-            _cast_rows(*args, *solo_arrays(chunks), LEAD, 0)
+        chunks, helping = _chunks_and_helpers(k, beams)
+        if helping:
+            helpers(helping).run(_cast_rows, args, chunks, helping)
         else:
-            helpers(parts - 1).run(_cast_rows, args, chunks, parts - 1)
+            _cast_rows(*args, *solo_arrays(chunks), LEAD, 0)
     return ranges, hit_owner
 
 
@@ -174,12 +173,12 @@ def start_beams(query: RangerQuery, walls: WallIndex, robots: RobotIndex,
     traced; None, with nothing traced, when the scan is for one thread alone. The
     query must have its ``offset_units`` and ``fans``."""
     k, beams = query.offsets.shape
-    chunks, parts = _chunks_and_parts(k, beams)
-    if parts <= 1:
+    chunks, helping = _chunks_and_helpers(k, beams)
+    if not helping:
         return None
     args = _kernel_args(query, walls, robots, sight, *out)
-    return RowsInFlight(helpers(parts - 1).start(_cast_rows, args, chunks, parts - 1,
-                                                 first_row // CHUNK_ROBOTS))
+    return RowsInFlight(helpers(helping).start(_cast_rows, args, chunks, helping,
+                                               first_row // CHUNK_ROBOTS))
 
 
 def _kernel_args(query: RangerQuery, walls: WallIndex, robots: RobotIndex, sight: SightLists,
@@ -188,7 +187,7 @@ def _kernel_args(query: RangerQuery, walls: WallIndex, robots: RobotIndex, sight
             tuple(sight), ranges, hit_owner)
 
 
-def _chunks_and_parts(k: int, beams: int) -> tuple[int, int]:
-    """The chunks of a scan of ``k`` robots and the threads it is worth."""
+def _chunks_and_helpers(k: int, beams: int) -> tuple[int, int]:
+    """The chunks of a scan of ``k`` robots and the helper threads it is worth."""
     chunks = (k + CHUNK_ROBOTS - 1) // CHUNK_ROBOTS
-    return chunks, min(get_num_threads(), chunks, k * beams // MIN_BEAMS_PER_PART)
+    return chunks, helpers_worth(min(chunks, k * beams // MIN_BEAMS_PER_PART))

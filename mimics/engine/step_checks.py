@@ -15,7 +15,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import get_num_threads, njit
+from numba import njit
 
 from mimics.engine.collision import NONE, Bodies, touching
 from mimics.engine.kernel_threads import (
@@ -26,6 +26,7 @@ from mimics.engine.kernel_threads import (
     chunk_done,
     end,
     helpers,
+    helpers_worth,
     solo_arrays,
     take,
     tally,
@@ -73,9 +74,8 @@ def check_moved(robots: RobotIndex, pose: np.ndarray, half_length: np.ndarray,
             float(xmin), float(ymin), float(xmax), float(ymax), float(tolerance), distance,
             with_whom)
     chunks = (checked + CHUNK - 1) // CHUNK
-    helping = (min(get_num_threads(), checked // MIN_ROBOTS_PER_THREAD) - 1
-               if checked >= 2 * MIN_ROBOTS_PER_THREAD else 0)
-    if helping > 0:
+    helping = helpers_worth(checked // MIN_ROBOTS_PER_THREAD)
+    if helping:
         share = helpers(helping).run(_check_kernel, args, chunks, helping)
     else:
         control, share = solo_arrays(chunks)
