@@ -3,7 +3,6 @@ row read is the one a whole trace gives, bit for bit, and no trace outlives its 
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 import pytest
 
@@ -11,9 +10,7 @@ import mimics.engine.ranger as ranger_module
 import mimics.engine.scanner as scanner_module
 from mimics.catalog import load_scenario
 from mimics.engine.simulation import Simulation
-
-needs_two_threads = pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2,
-                                       reason="needs two threads")
+from tests.threads import thread_count
 
 
 class RowRecorder:
@@ -35,15 +32,11 @@ class RowRecorder:
 
 def recorded_run(threads: int, readers: set[int] | None = None,
                  robots: int = 60) -> tuple[RowRecorder, Simulation]:
-    before = numba.get_num_threads()
-    numba.set_num_threads(threads)
     recorder = RowRecorder(readers)
-    try:
+    with thread_count(threads):
         sim = Simulation(load_scenario("obstacle_room", robots=robots), recorder.step, seed=5,
                          time_limit=4.0)
         sim.run()
-    finally:
-        numba.set_num_threads(before)
     return recorder, sim
 
 
@@ -70,7 +63,6 @@ def flights(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
     return counts
 
 
-@needs_two_threads
 def test_rows_read_by_the_robots_are_those_of_a_whole_trace(flights):
     alone, alone_sim = recorded_run(threads=1)  # one thread: whole traces, no helpers
     assert flights["started"] == 0
@@ -81,7 +73,6 @@ def test_rows_read_by_the_robots_are_those_of_a_whole_trace(flights):
     np.testing.assert_array_equal(shared_sim.state.pose, alone_sim.state.pose)
 
 
-@needs_two_threads
 def test_a_row_read_waits_for_its_trace_and_the_step_ends_the_rest(flights):
     """Robot 0 reads, then at once robot 59, whose row the helper may not have traced
     yet: it waits for it. Rows between are traced meanwhile, and the step ends that
@@ -102,8 +93,6 @@ def test_the_sight_lists_are_updated_once_per_sensing(monkeypatch: pytest.Monkey
     would count one step twice."""
     from mimics.engine.still_scans import StillScans
 
-    if threads > numba.config.NUMBA_NUM_THREADS:
-        pytest.skip("needs two threads")
     updates: list[int] = []
     update = StillScans.update
 

@@ -3,7 +3,6 @@ collisions, goal distances and the goals-and-bounds screen."""
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -13,6 +12,7 @@ from mimics.engine.collision import Bodies, collide
 from mimics.engine.robot_index import index_robots
 from mimics.engine.spatial_index import build_segment_grid
 from mimics.engine.step_checks import check_moved
+from tests.threads import thread_count
 
 BOUNDS = (-4.0, -3.0, 5.0, 4.0)
 
@@ -29,18 +29,13 @@ def test_one_call_equals_index_collide_distance_and_screen(seed: int, n: int, wa
     _check_against_the_separate_functions(seed, n, walls, tolerance)
 
 
-@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads")
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_big_teams_checked_on_helper_threads_give_the_same_bits(seed: int) -> None:
     """3,000 robots: the checks run in chunks on the helper threads too (called again and
     again: a helper that slept joins the calls after the first)."""
-    before = numba.get_num_threads()
-    numba.set_num_threads(2)
-    try:
+    with thread_count(2):
         for _ in range(5):
             _check_against_the_separate_functions(seed, 3000, 40, 0.2, spread=20.0)
-    finally:
-        numba.set_num_threads(before)
 
 
 def _check_against_the_separate_functions(seed: int, n: int, walls: int, tolerance: float,

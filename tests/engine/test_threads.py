@@ -2,23 +2,19 @@
 
 import hashlib
 
-import numba
 import numpy as np
 import pytest
 
 from mimics.algorithms import deployment_team, wall_aware
 from mimics.catalog import load_scenario
 from mimics.engine.simulation import Simulation
+from tests.threads import thread_count
 
 
 def run_digest(scenario, algorithm, threads: int) -> str:
-    before = numba.get_num_threads()
-    numba.set_num_threads(threads)
-    try:
+    with thread_count(threads):
         sim = Simulation(scenario, algorithm, seed=3, time_limit=6.0)
         sim.run()
-    finally:
-        numba.set_num_threads(before)
     digest = hashlib.sha256()
     for array in (sim.state.pose, sim.state.scan, sim.state.scan_hit, sim.state.status,
                   sim.state.odometry):
@@ -27,13 +23,12 @@ def run_digest(scenario, algorithm, threads: int) -> str:
     return digest.hexdigest()
 
 
-@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads")
 @pytest.mark.parametrize("name, algorithm", [("obstacle_room", deployment_team),
                                              ("circle_swap", wall_aware)])
 def test_one_thread_and_all_threads_give_the_same_run(name, algorithm):
     scenario = load_scenario(name, robots=24)
     one = run_digest(scenario, algorithm, 1)
-    many = run_digest(scenario, algorithm, numba.config.NUMBA_NUM_THREADS)
+    many = run_digest(scenario, algorithm, 2)
     assert one == many
 
 
@@ -41,7 +36,6 @@ def _digest_in_child(queue, scenario, threads):
     queue.put(run_digest(scenario, deployment_team, threads))
 
 
-@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs two threads")
 def test_a_forked_process_runs_on_threads_of_its_own():
     """A fork copies the ray kernel's thread pool but none of its threads: the child
     must start its own (a stale pool would wait for ever)."""
