@@ -130,11 +130,14 @@ class Scanner:
         scan, hit = state.scan_buffer, state.scan_hit_buffer
         if everyone:  # the kernel writes straight into the state
             trace_beams(query, walls, robots, (scan, hit), sight)
+            ranges = scan
         else:
-            scan[rows], hit[rows] = trace_beams(query, walls, robots, sight=sight)
+            ranges, hits = trace_beams(query, walls, robots, sight=sight)
         if "sigma_range" in types.noisy:  # known once per run: no test per step
-            scan[rows] = add_ranger_noise(scan[rows], query.max_range, types.sigma_range[rows],
-                                          self._noise(state.step))
+            add_ranger_noise(ranges, query.max_range, types.sigma_range[rows],
+                             self._noise(state.step))
+        if not everyone:
+            scan[rows], hit[rows] = ranges, hits
 
     def _noise(self, step: int) -> np.random.Generator:
         """The ranger noise of one step: a stream of its own."""

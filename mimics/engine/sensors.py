@@ -44,12 +44,16 @@ def measure_positioning(state: WorldState, types: TypeArrays, rng: np.random.Gen
 
 
 def add_ranger_noise(ranges: np.ndarray, max_range: np.ndarray, sigma: np.ndarray,
-                     rng: np.random.Generator) -> np.ndarray:
-    """Gaussian noise on each beam, clipped to ``[0, range]`` (NaN slots stay NaN)."""
-    if not np.any(sigma > 0):
-        return ranges
-    noisy = _noisy(rng, ranges, sigma)
-    return np.clip(noisy, 0.0, max_range[:, None])
+                     rng: np.random.Generator) -> None:
+    """Add Gaussian noise to each beam of ``ranges`` in place, clipped to ``[0, range]``
+    (NaN slots stay NaN): ``clip(ranges + noise * sigma, 0, range)``, the same bits as
+    that expression, without its temporaries. The caller draws only when some ``sigma``
+    is positive (``TypeArrays.noisy``)."""
+    noise = rng.standard_normal(ranges.shape)
+    noise *= sigma[:, None]
+    ranges += noise
+    np.maximum(ranges, 0.0, out=ranges)  # np.clip's own order, without its wrapper
+    np.minimum(ranges, max_range[:, None], out=ranges)
 
 
 def odometry_is_exact(state: WorldState, types: TypeArrays) -> bool:

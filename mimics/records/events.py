@@ -113,8 +113,13 @@ class EventBuffer:
 
 
 def _messages(messages: list[str], ids: np.ndarray) -> list[int]:
-    """Robots among ``ids`` with a non-empty message (a quick test first: most have none)."""
+    """Robots among ``ids`` (sorted, unique) with a non-empty message (a quick test
+    first: most have none)."""
     if not any(messages):
         return []
-    candidates = np.array([i for i, m in enumerate(messages) if m], dtype=np.int64)
-    return candidates[np.isin(candidates, ids, assume_unique=True)].tolist()
+    candidates = [i for i, m in enumerate(messages) if m]
+    if len(ids) == len(messages):  # every robot (the usual case)
+        return candidates
+    found = np.asarray(candidates, dtype=np.int64)
+    at = np.minimum(np.searchsorted(ids, found), len(ids) - 1)
+    return found[ids[at] == found].tolist() if len(ids) else []

@@ -13,6 +13,7 @@ from dataclasses import replace
 import numpy as np
 from scipy import stats
 
+from mimics.engine.sensors import add_ranger_noise
 from mimics.engine.simulation import Simulation
 from mimics.world.maps import Map
 from mimics.world.robot_types import (
@@ -130,3 +131,22 @@ def test_ranger_noise_has_the_types_sigma_and_is_clipped_to_the_range() -> None:
     assert abs(np.mean(missed == 1.5) - 0.5) < 4 * 0.5 / math.sqrt(missed.size)
     below = 1.5 - missed[missed < 1.5]  # the lower half of N(1.5, sigma): half-normal
     assert stats.kstest(below, "halfnorm", args=(0.0, sigma)).pvalue > 1e-3
+
+
+def test_ranger_noise_in_place_is_the_clipped_sum_bit_for_bit() -> None:
+    """``add_ranger_noise`` adds in place what ``clip(r + noise * sigma, 0, range)`` gives
+    from the same stream, to the bit: NaN pads stay NaN, a robot without noise keeps its
+    readings, readings pushed past either bound are clipped to it."""
+    rng = np.random.default_rng(7)
+    ranges = rng.uniform(0.0, 2.0, (5, 9))
+    ranges[0, :3] = 0.0  # at the lower bound: half the noise pushes below it
+    ranges[1, 6:] = np.nan  # a robot with fewer beams
+    ranges[2, :] = [1.0] * 9  # at its range
+    max_range = np.array([2.0, 2.0, 1.0, 2.0, 3.0])
+    sigma = np.array([0.5, 0.1, 0.3, 0.0, 0.05])
+    expected = np.clip(ranges + np.random.default_rng(11).standard_normal(ranges.shape)
+                       * sigma[:, None], 0.0, max_range[:, None])
+    add_ranger_noise(ranges, max_range, sigma, np.random.default_rng(11))
+    assert ranges.tobytes() == expected.tobytes()
+    assert np.isnan(ranges[1, 6:]).all() and (ranges[3] == expected[3]).all()
+    assert (ranges >= 0.0).sum() == ranges.size - 3 and np.nanmax(ranges - max_range[:, None]) <= 0

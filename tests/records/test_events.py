@@ -7,11 +7,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import mimics
 from mimics.algorithms import go_to_goal
 from mimics.engine.simulation import Simulation
-from mimics.records.events import EVENTS_SCHEMA, EventBuffer
+from mimics.records.events import EVENTS_SCHEMA, EventBuffer, _messages
 from mimics.records.parts import PartWriter
 from mimics.records.robot_logs import read_robot_log
 
@@ -118,3 +120,14 @@ def test_messages_with_separators_and_line_breaks_parse_back(tmp_path: Path) -> 
     assert len(log.table) == 4 and log.deactivation == "None (active when the run ended)"
     events = mimics.load_run(tmp_path).read_events(kinds=["user_message"])
     assert set(events["detail"]) == {'say "hi";\nthen go'}
+
+
+@given(st.lists(st.sampled_from(["", "", "hello"]), max_size=12), st.data())
+def test_messages_are_those_of_the_given_robots_in_order(messages: list[str],
+                                                       data: st.DataObject) -> None:
+    """The robots whose messages a step records: exactly those among ``ids`` (the robots
+    active at the start of the step) with a non-empty message, in ascending order."""
+    ids = sorted(data.draw(st.sets(st.integers(0, max(len(messages) - 1, 0)))
+                           if messages else st.just(set())))
+    expected = [i for i in ids if messages[i]]
+    assert _messages(messages, np.array(ids, dtype=np.int64)) == expected
