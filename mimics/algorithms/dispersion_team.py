@@ -16,12 +16,14 @@ def team_step(team):
     cos, sin, seen_within, aside = _team_constants(team)
     push = seen_within - ranges
     push = np.where(push > 0.0, push, 0.0)  # NaN compares false: pads push nothing
-    px = -np.sum(push * cos, axis=1)
-    py = -np.sum(push * sin, axis=1)
+    # np.add.reduce and np.logical_and.reduce: np.sum and np.all without their Python
+    # wrappers (the same numbers; a few microseconds a call, a tenth of a small team's step)
+    px = -np.add.reduce(push * cos, axis=1)
+    py = -np.add.reduce(push * sin, axis=1)
     seen = (px != 0.0) | (py != 0.0)
     turn = np.arctan2(py, px)
     theta = team.pose[:, 2]
-    clear = np.all((push <= 0.0) | aside, axis=1)
+    clear = np.logical_and.reduce((push <= 0.0) | aside, axis=1)
     speed = np.where(seen & clear, team.max_speed * np.maximum(np.cos(turn), 0.0), 0.0)
     return speed, np.where(seen, theta + turn, theta)
 

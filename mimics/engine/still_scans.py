@@ -172,6 +172,7 @@ class StillScans:
         n = max_range.shape[0]
         # a range of 0 marks the robots never pinned
         self._max_range = np.where(beams >= MIN_BEAMS, max_range, 0.0)
+        self._pinnable = bool(self._max_range.any())  # else never a list (asked every step)
         self._inner = inner
         self._before = np.full((n, 2), np.nan)  # the centres at the last call
         self._solid_before = np.zeros(n, dtype=np.bool_)
@@ -184,7 +185,7 @@ class StillScans:
         """The lists for the scans of this step (call once per step, before they are
         traced). ``centers``: ``(n, 2)`` C-contiguous, every robot's."""
         pinned, spans, items = self.lists
-        if not self._max_range.any():
+        if not self._pinnable:
             return self.lists
         if _settle(centers, self._before, self._solid_before, self._still, pinned,
                    self._max_range, tuple(robots)):
