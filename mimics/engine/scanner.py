@@ -4,7 +4,7 @@ Sensing only notes which robots scan and when; the rays are cast at the first
 read of ``state.scan`` or ``state.scan_hit`` after it, from that same state
 (nothing moves before the algorithm and the observers have read). A step whose
 readers read no scan casts no ray, as Stage updates no sensor that has no
-subscriber. The ranger's noise has one random stream per step, so a scan's
+subscriber. The ranger's noise has a stretch of its stream per step, so a scan's
 noise does not depend on which earlier scans were read.
 
 A robot's own read (``robot.scan``, per-robot algorithms) asks for its row
