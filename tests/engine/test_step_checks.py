@@ -30,12 +30,14 @@ def test_one_call_equals_index_collide_distance_and_screen(seed: int, n: int, wa
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
-def test_big_teams_checked_on_helper_threads_give_the_same_bits(seed: int) -> None:
-    """3,000 robots: the checks run in chunks on the helper threads too (called again and
-    again: a helper that slept joins the calls after the first)."""
+@pytest.mark.parametrize(("n", "spread"), [(100, 1.0), (200, 2.0), (3000, 20.0)])
+def test_teams_checked_on_helper_threads_give_the_same_bits(seed: int, n: int,
+                                                            spread: float) -> None:
+    """From 64 checked robots the checks run in chunks of 24 on the helper threads too
+    (called again and again: a helper that slept joins the calls after the first)."""
     with thread_count(2):
         for _ in range(5):
-            _check_against_the_separate_functions(seed, 3000, 40, 0.2, spread=20.0)
+            _check_against_the_separate_functions(seed, n, 40, 0.2, spread=spread)
 
 
 def _check_against_the_separate_functions(seed: int, n: int, walls: int, tolerance: float,
