@@ -149,5 +149,5 @@ class Scanner:
         noise)."""
         bits = self._noise_bits
         bits.state = self._noise_start
-        bits.advance(step << 64)
+        bits.advance(int(step) << 64)  # (a NumPy integer would overflow the shift)
         return self._noise_rng
