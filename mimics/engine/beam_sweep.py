@@ -26,6 +26,7 @@ from mimics.engine.beam_fan import (
     fast_atan2,
 )
 from mimics.engine.spatial_index import SegmentGrid, clip_to_slab
+from mimics.engine.wall_index import point_segment_distance
 
 NO_HIT = -2  # hit_owner of a beam that hit nothing within range
 
@@ -227,6 +228,42 @@ def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: flo
                                         best_o)
 
 
+# a pinned robot's plan of one wall or robot it lists (``SightLists.plan``): its distance
+# bound, the angle its span starts at, the span, and 1.0 when every beam tests it (a wall)
+# or the sensor is inside it (a robot), else 0.0
+PLAN = 4
+DISTANCE, LOW, SPAN, EVERY = 0, 1, 2, 3
+
+
+@njit(cache=True, inline="always")
+def _span_of(ax: float, ay: float, bx: float, by: float) -> tuple[bool, float, float]:
+    """The beams a segment from ``(ax, ay)`` to ``(bx, by)`` (relative to the sensor) may
+    meet: every beam (True) when the sensor sits on its line (a span near 0 or pi), else
+    its span, counterclockwise from the angle returned with it."""
+    # the span runs counterclockwise from ``low``: its orientation is the sign of cross
+    cross = ax * by - ay * bx
+    lengths2 = (ax * ax + ay * ay) * (bx * bx + by * by)
+    if cross * cross <= ANGLE_EPS * ANGLE_EPS * lengths2:
+        return True, 0.0, 0.0
+    low, high = fast_atan2(ay, ax), fast_atan2(by, bx)
+    if cross < 0.0:
+        low, high = high, low
+    span = high - low
+    if span < 0.0:
+        span += TAU  # a near-zero span that rounding turned round covers all: still exact
+    return False, low, span
+
+
+@njit(cache=True, inline="always")
+def wall_plan(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
+              row: np.ndarray) -> None:
+    """Fill ``row`` (``PLAN`` entries) with what a scan from ``(ox, oy)`` needs of the wall
+    ``(x1, y1, x2, y2)`` whatever the heading: the same numbers as the scan's own."""
+    every, low, span = _span_of(x1 - ox, y1 - oy, x2 - ox, y2 - oy)
+    row[DISTANCE] = _below(point_segment_distance(ox, oy, x1, y1, x2, y2))
+    row[LOW], row[SPAN], row[EVERY] = low, span, 1.0 if every else 0.0
+
+
 # numpy error model: the inlined block test divides in every lane, without zero checks
 @njit(cache=True, error_model="numpy")
 def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float, o: int,
@@ -238,27 +275,60 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
     beams, or has spacing 0 for beams in no usable order. ``nearest`` is the
     segment's distance from the sensor: beams that already hit nearer skip it.
     """
-    ax, ay, bx, by = x1 - ox, y1 - oy, x2 - ox, y2 - oy
-    cross = ax * by - ay * bx
-    lengths2 = (ax * ax + ay * ay) * (bx * bx + by * by)
-    if layout[1] <= 0.0 or cross * cross <= ANGLE_EPS * ANGLE_EPS * lengths2:
-        # no order to use, or the sensor sits on the segment's line (span near 0 or pi)
+    every, low, span = _span_of(x1 - ox, y1 - oy, x2 - ox, y2 - oy)
+    _sweep_span(every, low, span, ox, oy, x1, y1, x2, y2, o, nearest, limit, layout, work,
+                best_o)
+
+
+@njit(cache=True, error_model="numpy")
+def _sweep_kept_span(every: bool, low: float, span: float, ox: float, oy: float, x1: float,
+                     y1: float, x2: float, y2: float, o: int, nearest: float, limit: float,
+                     layout: Layout, work: np.ndarray, best_o: np.ndarray) -> None:
+    """:func:`_sweep_segment` of a wall whose span a pinned robot's plan keeps."""
+    _sweep_span(every, low, span, ox, oy, x1, y1, x2, y2, o, nearest, limit, layout, work,
+                best_o)
+
+
+# inlined into both sweeps above: a call more per segment cost the Cave's unpinned scans 15%
+@njit(cache=True, inline="always")
+def _sweep_span(every: bool, low: float, span: float, ox: float, oy: float, x1: float,
+                y1: float, x2: float, y2: float, o: int, nearest: float, limit: float,
+                layout: Layout, work: np.ndarray, best_o: np.ndarray) -> None:
+    """:func:`_sweep_segment` once the segment's span is known (``_span_of``: computed
+    now, or kept in a pinned robot's plan)."""
+    if layout[1] <= 0.0 or every:  # no order to use, or the sensor on the segment's line
         _sweep_beams(0, work.shape[1] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit, work,
                      best_o)
         return
-    # the span runs counterclockwise from ``low``: its orientation is the sign of cross
-    low, high = fast_atan2(ay, ax), fast_atan2(by, bx)
-    if cross < 0.0:
-        low, high = high, low
-    span = high - low
-    if span < 0.0:
-        span += TAU  # a near-zero span that rounding turned round covers all: still exact
     rel = _relative(low, layout)
     back, on = _turns(rel, span, layout)  # the span may wrap around past the first beam
     for k in range(1 + back + on):
         first, last = _beam_range(rel + _turn(k, back), span, layout)
         if first <= last:
             _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, work, best_o)
+
+
+@njit(cache=True, inline="always")
+def _robot_span(cx: float, cy: float, radius: float) -> tuple[bool, float, float]:
+    """The beams a robot whose circle (``radius``) is centred at ``(cx, cy)`` from the
+    sensor may meet: True when the sensor is inside its circle (each side is swept on
+    its own), else the span of the circle, counterclockwise from the angle returned."""
+    distance = math.sqrt(cx * cx + cy * cy)
+    if distance <= radius * (1.0 + 1e-9):
+        return True, 0.0, 0.0
+    x = radius / distance  # below 1 here
+    half = x / math.sqrt(1.0 - x * x) * (1.0 + 1e-9) + 1e-12  # asin(x) <= tan(asin(x))
+    return False, fast_atan2(cy, cx) - half, 2.0 * half
+
+
+@njit(cache=True, inline="always")
+def robot_plan(cx: float, cy: float, radius: float, row: np.ndarray) -> None:
+    """Fill ``row`` (``PLAN`` entries) with what a scan needs of a robot seen at ``(cx,
+    cy)`` from the sensor whatever the headings: its distance bound (as the scan's own),
+    the span of its circle, and 1.0 when the sensor is inside it (else 0.0)."""
+    inside, start, width = _robot_span(cx, cy, radius)
+    row[DISTANCE] = max(_below(math.sqrt(cx * cx + cy * cy) - radius), 0.0)
+    row[LOW], row[SPAN], row[EVERY] = start, width, 1.0 if inside else 0.0
 
 
 # inlined: called for every robot in view, its call would cost more than a hidden check
@@ -272,9 +342,18 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
     as views of one robot's rows would cost reference counting); ``gap`` is a
     lower bound of the robot's distance (from its circle).
     """
-    cx, cy = centers[r, 0] - ox, centers[r, 1] - oy
-    distance = math.sqrt(cx * cx + cy * cy)
-    if layout[1] <= 0.0 or distance <= radius * (1.0 + 1e-9):  # no order, or inside its circle
+    inside, start, width = _robot_span(centers[r, 0] - ox, centers[r, 1] - oy, radius)
+    _sweep_robot_span(inside, start, width, ox, oy, corners, r, gap, limit, layout, work,
+                      best_o)
+
+
+@njit(cache=True, inline="always")
+def _sweep_robot_span(inside: bool, start: float, width: float, ox: float, oy: float,
+                      corners: np.ndarray, r: int, gap: float, limit: float, layout: Layout,
+                      work: np.ndarray, best_o: np.ndarray) -> None:
+    """:func:`_sweep_robot` once the robot's span is known (``_robot_span``: computed now,
+    or kept in a pinned robot's plan)."""
+    if layout[1] <= 0.0 or inside:  # no order, or inside its circle: side by side
         for e in range(4):
             _sweep_segment(ox, oy, corners[r, e, 0], corners[r, e, 1], corners[r, e + 1, 0],
                            corners[r, e + 1, 1], r, gap, limit, layout, work, best_o)
@@ -282,13 +361,11 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
     # the beams its bounding circle spans hold every beam that can meet it: those not
     # yet hit nearer are tested against the sides at once (no span per side); a robot
     # whose circle is hidden that way costs only the blocks' checks
-    x = radius / distance  # below 1 here
-    half = x / math.sqrt(1.0 - x * x) * (1.0 + 1e-9) + 1e-12  # asin(x) <= tan(asin(x))
-    rel = _relative(fast_atan2(cy, cx) - half, layout)
-    back, on = _turns(rel, 2.0 * half, layout)
+    rel = _relative(start, layout)
+    back, on = _turns(rel, width, layout)
     facing = -1  # bit e: side e faces the sensor (found once a block needs it)
     for k in range(1 + back + on):
-        first, last = _beam_range(rel + _turn(k, back), 2.0 * half, layout)
+        first, last = _beam_range(rel + _turn(k, back), width, layout)
         if first > last:
             continue
         for b in range(first // BLOCK, last // BLOCK + 1):

@@ -35,6 +35,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.beam_sweep import PLAN
 from mimics.engine.wall_index import point_segment_distance
 
 TAU = 2.0 * math.pi
@@ -54,11 +55,16 @@ class SightLists(NamedTuple):
             ``items[spans[i, 0]:spans[i, 1]]`` (rows of the walls' segments), the
             robots it may see ``items[spans[i, 2]:spans[i, 3]]``.
         items: wall and robot indices.
+        plan: ``(len(items), PLAN)`` float64, or no row: for each wall listed, what
+            the pinned robot's scans need of it whatever the heading
+            (``beam_sweep.wall_plan``), kept while its centre does not move; with no
+            rows, the scans work it out each time.
     """
 
     pinned: np.ndarray
     spans: np.ndarray
     items: np.ndarray
+    plan: np.ndarray = np.zeros((0, PLAN))
 
 
 def no_sight_lists() -> SightLists:

@@ -16,14 +16,20 @@ from numba import njit
 from mimics.engine.beam_fan import _beyond_edges, _outside_view
 from mimics.engine.beam_sweep import (
     BLOCK,
+    DISTANCE,
     DX,
     DY,
+    EVERY,
     FAR,
+    LOW,
     NEAR,
     NO_HIT,
+    SPAN,
     WALL,
     _below,
+    _sweep_kept_span,
     _sweep_robot,
+    _sweep_robot_span,
     _sweep_segment,
     _trace,
 )
@@ -109,9 +115,10 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
 
     The walls come as the fields of a ``WallIndex`` (``grid``, ``near``,
     ``reach``); a robot pinned in ``sight`` sweeps its own lists instead of its
-    cell's walls and the robots in range. ``work`` and ``best_o``
-    are scratch space of whole blocks of beams, ``distance`` and ``lists`` of the
-    walls and robots listed (``_list_capacity``), reused from one robot to the next.
+    cell's walls and the robots in range, with the distances and spans their plans
+    keep. ``work`` and ``best_o`` are scratch space of whole blocks of beams,
+    ``distance`` and ``lists`` of the walls and robots listed (``_list_capacity``),
+    reused from one robot to the next.
     """
     beams = query.offsets.shape[1]
     segs = near.segments
@@ -141,15 +148,21 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
     certain = reach if cell >= 0 else 0.0
     pinned = 0 <= me < sight.pinned.shape[0] and sight.pinned[me]
     listed = near.cell_items[0:0]
+    planned = False  # its walls' distances and spans kept with its lists
+    first = 0
     if pinned:  # (a pinned robot's cell is in the grid)
-        listed = sight.items[sight.spans[me, 0]:sight.spans[me, 1]]
+        first = sight.spans[me, 0]
+        listed = sight.items[first:sight.spans[me, 1]]
+        planned = sight.plan.shape[0] >= sight.spans[me, 3]
     elif cell >= 0:
         listed = near.cell_items[near.cell_start[cell]: near.cell_start[cell + 1]]
     walls = listed.shape[0]
     # the robots whose bounding circle comes within range (or those pinned lists keep)
     found = 0
+    seen_first = 0  # where a pinned robot's robots and their plans start
     if pinned:
-        for p in range(sight.spans[me, 2], sight.spans[me, 3]):
+        seen_first = sight.spans[me, 2]
+        for p in range(seen_first, sight.spans[me, 3]):
             lists[SEEN, found] = sight.items[p]
             found += 1
     else:
@@ -161,6 +174,8 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         if _outside_view(_beyond_edges(x1 - ox, y1 - oy, 0.0, cone),
                          _beyond_edges(x2 - ox, y2 - oy, 0.0, cone), cone[4]):
             distance[p] = math.inf
+        elif planned:
+            distance[p] = sight.plan[first + p, DISTANCE]
         else:
             distance[p] = _below(point_segment_distance(ox, oy, x1, y1, x2, y2))
     corners, centers, radius = robots.corners, robots.centers, robots.radius
@@ -170,17 +185,28 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         bits = _beyond_edges(cx, cy, radius[r], cone)
         if r == me or _outside_view(bits, bits, cone[4]):
             distance[walls + f] = math.inf
+        elif planned:
+            distance[walls + f] = sight.plan[seen_first + f, DISTANCE]
         else:
             distance[walls + f] = max(_below(math.sqrt(cx * cx + cy * cy) - radius[r]), 0.0)
     # walls and robots together, nearest first: farther ones then skip the beams already
     # hit (most beams of a crowded scan end on a neighbour, in front of the walls)
     for q in range(_by_distance(distance, walls + found, limit, lists)):
         p = lists[ORDER, q]
-        if p < walls:
+        if p < walls and planned:
+            s, plan = listed[p], sight.plan[first + p]
+            _sweep_kept_span(plan[EVERY] != 0.0, plan[LOW], plan[SPAN], ox, oy, segs[s, 0],
+                             segs[s, 1], segs[s, 2], segs[s, 3], np.int64(WALL), distance[p],
+                             limit, layout, work, best_o)
+        elif p < walls:
             s = listed[p]
             # np.int64: a literal WALL would compile _sweep_segment a second time
             _sweep_segment(ox, oy, segs[s, 0], segs[s, 1], segs[s, 2], segs[s, 3],
                            np.int64(WALL), distance[p], limit, layout, work, best_o)
+        elif planned:
+            r, plan = lists[SEEN, p - walls], sight.plan[seen_first + p - walls]
+            _sweep_robot_span(plan[EVERY] != 0.0, plan[LOW], plan[SPAN], ox, oy, corners, r,
+                              distance[p], limit, layout, work, best_o)
         else:
             r = lists[SEEN, p - walls]
             _sweep_robot(ox, oy, corners, centers, r, distance[p], radius[r], limit, layout,

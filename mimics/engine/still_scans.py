@@ -5,8 +5,10 @@ simulated seconds, no robot's centre moves again; the robots only turn on
 the spot. A robot's sight then depends on headings alone (see
 ``point_cull.py``), so once it and every robot within its range have
 stood still for ``SETTLE_STEPS`` steps, :class:`StillScans` lists the walls
-and robots it may see first, and the ranger sweeps those instead of
-everything near it, until one of them moves. "Still" is exact: the centre's
+and robots it may see first, with what its scans need of each whatever the
+headings (distance bounds and angular spans: ``beam_sweep.wall_plan`` and
+``robot_plan``), and the ranger sweeps those instead of everything near it,
+until one of them moves. "Still" is exact: the centre's
 coordinates are the same floats as at the step before. A scan is the same,
 bit for bit, with the lists or without them.
 """
@@ -18,6 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mimics.engine.beam_sweep import PLAN, robot_plan, wall_plan
 from mimics.engine.point_cull import SightLists, sight_lists
 from mimics.engine.robot_index import RobotIndex, robots_near
 from mimics.engine.spatial_index import SegmentGrid
@@ -98,45 +101,52 @@ def _settle(centers: np.ndarray, before: np.ndarray, solid_before: np.ndarray,
 
 
 @njit(cache=True)
-def _reserve(items: np.ndarray, used: int, more: int) -> np.ndarray:
-    """``items`` with room for ``more`` after ``used`` (a copy, twice as long, if needed)."""
+def _reserve(items: np.ndarray, plan: np.ndarray, used: int,
+             more: int) -> tuple[np.ndarray, np.ndarray]:
+    """``items`` and ``plan`` with room for ``more`` after ``used`` (copies, twice as long,
+    if needed)."""
     if used + more <= items.shape[0]:
-        return items
-    grown = np.empty(max(2 * items.shape[0], used + more), dtype=np.int64)
+        return items, plan
+    size = max(2 * items.shape[0], used + more)
+    grown, grown_plan = np.empty(size, dtype=np.int64), np.empty((size, PLAN))
     grown[:used] = items[:used]
-    return grown
+    grown_plan[:used] = plan[:used]
+    return grown, grown_plan
 
 
 @njit(cache=True)
-def _compact(pinned: np.ndarray, spans: np.ndarray, items: np.ndarray,
-             used: int) -> tuple[np.ndarray, int]:
+def _compact(pinned: np.ndarray, spans: np.ndarray, items: np.ndarray, plan: np.ndarray,
+             used: int) -> tuple[np.ndarray, np.ndarray, int]:
     """The pinned robots' lists alone, when the dropped ones take most of ``items``."""
     live = 0
     for i in range(pinned.shape[0]):
         if pinned[i]:
             live += spans[i, 1] - spans[i, 0] + spans[i, 3] - spans[i, 2]
     if used <= 2 * live + 4096:
-        return items, used
-    kept = np.empty(2 * live + 4096, dtype=np.int64)
+        return items, plan, used
+    kept, kept_plan = np.empty(2 * live + 4096, dtype=np.int64), np.empty((2 * live + 4096, PLAN))
     count = 0
     for i in range(pinned.shape[0]):
         if pinned[i]:
             for k in (0, 2):
                 length = spans[i, k + 1] - spans[i, k]
                 kept[count:count + length] = items[spans[i, k]:spans[i, k + 1]]
+                kept_plan[count:count + length] = plan[spans[i, k]:spans[i, k + 1]]
                 spans[i, k], spans[i, k + 1] = count, count + length
                 count += length
-    return kept, count
+    return kept, kept_plan, count
 
 
 @njit(cache=True)
 def _pin(centers: np.ndarray, still: np.ndarray, pinned: np.ndarray, max_range: np.ndarray,
          inner: np.ndarray, near_lists: tuple, robots: tuple, spans: np.ndarray,
-         items: np.ndarray, used: int) -> tuple[np.ndarray, int]:
+         items: np.ndarray, plan: np.ndarray, used: int) -> tuple[np.ndarray, np.ndarray, int]:
     """Make the lists of the robots due (``pinned`` and ``spans`` set for them), appended
-    to ``items[:used]``; returns the items and how many are used."""
+    to ``items[:used]``, with their plans; returns the items, the plans and how many
+    are used."""
     near, index = SegmentGrid(*near_lists), RobotIndex(*robots)
-    items, used = _compact(pinned, spans, items, used)
+    items, plan, used = _compact(pinned, spans, items, plan, used)
+    segments = near.segments
     candidates = np.empty(index.grid_items.shape[0], dtype=np.int64)
     for i in range(centers.shape[0]):
         ox, oy = centers[i, 0], centers[i, 1]
@@ -147,15 +157,23 @@ def _pin(centers: np.ndarray, still: np.ndarray, pinned: np.ndarray, max_range: 
         found = robots_near(index, ox, oy, max_range[i] + index.max_radius, candidates)
         walls, seen = sight_lists(ox, oy, max_range[i], i,
                                   near.cell_items[near.cell_start[cell]:near.cell_start[cell + 1]],
-                                  near.segments, candidates[:found], index.centers, index.radius,
+                                  segments, candidates[:found], index.centers, index.radius,
                                   inner)
-        items = _reserve(items, used, walls.shape[0] + seen.shape[0])
+        items, plan = _reserve(items, plan, used, walls.shape[0] + seen.shape[0])
         for k, listed in ((0, walls), (2, seen)):
             spans[i, k], spans[i, k + 1] = used, used + listed.shape[0]
             items[used:used + listed.shape[0]] = listed
             used += listed.shape[0]
+        for row in range(spans[i, 0], spans[i, 1]):  # the scans' own numbers, kept
+            s = items[row]
+            wall_plan(ox, oy, segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3],
+                      plan[row])
+        for row in range(spans[i, 2], spans[i, 3]):
+            r = items[row]
+            robot_plan(index.centers[r, 0] - ox, index.centers[r, 1] - oy, index.radius[r],
+                       plan[row])
         pinned[i] = True
-    return items, used
+    return items, plan, used
 
 
 class StillScans:
@@ -179,17 +197,18 @@ class StillScans:
         self._still = np.zeros(n, dtype=np.int64)  # steps each neighbourhood stood still
         self._used = 0  # items in use (the pinned robots' lists and dropped ones)
         self.lists = SightLists(np.zeros(n, dtype=np.bool_), np.zeros((n, 4), dtype=np.int64),
-                                np.zeros(1024, dtype=np.int64))
+                                np.zeros(1024, dtype=np.int64), np.zeros((1024, PLAN)))
 
     def update(self, centers: np.ndarray, walls: WallIndex, robots: RobotIndex) -> SightLists:
         """The lists for the scans of this step (call once per step, before they are
         traced). ``centers``: ``(n, 2)`` C-contiguous, every robot's."""
-        pinned, spans, items = self.lists
+        pinned, spans, items, plan = self.lists
         if not self._pinnable:
             return self.lists
         if _settle(centers, self._before, self._solid_before, self._still, pinned,
                    self._max_range, tuple(robots)):
-            items, self._used = _pin(centers, self._still, pinned, self._max_range, self._inner,
-                                     tuple(walls.near), tuple(robots), spans, items, self._used)
-            self.lists = SightLists(pinned, spans, items)
+            items, plan, self._used = _pin(centers, self._still, pinned, self._max_range,
+                                           self._inner, tuple(walls.near), tuple(robots), spans,
+                                           items, plan, self._used)
+            self.lists = SightLists(pinned, spans, items, plan)
         return self.lists

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
+from mimics.engine.beam_sweep import PLAN
 from mimics.engine.dynamics import move_robots
 from mimics.engine.kernel_threads import LEAD, _finish_and_wait, _join, solo_arrays
 from mimics.engine.point_cull import no_sight_lists
@@ -101,7 +102,7 @@ def compile_ray_helpers() -> None:
         np.zeros(0, bool)
     _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
     _pin(rows, counts, flags, none, none, tuple(_empty_grid()), tuple(_empty_robots()),
-         np.zeros((0, 4), np.int64), counts, 0)
+         np.zeros((0, 4), np.int64), counts, np.zeros((0, PLAN)), 0)
 
 
 def compile_ray_part() -> None:
