@@ -8,7 +8,7 @@ the median of ``--repeats`` calls, in µs per scanning robot, with the threads
 Numba has (``NUMBA_NUM_THREADS=1`` for one). With one thread each call is
 timed in process CPU time (other processes on a busy machine do not count),
 with more in wall time (CPU time would add the threads up). With ``--against REV`` the ranger of git
-revision REV (``mimics/engine/ranger.py`` as it was there) is compiled beside
+revision REV (``mimics/engine`` as it was there, ray kernel included) is compiled beside
 this one and the two are called in turn on the same states, so that a busy
 or drifting machine slows both alike; the script says whether their results
 are the same bits, and if not, how far apart the ranges are and how many hit
@@ -63,16 +63,23 @@ def states(names: list[str]) -> list[tuple[str, float, Simulation, RangerQuery, 
 
 
 def ranger_at(revision: str) -> ModuleType:
-    """``mimics/engine/ranger.py`` as it was at ``revision``, compiled as its own module."""
-    source = subprocess.run(["git", "-C", str(ROOT), "show", f"{revision}:mimics/engine/ranger.py"],
-                            capture_output=True, text=True, check=True).stdout
-    path = Path(tempfile.mkdtemp(prefix="mimics-ranger-")) / "ranger_then.py"
-    path.write_text(source.replace("cache=True", "cache=False"))
-    spec = importlib.util.spec_from_file_location("ranger_then", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    """``mimics/engine/ranger.py`` as it was at ``revision``, compiled as its own module,
+    with the engine modules it imports as they were then too (the ray kernel itself is in
+    ``ray_kernel.py`` and the modules it imports): the revision's ``mimics/engine`` is
+    copied as a package of another name, its imports of ``mimics.engine`` renamed."""
+    listed = subprocess.run(["git", "-C", str(ROOT), "ls-tree", "--name-only", revision,
+                             "mimics/engine/"], capture_output=True, text=True, check=True)
+    package = "mimics_engine_then"
+    folder = Path(tempfile.mkdtemp(prefix="mimics-ranger-")) / package
+    folder.mkdir()
+    for name in listed.stdout.split():
+        if name.endswith(".py"):
+            source = subprocess.run(["git", "-C", str(ROOT), "show", f"{revision}:{name}"],
+                                    capture_output=True, text=True, check=True).stdout
+            source = source.replace("mimics.engine.", f"{package}.")
+            (folder / Path(name).name).write_text(source.replace("cache=True", "cache=False"))
+    sys.path.insert(0, str(folder.parent))
+    return importlib.import_module(f"{package}.ranger")
 
 
 def timed(module: ModuleType, query: RangerQuery, sim: Simulation,
