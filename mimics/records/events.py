@@ -120,6 +120,8 @@ def _messages(messages: list[str], ids: np.ndarray) -> list[int]:
     candidates = [i for i, m in enumerate(messages) if m]
     if len(ids) == len(messages):  # every robot (the usual case)
         return candidates
+    if not len(ids):
+        return []
     found = np.asarray(candidates, dtype=np.int64)
     at = np.minimum(np.searchsorted(ids, found), len(ids) - 1)
-    return found[ids[at] == found].tolist() if len(ids) else []
+    return found[ids[at] == found].tolist()
