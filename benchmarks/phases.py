@@ -1,21 +1,29 @@
 """Where a step goes: wall time of each phase of the step, per step, over one run.
 
     python benchmarks/phases.py [--scenario cave] [--algorithm deployment_team]
-                                [--time 60] [--robots N] [--no-logging]
+                                [--time 60] [--robots N [N ...]] [--runs 1]
+                                [--robot-logs auto|on|off] [--no-logging]
 
 Wraps the step's phases (the ``Simulation`` methods a step calls, the kernels
 it calls and the recorder's hooks) in wall-clock timers, runs the scenario
-once to warm up and once timed, and prints milliseconds per step for each,
-largest first. Phases nest (``_sense`` holds ``trace_beams``), so the column
-does not add up to the total. Unlike the other benchmarks this one reaches
-into the engine's private methods: it is a profiler, its names may change
-with the engine.
+once to warm up and ``--runs`` times timed, and prints milliseconds per step
+for each, largest first (the median of the runs). Phases nest (``_sense`` holds
+``trace_beams``), so the column does not add up to the total. Unlike the
+other benchmarks this one reaches into the engine's private methods: it is a
+profiler, its names may change with the engine.
+
+With several ``--robots`` (a scenario with that parameter, e.g. ``--scenario
+swarm --algorithm dispersion_team --robots 100 10000``) it prints nanoseconds
+per robot-step of each phase at each size instead, and what each phase costs
+per step at the smallest size beyond the largest size's rate: where the cost
+per robot-step is not flat in the team size (issue 21's swarm bar).
 """
 
 from __future__ import annotations
 
 import argparse
 import collections
+import statistics
 import tempfile
 import time
 from collections.abc import Callable
@@ -54,14 +62,47 @@ def timed(owner: Any, name: str, label: str) -> None:
     setattr(owner, name, wrapper)
 
 
+def measure(args: argparse.Namespace, robots: int | None) -> tuple[Simulation, float,
+                                                                  dict[str, float]]:
+    """One warm-up run and ``args.runs`` timed runs of ``robots`` robots (None: the
+    scenario's own); the last run, the median wall time and each phase's median."""
+    algorithm = find_algorithm(args.algorithm)[1]
+    params = {} if robots is None else {"robots": robots}
+    scenario = load_scenario(args.scenario, **params)
+    walls: list[float] = []
+    phases: collections.defaultdict[str, list[float]] = collections.defaultdict(list)
+    for run in range(1 + args.runs):  # the first one warms up
+        sim = Simulation(scenario, algorithm, seed=1, time_limit=args.time)
+        with tempfile.TemporaryDirectory(prefix="mimics-phases-") as folder:
+            if not args.no_logging:
+                sim.observers.append(RunRecorder(folder, robot_logs=args.robot_logs))
+            timed(sim.controller, "compute", "algorithm (controller.compute)")
+            sim.start()
+            totals.clear()
+            start = time.perf_counter()
+            while sim.step():
+                pass
+            wall = time.perf_counter() - start
+        if run:
+            walls.append(wall)
+            for label, seconds in totals.items():
+                phases[label].append(seconds)
+    return sim, statistics.median(walls), {label: statistics.median(values)
+                                           for label, values in phases.items()}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--scenario", default="cave")
     parser.add_argument("--algorithm", default="deployment_team")
     parser.add_argument("--time", type=float, default=60.0)
-    parser.add_argument("--robots", type=int, default=None,
-                        help="the scenario's robots parameter (default: its own)")
+    parser.add_argument("--robots", type=int, nargs="+", default=None,
+                        help="the scenario's robots parameter (default: its own); several "
+                             "sizes: ns per robot-step at each")
+    parser.add_argument("--runs", type=int, default=1, help="timed runs (medians)")
+    parser.add_argument("--robot-logs", choices=["auto", "on", "off"], default="auto",
+                        help="per-robot text logs when logging (auto: up to 200 robots)")
     parser.add_argument("--no-logging", action="store_true")
     args = parser.parse_args()
     for name in STEP_PHASES:
@@ -70,27 +111,36 @@ def main() -> None:
         timed(module, name, name)
     for name in RECORDER_HOOKS:
         timed(RunRecorder, name, "recorder." + name)
-    algorithm = find_algorithm(args.algorithm)[1]
-    for _run in ("warm-up", "timed"):  # the last one is reported
-        params = {} if args.robots is None else {"robots": args.robots}
-        sim = Simulation(load_scenario(args.scenario, **params), algorithm, seed=1,
-                         time_limit=args.time)
-        with tempfile.TemporaryDirectory(prefix="mimics-phases-") as folder:
-            if not args.no_logging:
-                sim.observers.append(RunRecorder(folder))
-            timed(sim.controller, "compute", "algorithm (controller.compute)")
-            sim.start()
-            totals.clear()
-            start = time.perf_counter()
-            while sim.step():
-                pass
-            wall = time.perf_counter() - start
-    steps = sim.state.step
-    print(f"{args.scenario} / {args.algorithm}, {sim.state.n} robots, {sim.state.time:g} s "
-          f"simulated, logging {'off' if args.no_logging else 'on'}: "
-          f"{wall / steps * 1e3:.3f} ms per step, {sim.state.time / wall:.1f} s_sim/s")
-    for label, seconds in sorted(totals.items(), key=lambda item: -item[1]):
-        print(f"  {label:34s} {seconds / steps * 1e3:8.3f} ms per step")
+    logging = "off" if args.no_logging else f"on, robot logs {args.robot_logs}"
+    if args.robots is None or len(args.robots) == 1:
+        sim, wall, phases = measure(args, args.robots[0] if args.robots else None)
+        steps = sim.state.step
+        print(f"{args.scenario} / {args.algorithm}, {sim.state.n} robots, {sim.state.time:g} s "
+              f"simulated, logging {logging}: {wall / steps * 1e3:.3f} ms per step, "
+              f"{sim.state.time / wall:.1f} s_sim/s")
+        for label, seconds in sorted(phases.items(), key=lambda item: -item[1]):
+            print(f"  {label:34s} {seconds / steps * 1e3:8.3f} ms per step")
+        return
+    per_robot_step: dict[int, dict[str, float]] = {}
+    for robots in args.robots:
+        sim, wall, phases = measure(args, robots)
+        robot_steps = sim.state.n * sim.state.step
+        per_robot_step[robots] = {"whole step": wall / robot_steps * 1e9,
+                                  **{label: seconds / robot_steps * 1e9
+                                     for label, seconds in phases.items()}}
+    small, large = min(args.robots), max(args.robots)
+    print(f"{args.scenario} / {args.algorithm}, {args.time:g} s simulated, logging {logging}, "
+          f"median of {args.runs} run(s): ns per robot-step")
+    print(f"  {'phase':34s}" + "".join(f"{n:>10d}" for n in args.robots)
+          + f"  {'excess at ' + str(small):>18s}")
+    rows = sorted(per_robot_step[small], key=lambda label: -per_robot_step[small][label])
+    for label in rows:
+        costs = [per_robot_step[n].get(label, 0.0) for n in args.robots]
+        excess = (per_robot_step[small][label] - per_robot_step[large].get(label, 0.0)) * small
+        print(f"  {label:34s}" + "".join(f"{c:10.0f}" for c in costs)
+              + f"  {excess / 1e3:11.1f} us/step")
+    whole = per_robot_step[small]["whole step"] / per_robot_step[large]["whole step"]
+    print(f"  whole step at {small} / at {large}: {whole:.2f}x")
 
 
 if __name__ == "__main__":
