@@ -28,10 +28,11 @@ split (the ray kernel's rows do: ``tests/engine/test_threads.py``).
 The calling thread may also start a call and go on with its own Python
 work while the helpers take the chunks (:meth:`Helpers.start`): it then
 looks whether the chunk it needs is done (:meth:`Flight.done`) and, when one
-is not, takes the chunks left with the helpers and waits for all
-(:meth:`Flight.finish`: one more kernel call at most). A per-robot
-algorithm reads its robot's scan while a helper traces the next robots'
-scans.
+is not, computes the last chunks left, from the back, until the helpers
+(going on from the front) have done it (:meth:`Flight.help_until`: one
+kernel call). :meth:`Flight.finish` computes all that is left with the
+helpers and waits for every chunk. A per-robot algorithm reads its robot's
+scan while a helper traces the next robots' scans.
 
 A kernel run this way takes ``(..., control, share, role, until)`` as its
 last arguments and loops::
@@ -73,14 +74,17 @@ from numba.extending import intrinsic
 CALLS = 0  # control: calls posted so far
 # share: next chunk, helpers joined, helpers finished, a helper's kernel raised, helpers
 # wanted at most, whether the caller has begun, two tallies the kernel's threads add to
-# (see tally); then one flag per chunk, set once it is computed
+# (see tally), chunks taken (from either end), chunks taken from the back; then one flag
+# per chunk, set once it is computed
 NEXT, JOINED, FINISHED, FAILED, LIMIT, BEGUN = 0, 8, 16, 24, 32, 40
 TALLIES = (48, 56)
+TAKEN, FROM_BACK = 64, 72
 CLOSED = 1 << 40  # added to JOINED by the caller when it has no chunk left
-SHARE_SLOTS = 64
+SHARE_SLOTS = 80
 # a kernel call's role: the caller of a call it waits for (run); a helper; the caller of
-# a call it goes on beside (start: the first chunks; end: all the others)
-LEAD, HELPER, START, END = 0, 1, 2, 3
+# a call it goes on beside (start: the first chunks; end: all the others; back: chunks
+# from the back until a given one is done)
+LEAD, HELPER, START, END, BACK = 0, 1, 2, 3, 4
 SPIN_SECONDS = 0.001  # how long an idle helper spins before it sleeps
 _PAUSES_PER_YIELD = 64
 
@@ -153,11 +157,18 @@ def _is_done(share: np.ndarray, chunk: int) -> bool:
 def take(share: np.ndarray, role: int, until: int, chunks: int) -> int:
     """The next chunk this thread computes, or -1: none left, or (start) chunk ``until``
     is done and a helper has joined (the caller stays in the kernel, without the GIL,
-    until a helper that slept has woken and taken the GIL to join)."""
+    until a helper that slept has woken and taken the GIL to join), or (back) chunk
+    ``until`` is done. Chunks are taken in order, except by the back role, which takes
+    the last ones left: one count of the chunks taken keeps the two ends apart."""
     if role == START and _is_done(share, until) and atomic_load(share, JOINED) > 0:
         return -1
-    chunk = atomic_add(share, NEXT, 1)
-    return chunk if chunk < chunks else -1
+    if role == BACK and _is_done(share, until):
+        return -1
+    if atomic_add(share, TAKEN, 1) >= chunks:
+        return -1
+    if role == BACK:
+        return chunks - 1 - atomic_add(share, FROM_BACK, 1)
+    return atomic_add(share, NEXT, 1)
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -176,14 +187,14 @@ def tally(share: np.ndarray, which: int, value: int) -> None:
 @njit(cache=True, nogil=True, inline="always")
 def end(share: np.ndarray, role: int, until: int, chunks: int) -> None:
     """A kernel's last act. The caller of ``run`` closes the call and waits for the
-    helpers that joined; ``start`` waits for chunk ``until``, ``end`` closes the call
-    and waits for every chunk (a failed helper's chunk never comes: the flag ends the
-    wait)."""
+    helpers that joined; ``start`` and ``back`` wait for chunk ``until``, ``end`` closes
+    the call and waits for every chunk (a failed helper's chunk never comes: the flag
+    ends the wait)."""
     if role == LEAD:
         joined = atomic_add(share, JOINED, CLOSED)
         while atomic_load(share, FINISHED) != joined:
             _relax()
-    elif role == START:
+    elif role in (START, BACK):
         _await_chunks(share, until, until + 1)
     elif role == END:
         atomic_add(share, JOINED, CLOSED)
@@ -365,6 +376,12 @@ class Flight:
         # x86 keeps loads in order: a flag seen set means the chunk's results are seen
         # (elsewhere, False: the caller finishes, whose atomic waits order the loads)
         return _X86 and bool(self._flags[chunk])
+
+    def help_until(self, chunk: int) -> None:
+        """Return once ``chunk`` is done, computing the last chunks left here meanwhile
+        (the helpers go on from the front: neither thread waits while chunks are left)."""
+        self._kernel(*self._args, self._helpers.control, self._share, BACK, chunk)
+        self._helpers.check(self._share)
 
     def finish(self) -> None:
         """Return once every chunk is done (computing those left here); no helper

@@ -160,6 +160,10 @@ class RowsInFlight:
         """Whether ``row`` is traced (a look, no wait)."""
         return self._flight.done(row // CHUNK_ROBOTS)
 
+    def help_until(self, row: int) -> None:
+        """Return once ``row`` is traced, tracing the last rows left here meanwhile."""
+        self._flight.help_until(row // CHUNK_ROBOTS)
+
     def finish(self) -> None:
         """Return once every row is traced; no thread writes them afterwards."""
         self._flight.finish()

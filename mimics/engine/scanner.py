@@ -10,8 +10,9 @@ noise does not depend on which earlier scans were read.
 A robot's own read (``robot.scan``, per-robot algorithms) asks for its row
 only: the first one starts the trace on the helper threads, so the rays of
 the next robots are cast while the algorithm runs for this one; a later read
-whose row is not traced yet finishes the whole trace with the helpers. Every
-row is the same, bit for bit, as in one whole trace.
+whose row is not traced yet traces the last rows left (the helper goes on
+from the front) until its own is done, so that the helper goes on beside the
+next robots' Python. Every row is the same, bit for bit, as in one whole trace.
 """
 
 from __future__ import annotations
@@ -77,14 +78,14 @@ class Scanner:
     def trace_row(self, robot: int) -> bool:
         """Trace ``robot``'s row; when every robot scans without noise, the helper
         threads trace the next rows while the caller reads this one (a per-robot
-        algorithm's turn). A row not traced yet when read ends the trace here, with the
-        helpers (a kernel call per row waited for would cost more than the rows). True
-        if every row is traced now."""
+        algorithm's turn). A row not traced yet when read is waited for while this
+        thread traces the last rows left: finishing them all here, with the helper,
+        would leave the next robots' Python without it (Cave, per-robot: 6 to 7% faster).
+        True if every row is traced now."""
         if self._flight is not None:
-            if self._flight.row_done(robot):
-                return False
-            self.drop()
-            return True
+            if not self._flight.row_done(robot):
+                self._flight.help_until(robot)
+            return False
         state = self._state
         prepared = self._query()
         if self._ids.size == state.n and "sigma_range" not in self._types.noisy:
