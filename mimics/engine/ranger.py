@@ -61,7 +61,8 @@ from mimics.engine.beam_fan import ANGLE_SLACK as ANGLE_SLACK
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans, offset_units
 from mimics.engine.beam_fan import fast_atan2 as fast_atan2
 from mimics.engine.beam_sweep import ray_segment_distance as ray_segment_distance
-from mimics.engine.kernel_threads import LEAD, Flight, helpers, helpers_worth, solo_arrays
+from mimics.engine.kernel_chunks import LEAD
+from mimics.engine.kernel_threads import Flight, helpers, helpers_worth, solo_arrays
 from mimics.engine.point_cull import SightLists, no_sight_lists
 from mimics.engine.ray_kernel import CHUNK_ROBOTS, _cast_rows
 from mimics.engine.ray_kernel import RangerQuery as RangerQuery

@@ -1,8 +1,9 @@
 """The ray kernel: each scanning robot's row of ranges and hit owners, computed from
 its own inputs only, in chunks of robots that the calling thread and helper threads
-take in turn (``kernel_threads.py``). The entry points, the geometry's rules and
-the threads' hand-out are in ``ranger.py``; the sweep of one wall or robot over the
-beams it spans is in ``beam_sweep.py``, which beams a span covers in ``beam_fan.py``.
+take in turn (``kernel_threads.py``, ``kernel_chunks.py``). The entry points, the
+geometry's rules and the threads' hand-out are in ``ranger.py``; the sweep of one
+wall or robot over the beams it spans is in ``beam_sweep.py``, which beams a span
+covers in ``beam_fan.py``.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from mimics.engine.beam_sweep import (
     _sweep_segment,
     _trace,
 )
-from mimics.engine.kernel_threads import begin, chunk_done, end, take
+from mimics.engine.kernel_chunks import begin, chunk_done, end, take
 from mimics.engine.point_cull import SightLists
 from mimics.engine.robot_index import RobotIndex, robots_near
 from mimics.engine.spatial_index import SegmentGrid

@@ -18,19 +18,17 @@ import numpy as np
 from numba import njit
 
 from mimics.engine.collision import NONE, Bodies, touching
-from mimics.engine.kernel_threads import (
+from mimics.engine.kernel_chunks import (
     HELPER,
     LEAD,
     TALLIES,
     begin,
     chunk_done,
     end,
-    helpers,
-    helpers_worth,
-    solo_arrays,
     take,
     tally,
 )
+from mimics.engine.kernel_threads import helpers, helpers_worth, solo_arrays
 from mimics.engine.robot_index import RobotIndex
 from mimics.engine.spatial_index import SegmentGrid
 

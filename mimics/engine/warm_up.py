@@ -26,7 +26,8 @@ import numpy as np
 from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
 from mimics.engine.beam_sweep import PLAN
 from mimics.engine.dynamics import move_robots
-from mimics.engine.kernel_threads import LEAD, _finish_and_wait, _join, solo_arrays
+from mimics.engine.kernel_chunks import LEAD
+from mimics.engine.kernel_threads import _finish_and_wait, _join, solo_arrays
 from mimics.engine.point_cull import no_sight_lists
 from mimics.engine.ray_kernel import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
