@@ -115,14 +115,17 @@ def test_helping_a_started_call_takes_the_last_chunks_until_the_one_asked_for_is
             counts, sink = np.zeros(40, np.int64), np.zeros(40)
             flight = helpers.start(_count_chunks, (counts, 200_000, sink), 40, 1, 0)
             started = counts.copy()  # the caller's first chunks, from the front
-            flight.help_until(10)  # the helper is at the first chunks: the caller helps
-            assert counts[10] in (CALLER, HELPER)
-            taken_back = np.flatnonzero((counts == CALLER) & (started == 0))
-            # the caller's chunks while helping are the last ones, none skipped
-            assert taken_back.size == 0 or taken_back.min() == 40 - taken_back.size, counts
-            from_back += taken_back.size
-            assert np.all(counts <= HELPER), counts  # nothing computed twice so far
-            left_to_helper += int(np.count_nonzero(counts == 0))
+            undone = np.flatnonzero(started == 0)
+            if undone.size >= 3:  # (a busy machine: the caller may have done them all)
+                wanted = int(undone[undone.size // 2])  # well ahead of the helper
+                flight.help_until(wanted)
+                assert counts[wanted] in (CALLER, HELPER)
+                taken_back = np.flatnonzero((counts == CALLER) & (started == 0))
+                # the caller's chunks while helping are the last ones, none skipped
+                assert taken_back.size == 0 or taken_back.min() == 40 - taken_back.size, counts
+                assert np.all(counts <= HELPER), counts  # nothing computed twice so far
+                from_back += taken_back.size
+                left_to_helper += int(np.count_nonzero(counts == 0))
             flight.finish()
             assert np.all((counts == CALLER) | (counts == HELPER)), counts
         assert left_to_helper > 0  # help_until is not a finish
