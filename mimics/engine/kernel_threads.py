@@ -241,6 +241,10 @@ class Flight:
         self._helpers, self._kernel, self._args, self._share = helpers, kernel, args, share
         self._flags = share[SHARE_SLOTS:]
 
+    #: Whether :meth:`done` can see a chunk done (x86); elsewhere it always says no,
+    #: so a caller waiting for a chunk had better finish the call than help it.
+    looks = _X86
+
     def done(self, chunk: int) -> bool:
         """Whether ``chunk`` is done (and its results may be read): a look, no wait."""
         # x86 keeps loads in order: a flag seen set means the chunk's results are seen

@@ -161,6 +161,11 @@ class RowsInFlight:
         """Whether ``row`` is traced (a look, no wait)."""
         return self._flight.done(row // CHUNK_ROBOTS)
 
+    @property
+    def looks(self) -> bool:
+        """Whether :meth:`row_done` can see a row traced (else it always says no)."""
+        return self._flight.looks
+
     def help_until(self, row: int) -> None:
         """Return once ``row`` is traced, tracing the last rows left here meanwhile."""
         self._flight.help_until(row // CHUNK_ROBOTS)

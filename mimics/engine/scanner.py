@@ -83,9 +83,13 @@ class Scanner:
         would leave the next robots' Python without it (the Cave's per-robot run, while
         its robots move: 12% faster). True if every row is traced now."""
         if self._flight is not None:
-            if not self._flight.row_done(robot):
+            if self._flight.row_done(robot):
+                return False
+            if self._flight.looks:
                 self._flight.help_until(robot)
-            return False
+                return False
+            self.drop()  # no look is trusted here: a help per read would cost a call each
+            return True
         state = self._state
         prepared = self._query()
         if self._ids.size == state.n and "sigma_range" not in self._types.noisy:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import mimics.engine.kernel_threads as kernel_threads
 import mimics.engine.ranger as ranger_module
 import mimics.engine.scanner as scanner_module
 from mimics.catalog import load_scenario
@@ -84,6 +85,23 @@ def test_a_row_read_waits_for_its_trace_and_the_step_ends_the_rest(flights):
     # after the run: the last sensing's whole scan, equal with or without helpers
     np.testing.assert_array_equal(sim.state.scan, alone_sim.state.scan)
     np.testing.assert_array_equal(sim.state.scan_hit, alone_sim.state.scan_hit)
+
+
+def test_where_no_row_can_be_seen_traced_a_read_finishes_the_trace(
+        flights, monkeypatch: pytest.MonkeyPatch):
+    """As on a machine other than x86 (``Flight.looks`` False, ``done`` always False): a
+    row read not known traced finishes the whole trace, once a step, instead of a help
+    call per read; the rows are still those of a whole trace."""
+    helps = []
+    monkeypatch.setattr(kernel_threads.Flight, "looks", False)
+    monkeypatch.setattr(kernel_threads.Flight, "done", lambda self, chunk: False)
+    monkeypatch.setattr(kernel_threads.Flight, "help_until",
+                        lambda self, chunk: helps.append(chunk))
+    shared, sim = recorded_run(threads=2)
+    assert flights["started"] == flights["finished"] == sim.state.step
+    assert helps == []
+    alone, _ = recorded_run(threads=1)
+    assert shared.rows == alone.rows
 
 
 @pytest.mark.parametrize("threads", [1, 2])
