@@ -8,7 +8,7 @@ the median of ``--repeats`` calls, in µs per scanning robot, with the threads
 Numba has (``NUMBA_NUM_THREADS=1`` for one). With one thread each call is
 timed in process CPU time (other processes on a busy machine do not count),
 with more in wall time (CPU time would add the threads up). With ``--against REV`` the ranger of git
-revision REV (``mimics/engine`` as it was there, ray kernel included) is compiled beside
+revision REV (``mimics`` as it was there, ray kernel included) is compiled beside
 this one and the two are called in turn on the same states, so that a busy
 or drifting machine slows both alike; the script says whether their results
 are the same bits, and if not, how far apart the ranges are and how many hit
@@ -19,10 +19,8 @@ the wall and robot indexes), so it may need changes when those do.
 from __future__ import annotations
 
 import argparse
-import importlib.util
-import subprocess
+import importlib
 import sys
-import tempfile
 import time
 from pathlib import Path
 from types import ModuleType
@@ -30,6 +28,7 @@ from typing import Any
 
 import numba
 import numpy as np
+from ab import package_at
 
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine import ranger
@@ -63,23 +62,10 @@ def states(names: list[str]) -> list[tuple[str, float, Simulation, RangerQuery, 
 
 
 def ranger_at(revision: str) -> ModuleType:
-    """``mimics/engine/ranger.py`` as it was at ``revision``, compiled as its own module,
-    with the engine modules it imports as they were then too (the ray kernel itself is in
-    ``ray_kernel.py`` and the modules it imports): the revision's ``mimics/engine`` is
-    copied as a package of another name, its imports of ``mimics.engine`` renamed."""
-    listed = subprocess.run(["git", "-C", str(ROOT), "ls-tree", "--name-only", revision,
-                             "mimics/engine/"], capture_output=True, text=True, check=True)
-    package = "mimics_engine_then"
-    folder = Path(tempfile.mkdtemp(prefix="mimics-ranger-")) / package
-    folder.mkdir()
-    for name in listed.stdout.split():
-        if name.endswith(".py"):
-            source = subprocess.run(["git", "-C", str(ROOT), "show", f"{revision}:{name}"],
-                                    capture_output=True, text=True, check=True).stdout
-            source = source.replace("mimics.engine.", f"{package}.")
-            (folder / Path(name).name).write_text(source.replace("cache=True", "cache=False"))
-    sys.path.insert(0, str(folder.parent))
-    return importlib.import_module(f"{package}.ranger")
+    """``mimics/engine/ranger.py`` as it was at ``revision``, with the modules it imports
+    as they were then too (the ray kernel itself is in ``ray_kernel.py``): the revision's
+    ``mimics``, copied as a package of another name (``ab.package_at``)."""
+    return importlib.import_module(f"{package_at(revision).__name__}.engine.ranger")
 
 
 def timed(module: ModuleType, query: RangerQuery, sim: Simulation,

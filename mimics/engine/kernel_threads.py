@@ -71,10 +71,6 @@ from mimics.engine.kernel_chunks import (
     atomic_add,
     atomic_load,
 )
-from mimics.engine.kernel_chunks import begin as begin  # re-exported: the tests' kernels
-from mimics.engine.kernel_chunks import chunk_done as chunk_done
-from mimics.engine.kernel_chunks import end as end
-from mimics.engine.kernel_chunks import take as take
 
 SPIN_SECONDS = 0.001  # how long an idle helper spins before it sleeps
 
@@ -249,7 +245,7 @@ class Flight:
         """Whether ``chunk`` is done (and its results may be read): a look, no wait."""
         # x86 keeps loads in order: a flag seen set means the chunk's results are seen
         # (elsewhere, False: the caller finishes, whose atomic waits order the loads)
-        return _X86 and bool(self._flags[chunk])
+        return self.looks and bool(self._flags[chunk])
 
     def help_until(self, chunk: int) -> None:
         """Return once ``chunk`` is done, computing the last chunks left here meanwhile

@@ -55,10 +55,10 @@ class SightLists(NamedTuple):
             ``items[spans[i, 0]:spans[i, 1]]`` (rows of the walls' segments), the
             robots it may see ``items[spans[i, 2]:spans[i, 3]]``.
         items: wall and robot indices.
-        plan: ``(len(items), PLAN)`` float64, or no row: for each wall listed, what
-            the pinned robot's scans need of it whatever the heading
-            (``beam_sweep.wall_plan``), kept while its centre does not move; with no
-            rows, the scans work it out each time.
+        plan: ``(len(items), PLAN)`` float64, or no row: for each wall and robot
+            listed, what the pinned robot's scans need of it whatever the headings
+            (``beam_sweep.wall_plan`` and ``robot_plan``), kept while its centre does
+            not move; with no rows, the scans work it out each time.
     """
 
     pinned: np.ndarray

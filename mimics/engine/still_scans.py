@@ -122,9 +122,10 @@ def _compact(pinned: np.ndarray, spans: np.ndarray, items: np.ndarray, plan: np.
     for i in range(pinned.shape[0]):
         if pinned[i]:
             live += spans[i, 1] - spans[i, 0] + spans[i, 3] - spans[i, 2]
-    if used <= 2 * live + 4096:
+    size = 2 * live + 4096
+    if used <= size:
         return items, plan, used
-    kept, kept_plan = np.empty(2 * live + 4096, dtype=np.int64), np.empty((2 * live + 4096, PLAN))
+    kept, kept_plan = np.empty(size, dtype=np.int64), np.empty((size, PLAN))
     count = 0
     for i in range(pinned.shape[0]):
         if pinned[i]:

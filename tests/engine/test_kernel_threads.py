@@ -11,15 +11,8 @@ import pytest
 from numba import njit
 
 from mimics.engine import kernel_threads
-from mimics.engine.kernel_threads import (
-    LEAD,
-    Helpers,
-    begin,
-    chunk_done,
-    end,
-    solo_arrays,
-    take,
-)
+from mimics.engine.kernel_chunks import begin, chunk_done, end, take
+from mimics.engine.kernel_threads import LEAD, Helpers, solo_arrays
 
 CALLER, HELPER = 1, 1000  # what each adds to a chunk's count
 
