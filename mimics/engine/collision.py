@@ -129,7 +129,7 @@ def boxes_touch(ax: float, ay: float, ah: float, al: float, aw: float, bx: float
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _lowest_wall(b: Bodies, i: int, walls: SegmentGrid) -> int:
     """Lowest index of a wall segment touching robot ``i``, or -1."""
     cx, cy = b.centers[i, 0], b.centers[i, 1]
@@ -159,7 +159,7 @@ def _lowest_wall(b: Bodies, i: int, walls: SegmentGrid) -> int:
     return best
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _lowest_robot(b: Bodies, i: int, robots: RobotIndex) -> int:
     """Lowest index of a visible (solid) robot touching robot ``i``, or -1."""
     cx, cy = b.centers[i, 0], b.centers[i, 1]
@@ -188,7 +188,11 @@ def _lowest_robot(b: Bodies, i: int, robots: RobotIndex) -> int:
     return best
 
 
-@njit(cache=True)
+# touching and the two searches are inlined into the kernels that call them: a call
+# reference-counts each array of the Bodies, SegmentGrid and RobotIndex it takes (17),
+# 130 to 200 ns a robot, a quarter to a third of a check (check_moved of 10,000 robots
+# on 2 threads: 3.2 -> 1.8 ms)
+@njit(cache=True, inline="always")
 def touching(b: Bodies, i: int, walls: SegmentGrid, robots: RobotIndex) -> tuple[int, int]:
     """What robot ``i`` touches: ``with_whom`` (as :func:`find_collisions` gives it) and
     the lowest touching wall segment (-1 for none)."""
