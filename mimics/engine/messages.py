@@ -6,7 +6,8 @@ sets a communication range, within that range of the sender at delivery.
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Callable, Iterable
+from typing import Any, SupportsIndex
 
 import numpy as np
 
@@ -56,12 +57,59 @@ class MessageBus:
         self._outgoing = []
 
 
-def clear_messages(messages: list[str], active: np.ndarray) -> None:
-    """Empty the messages of active robots (inactive ones keep their last words).
+class MessageColumn(list):
+    """One text per robot (``WorldState.user_message`` and ``system_message``) that keeps
+    the indices of the texts not empty, in ``filled``.
 
-    Most entries are already empty: scan in C and touch only the others.
+    Most texts are empty: the step clears and the recorder reads the others only,
+    rather than scanning the column (10,000 robots: 250 us a scan, four a step).
     """
-    if any(messages):
-        for i in [i for i, text in enumerate(messages) if text]:
-            if active[i]:
-                messages[i] = ""
+
+    def __init__(self, texts: Iterable[str] = ()) -> None:
+        super().__init__(texts)
+        self._refresh()
+
+    def __setitem__(self, index: Any, value: Any) -> None:
+        super().__setitem__(index, value)
+        if not isinstance(index, SupportsIndex):  # a slice
+            self._refresh()
+            return
+        robot = index.__index__()
+        robot += len(self) if robot < 0 else 0
+        if value:
+            self.filled.add(robot)
+        else:
+            self.filled.discard(robot)
+
+    def _refresh(self) -> None:
+        self.filled: set[int] = {i for i, text in enumerate(self) if text}
+
+
+def _refreshing(name: str) -> Callable[..., Any]:
+    method = getattr(list, name)
+
+    def call(self: MessageColumn, *args: Any, **kwargs: Any) -> Any:
+        result = method(self, *args, **kwargs)
+        self._refresh()
+        return result
+    return call
+
+
+# the column is one text per robot: these are not used on it, but keep ``filled`` right
+for _name in ("__delitem__", "__iadd__", "__imul__", "append", "extend", "insert", "pop",
+              "remove", "clear", "sort", "reverse"):
+    setattr(MessageColumn, _name, _refreshing(_name))
+
+
+def filled(messages: list[str]) -> list[int]:
+    """The indices of the texts that are not empty, ascending."""
+    if isinstance(messages, MessageColumn):
+        return sorted(messages.filled)
+    return [i for i, text in enumerate(messages) if text]
+
+
+def clear_messages(messages: list[str], active: np.ndarray) -> None:
+    """Empty the messages of active robots (inactive ones keep their last words)."""
+    for i in filled(messages):
+        if active[i]:
+            messages[i] = ""

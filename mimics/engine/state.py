@@ -14,6 +14,7 @@ from typing import Protocol
 import numpy as np
 
 from mimics.engine.dynamics import PidArrays, Plant
+from mimics.engine.messages import MessageColumn
 from mimics.engine.ranger import beam_fans, offset_units
 from mimics.world.scenario import Scenario
 
@@ -180,7 +181,8 @@ class WorldState:
             collided_with=np.full(n, -2, dtype=np.int64), path_length=np.zeros(n),
             goal_time=np.full(n, np.nan), user_time=np.zeros(n),
             in_deadlock=np.zeros(n, dtype=bool), in_livelock=np.zeros(n, dtype=bool),
-            user_message=[""] * n, system_message=[""] * n, memory=[{} for _ in range(n)],
+            user_message=MessageColumn([""] * n), system_message=MessageColumn([""] * n),
+            memory=[{} for _ in range(n)],
         )
 
     @property

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
+from mimics.engine.messages import filled
 from mimics.engine.outcome import Event
 from mimics.engine.state import WorldState
 from mimics.records.arrow_columns import column_array
@@ -113,11 +114,11 @@ class EventBuffer:
 
 
 def _messages(messages: list[str], ids: np.ndarray) -> list[int]:
-    """Robots among ``ids`` (sorted, unique) with a non-empty message (a quick test
-    first: most have none)."""
-    if not any(messages):
+    """Robots among ``ids`` (sorted, unique) with a non-empty message (the state's
+    columns know them: most have none)."""
+    candidates = filled(messages)
+    if not candidates:
         return []
-    candidates = [i for i, m in enumerate(messages) if m]
     if len(ids) == len(messages):  # every robot (the usual case)
         return candidates
     if not len(ids):
