@@ -45,6 +45,7 @@ from mimics.records.events import EVENTS_SCHEMA, EventBuffer
 from mimics.records.layout import (
     EVENTS,
     EVENTS_PARTS,
+    FLUSH_ROWS,
     RECORD_NAMES,
     SCANS,
     SCANS_PARTS,
@@ -108,7 +109,7 @@ class RunRecorder:
     """
 
     def __init__(self, folder: str | Path, *, robot_logs: RobotLogs = "auto", every: int = 1,
-                 flush_rows: int = 131_072, flush_seconds: float = 10.0,
+                 flush_rows: int = FLUSH_ROWS, flush_seconds: float = 10.0,
                  compression: str = COMPRESSION, record_scans: bool = False,
                  extra: dict[str, Any] | None = None) -> None:
         if robot_logs not in ROBOT_LOG_CHOICES:

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from mimics.engine.ranger import FAN_COLUMNS
+from mimics.records.layout import FLUSH_ROWS
 from mimics.world.errors import MimicsError
 from mimics.world.limits import steps_for
 from mimics.world.scenario import Scenario
@@ -54,26 +55,24 @@ class MemoryEstimate:
                    key=lambda name: self.parts[name])
 
 
-def run_memory(scenario: Scenario, *, flush_rows: int = 131_072, every: int = 1) -> MemoryEstimate:
+def run_memory(scenario: Scenario, *, flush_rows: int = FLUSH_ROWS, every: int = 1,
+               time: float | None = None) -> MemoryEstimate:
     """Bytes a run of ``scenario`` needs, from its sizes alone (nothing is allocated).
 
     With ``n`` robots, ``B`` beams (the most of any type), ``D`` and ``L`` the
-    deadlock and livelock windows in steps, and ``F`` the recorder's
-    ``flush_rows``::
+    deadlock and livelock windows in steps, ``F`` the recorder's ``flush_rows``
+    and ``R`` the rows the whole run records (``n`` per recorded step)::
 
         state and sensors = n * (8 * STATE_COLUMNS + OBJECT_BYTES + BEAM_BYTES * B)
         stall windows     = n * 8 * (2 * (D + 1) + (L + 1))
-        recorder buffer   = ROW_BYTES * (F + n)     (rows kept until a part is written)
+        recorder buffer   = ROW_BYTES * (min(F, R) + n)  (rows kept until a part is written)
         base              = BASE_BYTES              (interpreter, NumPy, Numba, Arrow)
-
-    The recorder buffer is the same whatever ``every`` (recording every N-th
-    step only spaces the flushes out); ``every`` is accepted so that callers
-    describe the run as they will make it.
 
     Args:
         scenario: the scenario to run.
         flush_rows: the recorder's rows per part (``run_to_folder``).
-        every: the recorder's step interval (checked, see above).
+        every: the recorder's step interval: every ``every``-th step is recorded.
+        time: the run's simulated seconds (default: the scenario's time limit).
 
     Returns:
         The estimate, by part.
@@ -85,10 +84,12 @@ def run_memory(scenario: Scenario, *, flush_rows: int = 131_072, every: int = 1)
     settings = scenario.settings
     deadlock = max(1, steps_for(settings.deadlock_window, settings.dt))
     livelock = max(1, steps_for(settings.livelock_window, settings.dt))
+    steps = steps_for(settings.time_limit if time is None else time, settings.dt)
+    rows = n * (steps // every + 2)  # the first and last steps too
     parts = {
         "state and sensors": n * (FLOAT * STATE_COLUMNS + OBJECT_BYTES + BEAM_BYTES * beams),
         "stall windows": n * FLOAT * (2 * (deadlock + 1) + (livelock + 1)),
-        "recorder buffer": ROW_BYTES * (flush_rows + n),
+        "recorder buffer": ROW_BYTES * (min(flush_rows, rows) + n),
         "base": BASE_BYTES,
     }
     return MemoryEstimate(sum(parts.values()), parts)
@@ -119,14 +120,15 @@ ADVICE = {
 }
 
 
-def check_memory(scenario: Scenario, *, flush_rows: int = 131_072, every: int = 1,
-                 available: int | None = None) -> MemoryEstimate:
+def check_memory(scenario: Scenario, *, flush_rows: int = FLUSH_ROWS, every: int = 1,
+                 time: float | None = None, available: int | None = None) -> MemoryEstimate:
     """Refuse a run that needs more memory than the machine has.
 
     Args:
         scenario: the scenario to run.
         flush_rows: the recorder's rows per part.
         every: the recorder's step interval.
+        time: the run's simulated seconds (default: the scenario's time limit).
         available: bytes available (default: :func:`available_memory`).
 
     Returns:
@@ -136,7 +138,7 @@ def check_memory(scenario: Scenario, *, flush_rows: int = 131_072, every: int = 
         MimicsError: one line with the figure needed, the figure available, and what
             to change.
     """
-    estimate = run_memory(scenario, flush_rows=flush_rows, every=every)
+    estimate = run_memory(scenario, flush_rows=flush_rows, every=every, time=time)
     available = available_memory() if available is None else available
     if available is not None and estimate.total > available:
         largest = estimate.largest()

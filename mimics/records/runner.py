@@ -11,6 +11,7 @@ from typing import Any
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.outcome import RunResult
 from mimics.engine.simulation import Policy, Simulation
+from mimics.records.layout import FLUSH_ROWS
 from mimics.records.recorder import RobotLogs, RunRecorder
 from mimics.records.resources import check_memory
 from mimics.world.errors import MimicsError
@@ -45,7 +46,7 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
     if policy not in ("abort", "deactivate"):
         raise MimicsError(f"policy: expected abort or deactivate, got {policy!r}")
     built = build_scenario(scenario, robots=robots, params=params, allow_overlap=allow_overlap)
-    check_memory(built)
+    check_memory(built, time=time)
     if isinstance(algorithm, str | Path):
         name, module = find_algorithm(algorithm)
     else:
@@ -77,7 +78,7 @@ def build_scenario(scenario: str | Path | Scenario, *, robots: int | None = None
 
 
 def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs = "auto",
-                  every: int = 1, flush_rows: int = 131_072, flush_seconds: float = 10.0,
+                  every: int = 1, flush_rows: int = FLUSH_ROWS, flush_seconds: float = 10.0,
                   record_scans: bool = False, extra: dict[str, Any] | None = None) -> RunResult:
     """Run ``sim`` to the end, recording it into ``folder``; returns its outcome.
 
