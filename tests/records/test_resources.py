@@ -54,6 +54,19 @@ def test_the_estimate_grows_with_robots_beams_and_stall_windows() -> None:
     assert run_memory(longer).parts["stall windows"] > 5 * small.parts["stall windows"]
 
 
+def test_the_recorder_buffer_is_the_rows_of_the_run_up_to_a_part() -> None:
+    """291 bytes a row buffered: a 10-robot, 1 s run (10 steps of 0.1 s) records at most
+    10 * 12 rows; a long run of many robots buffers one part (flush_rows rows)."""
+    short = run_memory(line(robots=10), time=1.0).parts["recorder buffer"]
+    assert short == 291 * (10 * 12 + 10)
+    assert run_memory(line(robots=10), time=1.0, every=5).parts["recorder buffer"] == 291 * (
+        10 * 4 + 10)
+    long = run_memory(line(robots=10_000), time=600.0).parts["recorder buffer"]
+    assert long == 291 * (1_048_576 + 10_000)
+    assert run_memory(line(robots=10_000), time=600.0, flush_rows=1000).parts[
+        "recorder buffer"] == 291 * (1000 + 10_000)
+
+
 def test_a_run_too_large_is_refused_in_one_line_with_the_figure_and_what_to_change() -> None:
     with pytest.raises(MimicsError) as info:
         check_memory(line(robots=100_000), available=200 * 2**20)
