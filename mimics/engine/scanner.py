@@ -118,7 +118,7 @@ class Scanner:
         everyone = ids.size == state.n
         rows = slice(None) if everyone else ids
         # the scanning robots' beams change only with the robots: gathered once for them
-        # (the Hospital's 2,000 robots once one has stopped: 6 MB of copies a step)
+        # (the Hospital's 2,000 robots once one has stopped: 9 MB of copies a step)
         key = b"" if everyone else ids.tobytes()
         if self._beams_key != key:
             self._beams = (types.beam_offsets[rows], types.max_range[rows],
