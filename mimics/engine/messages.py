@@ -6,8 +6,9 @@ sets a communication range, within that range of the sender at delivery.
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable, Iterable
-from typing import Any, SupportsIndex
+from typing import Any
 
 import numpy as np
 
@@ -71,10 +72,10 @@ class MessageColumn(list):
 
     def __setitem__(self, index: Any, value: Any) -> None:
         super().__setitem__(index, value)
-        if not isinstance(index, SupportsIndex):  # a slice
+        if isinstance(index, slice):  # (not SupportsIndex: a Protocol check costs 3 us)
             self._refresh()
             return
-        robot = index.__index__()
+        robot = operator.index(index)
         robot += len(self) if robot < 0 else 0
         if value:
             self.filled.add(robot)
