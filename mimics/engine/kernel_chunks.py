@@ -46,9 +46,9 @@ SHARE_SLOTS = 80
 # a call it goes on beside (start: the first chunks; end: all the others; back: chunks
 # from the back until a given one is done)
 LEAD, HELPER, START, END, BACK = 0, 1, 2, 3, 4
-_PAUSES_PER_YIELD = 64
+PAUSES_PER_YIELD = 64
 
-_X86 = platform.machine().lower() in ("x86_64", "amd64", "i386", "i686")
+X86 = platform.machine().lower() in ("x86_64", "amd64", "i386", "i686")
 _YIELDS = sys.platform != "win32"  # sched_yield is POSIX
 
 
@@ -76,10 +76,10 @@ def atomic_add(typingctx: Any, array: Any, index: Any, value: Any) -> Any:
 
 
 @intrinsic
-def _relax(typingctx: Any) -> Any:
+def relax(typingctx: Any) -> Any:
     """A spin loop's pause (x86 ``pause``: lets the sibling hyperthread run; else nothing)."""
     def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-        if _X86:
+        if X86:
             pause = cgutils.get_or_insert_function(
                 builder.module, ir.FunctionType(ir.VoidType(), []), "llvm.x86.sse2.pause")
             builder.call(pause, [])
@@ -88,7 +88,7 @@ def _relax(typingctx: Any) -> Any:
 
 
 @intrinsic
-def _yield_core(typingctx: Any) -> Any:
+def yield_core(typingctx: Any) -> Any:
     """``sched_yield()``: another runnable thread on this core goes first (POSIX only)."""
     def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
         if _YIELDS:
@@ -153,7 +153,7 @@ def end(share: np.ndarray, role: int, until: int, chunks: int) -> None:
     if role == LEAD:
         joined = atomic_add(share, JOINED, CLOSED)
         while atomic_load(share, FINISHED) != joined:
-            _relax()
+            relax()
     elif role in (START, BACK):
         _await_chunks(share, until, until + 1)
     elif role == END:
@@ -166,4 +166,4 @@ def _await_chunks(share: np.ndarray, first: int, stop: int) -> None:
     """Wait until chunks ``first`` to ``stop - 1`` are done, or a helper has failed."""
     for chunk in range(first, stop):
         while not _is_done(share, chunk) and atomic_load(share, FAILED) == 0:
-            _relax()
+            relax()

@@ -51,8 +51,6 @@ import numpy as np
 from numba import get_num_threads, njit
 
 from mimics.engine.kernel_chunks import (
-    _PAUSES_PER_YIELD,
-    _X86,
     BACK,
     BEGUN,
     CALLS,
@@ -64,12 +62,14 @@ from mimics.engine.kernel_chunks import (
     JOINED,
     LEAD,
     LIMIT,
+    PAUSES_PER_YIELD,
     SHARE_SLOTS,
     START,
-    _relax,
-    _yield_core,
+    X86,
     atomic_add,
     atomic_load,
+    relax,
+    yield_core,
 )
 
 SPIN_SECONDS = 0.001  # how long an idle helper spins before it sleeps
@@ -102,9 +102,9 @@ def _finish_and_wait(control: np.ndarray, share: np.ndarray, joined: bool, calls
         now = atomic_load(control, CALLS)
         if now != calls:
             return now
-        _relax()
-        if turn % _PAUSES_PER_YIELD == _PAUSES_PER_YIELD - 1:
-            _yield_core()
+        relax()
+        if turn % PAUSES_PER_YIELD == PAUSES_PER_YIELD - 1:
+            yield_core()
     return calls
 
 
@@ -239,7 +239,7 @@ class Flight:
 
     #: Whether :meth:`done` can see a chunk done (x86); elsewhere it always says no,
     #: so a caller waiting for a chunk had better finish the call than help it.
-    looks = _X86
+    looks = X86
 
     def done(self, chunk: int) -> bool:
         """Whether ``chunk`` is done (and its results may be read): a look, no wait."""
