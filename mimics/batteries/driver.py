@@ -44,6 +44,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from mimics.batteries.progress import BatteryProgress
+from mimics.batteries.rounds import cell_of_run, extend_all, extend_cell
 from mimics.batteries.spec import BatterySpec, load_battery
 from mimics.batteries.store import RUNS_DIR, TMP_DIR, WORKERS_DIR, BatteryStore
 from mimics.batteries.tasks import FAILED_STATES, OUTCOME_FILE, Outcome, Task
@@ -186,10 +187,11 @@ def _drive(store: BatteryStore, *, workers: int | None, dask: str | None,
             if reset:
                 store.reset_failed(reset)
             _clear(store.folder / TMP_DIR)
+            spec = store.spec()
+            extend_all(store, spec)  # rounds a killed battery finished but did not schedule
             pending = store.ids("pending")
             finished = 0
             if pending:
-                spec = store.spec()
                 store.set_meta("session_started", str(time.time()))
                 counts = store.counts()
                 failed = sum(counts.get(s, 0) for s in FAILED_STATES)
@@ -233,6 +235,10 @@ def _loop(store: BatteryStore, spec: BatterySpec, executor: Executor, queue: deq
             finish(store, task, outcome)
             finished += 1
             bar.advance(outcome.state)
+            added = _next_round(store, spec, task.run_id)
+            if added:
+                queue.extend(added)
+                bar.grow(len(added))
         arrived = []
         if not (queue or active):
             break
@@ -243,6 +249,14 @@ def _loop(store: BatteryStore, spec: BatterySpec, executor: Executor, queue: deq
             del active[outcome.run_id]
             arrived.append((task, outcome))
     return finished
+
+
+def _next_round(store: BatteryStore, spec: BatterySpec, run_id: int) -> list[int]:
+    """Under a stopping rule: the runs of the finished run's cell's next round, listed."""
+    if spec.until is None:
+        return []
+    cell = cell_of_run(store, run_id, spec)
+    return [] if cell is None else extend_cell(store, cell, spec.until)
 
 
 def finish(store: BatteryStore, task: Task, outcome: Outcome) -> None:

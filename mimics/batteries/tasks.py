@@ -72,6 +72,8 @@ class Outcome:
     wall_time: float | None = None
     sim_time: float | None = None
     counts: dict[str, int] = field(default_factory=dict)
+    metrics: dict[str, float | None] = field(default_factory=dict)  # from the summary's stats
+    digest: str = ""  # the run's fingerprint (metrics.run_digest)
 
     def to_json(self) -> str:
         """The outcome as JSON (the run folder's ``battery.json``)."""
@@ -102,6 +104,7 @@ def execute(task: Task, worker: str) -> Outcome:
     """
     import numpy as np
 
+    from mimics.batteries.metrics import run_digest, summary_metrics
     from mimics.records.runner import prepare, run_to_folder
     from mimics.world.errors import MimicsError
 
@@ -138,6 +141,8 @@ def execute(task: Task, worker: str) -> Outcome:
     outcome.wall_time = float(summary["wall_time"])
     outcome.sim_time = float(summary["sim_time"])
     outcome.counts = {key: int(summary[key]) for key in COUNTS}
+    outcome.metrics = summary_metrics(summary)
+    outcome.digest = run_digest(summary)
     if outcome.state == "timeout":
         outcome.error = (f"wall-clock timeout: stopped after {task.timeout:g} s at simulated "
                          f"t={outcome.sim_time:g} s")
