@@ -14,7 +14,6 @@ from mimics.interfaces.cli.battery import Folder, _out
 from mimics.interfaces.cli.output import fail as _fail
 from mimics.world.errors import MimicsError
 
-
 Baseline = Annotated[str | None, typer.Option(
     help="The algorithm the others are compared with [default: the battery's first].")]
 Metrics = Annotated[list[str] | None, typer.Option(
