@@ -6,6 +6,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+import pytest
 from fastapi.testclient import TestClient
 
 from mimics.batteries.report import runs_table
@@ -117,3 +118,53 @@ def test_a_battery_between_its_database_and_its_lock_reads_as_running(
         time.sleep(0.05)
     status = client.get("/api/batteries/status", params={"path": "batteries/between"}).json()
     assert not status["running"]  # the job ended and nobody holds the lock: stopped
+
+
+RANDOM_SPEED = '''import math
+
+
+def step(robot):
+    if "speed" not in robot.memory:
+        robot.memory["speed"] = float(robot.rng.uniform(0.3, 1.0))
+    x, y, _ = robot.pose
+    gx, gy = robot.goal
+    return robot.memory["speed"], math.atan2(gy - y, gx - x)
+'''
+
+
+def test_evidence_of_a_stopping_rule_battery(client: TestClient, workspace: Path) -> None:
+    (workspace / "algorithms" / "random_speed.py").write_text(RANDOM_SPEED)
+    until = {"metric": "time_to_goal", "half_width": 0.05, "min_seeds": 3, "max_seeds": 6}
+    body = {"name": "rule", "algorithms": ["go_to_goal", "algorithms/random_speed.py"],
+            "scenarios": [{"name": "line", "params": {"robots": 1, "distance": 2.0}}],
+            "time": 8.0, "until": until}
+    assert client.post("/api/batteries", json={**body, "dry_run": True}).json() == {
+        "runs": 6, "max_runs": 12}
+    assert client.post("/api/batteries", json=body).status_code == 200
+    status = status_when_stopped(client, "batteries/rule")
+    assert status["counts"] == {"done": 9}  # go_to_goal: 3 seeds (nil spread); random: 6
+    found = client.get("/api/batteries/evidence", params={"path": "batteries/rule"}).json()
+    truth = runs_table(workspace / "batteries" / "rule")
+    assert found["baseline"] == "go_to_goal" and found["algorithms"] == ["go_to_goal",
+                                                                         "random_speed"]
+    cells = {c["algorithm"]: c for c in found["until"]["cells"]}
+    assert cells["go_to_goal"]["seeds"] == 3 and cells["go_to_goal"]["state"] == "met"
+    assert cells["random_speed"]["seeds"] == 6 and cells["random_speed"]["state"] == "max seeds"
+    mine = truth[truth["algorithm"] == "random_speed"]["time_to_goal"]
+    row = next(r for r in found["intervals"] if r["algorithm"] == "random_speed")
+    assert row["time_to_goal"] == pytest.approx(mine.mean())
+    assert row["time_to_goal_n"] == 6
+    pair = next(r for r in found["comparison"] if r["metric"] == "time_to_goal")
+    assert pair["pairs"] == 3 and pair["baseline"] == "go_to_goal"
+    base = truth[truth["algorithm"] == "go_to_goal"].set_index("seed")["time_to_goal"]
+    other = truth[truth["algorithm"] == "random_speed"].set_index("seed")["time_to_goal"]
+    assert pair["mean_difference"] == pytest.approx((other - base).dropna().mean())
+    assert pair["p_value"] is None and "non-zero" in pair["note"]  # 3 pairs: no p-value
+    assert any("go_to_goal x line" in w for w in found["warnings"])
+    swapped = client.get("/api/batteries/evidence", params={
+        "path": "batteries/rule", "baseline": "random_speed", "metric": ["success"]}).json()
+    assert [r["algorithm"] for r in swapped["comparison"]] == ["go_to_goal"]
+    assert swapped["metrics"] == ["success"]
+    bad = client.get("/api/batteries/evidence", params={"path": "batteries/rule",
+                                                         "baseline": "nobody"})
+    assert bad.status_code == 422 and "--baseline 'nobody'" in bad.json()["detail"]
