@@ -102,16 +102,38 @@ def paired_comparison(table: pd.DataFrame, baseline: str | None = None,
             theirs = base[(base["scenario"] == scenario) & (base["parameters"] == label)]
             pairs = group.merge(theirs, on="seed", suffixes=("", "_base"))
             for metric in chosen:
-                result = paired_difference(pairs[metric].to_numpy(dtype=float),
-                                           pairs[f"{metric}_base"].to_numpy(dtype=float))
+                mine_values = pairs[metric].to_numpy(dtype=float)
+                base_values = pairs[f"{metric}_base"].to_numpy(dtype=float)
+                result = paired_difference(mine_values, base_values)
+                p_value, note = _independence(pairs, mine_values, base_values, result.p_value,
+                                              result.note)
                 rows.append({"algorithm": algorithm, "baseline": baseline,
                              "scenario": scenario, "parameters": label, "metric": metric,
                              "pairs": result.interval.n,
                              "mean_difference": result.interval.estimate,
                              "ci95_low": result.interval.low, "ci95_high": result.interval.high,
-                             "p_value": math.nan if result.p_value is None else result.p_value,
-                             "note": result.note})
+                             "p_value": math.nan if p_value is None else p_value,
+                             "note": note})
     return pd.DataFrame(rows, columns=list(COMPARISON_COLUMNS))
+
+
+def _independence(pairs: pd.DataFrame, mine: np.ndarray, base: np.ndarray,
+                  p_value: float | None, note: str) -> tuple[float | None, str]:
+    """The p-value and note, checked against copies: a signed-rank test assumes independent
+    pairs, and seeds that change nothing give the same pair again and again."""
+    if "digest" not in pairs.columns or p_value is None:
+        return p_value, note
+    used = pairs[~(np.isnan(mine) | np.isnan(base))]
+    if used["digest"].isna().any() or used["digest_base"].isna().any():
+        return p_value, note
+    distinct = len(used.drop_duplicates(["digest", "digest_base"]))
+    if distinct == 1:
+        return None, (f"all {len(used)} pairs are copies of one pair of runs (the seed changes "
+                      "nothing): one observation, no p-value")
+    if distinct < len(used):
+        return p_value, (f"only {distinct} distinct pairs of runs among {len(used)}: the "
+                         "p-value assumes independent pairs and overstates the evidence")
+    return p_value, note
 
 
 def seed_ranges(seeds: list[int]) -> str:

@@ -98,6 +98,8 @@ def t_interval(values: np.ndarray | list[float]) -> Interval:
     mean = float(data.mean())
     if n < 2:
         return Interval(mean, math.nan, math.nan, 1)
+    if data.min() == data.max():  # no spread: exactly, not the rounding of a mean
+        return Interval(mean, mean, mean, n)
     half = _t_quantile(n - 1) * float(data.std(ddof=1)) / math.sqrt(n)
     return Interval(mean, mean - half, mean + half, n)
 

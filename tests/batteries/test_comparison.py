@@ -159,3 +159,19 @@ def test_a_real_battery_compares_and_warns(tmp_path: Path) -> None:
     assert written.loc[0, "mean_difference"] == pytest.approx(differences.mean())
     bad = CliRunner().invoke(app, ["compare", str(tmp_path / "out"), "--metric", "speed"])
     assert bad.exit_code == 2 and "--metric 'speed'" in bad.stderr
+
+
+def test_copies_of_one_pair_give_no_p_value() -> None:
+    table = synthetic([("a", s, 3.0, 1.0) for s in range(1, 11)]
+                      + [("b", s, 5.0, 1.0) for s in range(1, 11)])
+    table.loc[table["algorithm"] == "a", "digest"] = "t:a"
+    table.loc[table["algorithm"] == "b", "digest"] = "t:b"
+    row = paired_comparison(table, "a", ["time_to_goal"]).iloc[0]
+    # ten identical differences of 2.0 would give p = 2 / 2^10, but they are one observation
+    assert row["mean_difference"] == 2.0 and (row["ci95_low"], row["ci95_high"]) == (2.0, 2.0)
+    assert math.isnan(row["p_value"]) and "copies of one pair" in row["note"]
+    table.loc[(table["algorithm"] == "b") & (table["seed"] > 5), "digest"] = "t:b2"
+    table.loc[(table["algorithm"] == "b") & (table["seed"] > 5), "time_to_goal"] = 6.0
+    row = paired_comparison(table, "a", ["time_to_goal"]).iloc[0]
+    assert row["p_value"] == pytest.approx(2 / 1024)  # all ten differences positive
+    assert "only 2 distinct pairs of runs among 10" in row["note"]
