@@ -44,7 +44,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from mimics.batteries.progress import BatteryProgress
-from mimics.batteries.rounds import cell_of_run, extend_all, extend_cell
+from mimics.batteries.rounds import Rounds, extend_all
 from mimics.batteries.spec import BatterySpec, load_battery
 from mimics.batteries.store import RUNS_DIR, TMP_DIR, WORKERS_DIR, BatteryStore
 from mimics.batteries.tasks import FAILED_STATES, OUTCOME_FILE, Outcome, Task
@@ -220,6 +220,7 @@ def _loop(store: BatteryStore, spec: BatterySpec, executor: Executor, queue: deq
     (store.folder / WORKERS_DIR).mkdir(exist_ok=True)
     (store.folder / RUNS_DIR).mkdir(exist_ok=True)
     active: dict[int, Task] = {}
+    rounds = Rounds(store, spec)  # under a stopping rule: each cell's next round
     finished = 0
     arrived: list[tuple[Task, Outcome]] = []
     while queue or active or arrived:
@@ -235,7 +236,7 @@ def _loop(store: BatteryStore, spec: BatterySpec, executor: Executor, queue: deq
             finish(store, task, outcome)
             finished += 1
             bar.advance(outcome.state)
-            added = _next_round(store, spec, task.run_id)
+            added = rounds.after(task.run_id)
             if added:
                 queue.extend(added)
                 bar.grow(len(added))
@@ -249,14 +250,6 @@ def _loop(store: BatteryStore, spec: BatterySpec, executor: Executor, queue: deq
             del active[outcome.run_id]
             arrived.append((task, outcome))
     return finished
-
-
-def _next_round(store: BatteryStore, spec: BatterySpec, run_id: int) -> list[int]:
-    """Under a stopping rule: the runs of the finished run's cell's next round, listed."""
-    if spec.until is None:
-        return []
-    cell = cell_of_run(store, run_id, spec)
-    return [] if cell is None else extend_cell(store, cell, spec.until)
 
 
 def finish(store: BatteryStore, task: Task, outcome: Outcome) -> None:

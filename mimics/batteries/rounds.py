@@ -86,11 +86,23 @@ def extend_all(store: BatteryStore, spec: BatterySpec) -> list[int]:
     return [i for cell in cells(spec) for i in extend_cell(store, cell, spec.until)]
 
 
-def cell_of_run(store: BatteryStore, run_id: int, spec: BatterySpec) -> Cell | None:
-    """The cell a run belongs to."""
-    row = store.db.execute("SELECT algorithm_ref, scenario_ref, params FROM runs WHERE id = ?",
-                           (run_id,)).fetchone()
-    return next((c for c in cells(spec) if c.key == tuple(row)), None) if row else None
+class Rounds:
+    """The battery loop's view of the rule: after each finished run, its cell's next round."""
+
+    def __init__(self, store: BatteryStore, spec: BatterySpec) -> None:
+        self.store = store
+        self.rule = spec.until
+        self.cells = {cell.key: cell for cell in cells(spec)} if spec.until else {}
+
+    def after(self, run_id: int) -> list[int]:
+        """The ids of the runs listed for the finished run's cell (none without a rule,
+        or while its round is still running)."""
+        if self.rule is None:
+            return []
+        row = self.store.db.execute("SELECT algorithm_ref, scenario_ref, params FROM runs "
+                                    "WHERE id = ?", (run_id,)).fetchone()
+        cell = self.cells.get(tuple(row)) if row else None
+        return [] if cell is None else extend_cell(self.store, cell, self.rule)
 
 
 @dataclass(frozen=True)

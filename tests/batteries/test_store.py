@@ -186,3 +186,34 @@ def test_progress_is_quiet_off_a_terminal_and_counts_failures() -> None:
                                                   width=120)) as bar:
         bar.advance("timeout")
     assert "2/3" in shown.getvalue() and "2 failed" in shown.getvalue()
+
+
+def test_a_battery_made_before_metrics_and_digests_gains_their_columns(tmp_path: Path) -> None:
+    make_store(tmp_path / "b").close()
+    with sqlite3.connect(tmp_path / "b" / "battery.db") as db:  # the first schema's table
+        db.execute("ALTER TABLE runs DROP COLUMN metrics")
+        db.execute("ALTER TABLE runs DROP COLUMN digest")
+    store = BatteryStore.open(tmp_path / "b")
+    store.start(1)
+    done = outcome(1, 1)
+    done.metrics, done.digest = {"time_to_goal": 2.5, "path_length": None}, "o:abc"
+    assert store.record(done)
+    store.close()
+    table = runs_table(tmp_path / "b")
+    assert table.loc[0, "time_to_goal"] == 2.5 and table.loc[0, "digest"] == "o:abc"
+    assert np.isnan(table.loc[0, "path_length"]) and table["time_to_goal"].isna().sum() == 5
+
+
+def test_add_runs_lists_only_new_runs_with_the_cells_label(tmp_path: Path) -> None:
+    from mimics.batteries.spec import RunSpec
+
+    store = make_store(tmp_path / "b", seeds=2)
+    first = store.rows()[0]
+    runs = [RunSpec(first["algorithm_ref"], "go_to_goal", "line", "line", {"robots": 1}, seed)
+            for seed in (2, 3, 4)]
+    assert store.add_runs(runs) == [5, 6]  # seed 2 is listed already
+    assert store.add_runs(runs) == []
+    rows = store.rows()
+    assert [(r["seed"], r["state"], r["label"]) for r in rows[4:]] == [
+        (3, "pending", "robots=1"), (4, "pending", "robots=1")]
+    assert rows[5]["folder"] == "00006-go_to_goal-line-robots=1-s4"

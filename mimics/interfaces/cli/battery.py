@@ -282,7 +282,7 @@ def run(
             spec = with_until(spec, until)
         folder = out or Path("batteries") / f"{path.stem}-{time.strftime('%Y%m%d-%H%M%S')}"
         remember_battery(path)
-        _announce(folder, len(spec.runs()), workers, dask)
+        _announce(folder, len(spec.runs()), workers, dask, spec.until is not None)
         result = run_battery(spec, folder, workers=workers, dask=dask, progress=progress)
     except MimicsError as exc:
         raise _fail(str(exc)) from None
@@ -333,11 +333,13 @@ def rerun_failed_command(
     _finished(result)
 
 
-def _announce(folder: Path, runs: int, workers: int | None, dask: str | None) -> None:
+def _announce(folder: Path, runs: int, workers: int | None, dask: str | None,
+              rounds: bool = False) -> None:
     where = f"the Dask cluster at {dask}" if dask else \
         f"{min(workers or os.cpu_count() or 1, runs)} local worker(s)"
-    Console(stderr=True, highlight=False).print(f"battery {folder}: {runs} runs on {where}",
-                                                markup=False)
+    Console(stderr=True, highlight=False).print(
+        f"battery {folder}: {runs} runs{' in the first round' if rounds else ''} on {where}",
+        markup=False)
 
 
 def _finished(result: Any) -> None:
