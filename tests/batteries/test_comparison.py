@@ -130,28 +130,31 @@ def test_row_values() -> None:
 
 
 def test_a_real_battery_compares_and_warns(tmp_path: Path) -> None:
-    path = write_battery(tmp_path / "b.toml", ["go_to_goal", fault("random_speed")], seeds=6,
-                         time=10.0, timeout=30.0,
-                         scenarios=[{"name": "line", "robots": 1, "distance": 3.0}])
+    # over 4 s, a robot driving at a random speed covers 1 to 4 m; one standing still none
+    path = write_battery(tmp_path / "b.toml", [fault("stand_still"), fault("random_speed")],
+                         seeds=6, time=4.0, timeout=30.0,
+                         scenarios=[{"name": "line", "robots": 1, "random_yaw": False}])
     run_battery(path, tmp_path / "out", workers=2, progress=False)
     table = runs_table(tmp_path / "out")
-    assert table["time_to_goal"].notna().all() and (table["success"] == 1.0).all()
-    found = paired_comparison(table, "go_to_goal", ["time_to_goal"]).iloc[0]
-    mine = table.set_index(["algorithm", "seed"])["time_to_goal"]
-    differences = np.array([mine["random_speed", s] - mine["go_to_goal", s]
+    assert table["path_length"].notna().all() and (table["success"] == 0.0).all()
+    found = paired_comparison(table, "stand_still", ["path_length"]).iloc[0]
+    mine = table.set_index(["algorithm", "seed"])["path_length"]
+    differences = np.array([mine["random_speed", s] - mine["stand_still", s]
                             for s in range(1, 7)])
+    assert (differences > 0.5).all() and len(set(differences)) == 6
     assert found["pairs"] == 6
     assert found["mean_difference"] == pytest.approx(differences.mean())
     assert found["p_value"] == pytest.approx(scipy_stats.wilcoxon(differences).pvalue)
     lines = identical_seed_warnings(table)
-    # go_to_goal on the line ignores the seed here; random_speed draws its speed from it
-    assert len(lines) == 1 and lines[0].startswith("seeds 1-6 of go_to_goal x line")
+    # standing still from fixed start poses, the seed changes nothing; random_speed draws
+    # its speed from it
+    assert len(lines) == 1 and lines[0].startswith("seeds 1-6 of stand_still x line")
 
     from mimics.interfaces.cli.battery import app
 
     out = tmp_path / "cmp.csv"
     result = CliRunner().invoke(app, ["compare", str(tmp_path / "out"), "--metric",
-                                      "time_to_goal", "--csv", str(out)])
+                                      "path_length", "--csv", str(out)])
     assert result.exit_code == 0, result.output
     assert "Wilcoxon" in result.output and "Wilson" in result.output
     assert "gave identical" in result.stderr

@@ -47,18 +47,18 @@ def test_an_unreachable_scheduler_is_one_line_and_nothing_is_written(
 
 def test_a_stopping_rule_battery_on_dask_runs_the_seeds_local_workers_run(
         tmp_path: Path) -> None:
-    until = {"metric": "time_to_goal", "half_width": 0.05, "min_seeds": 3, "max_seeds": 6}
-    path = write_battery(tmp_path / "b.toml", ["go_to_goal", fault("random_speed")], time=8.0,
-                         timeout=30.0, until=until,
-                         scenarios=[{"name": "line", "robots": 1, "distance": 2.0}])
+    until = {"metric": "path_length", "half_width": 0.05, "min_seeds": 3, "max_seeds": 6}
+    path = write_battery(tmp_path / "b.toml", [fault("stand_still"), fault("random_speed")],
+                         time=4.0, timeout=30.0, until=until,
+                         scenarios=[{"name": "line", "robots": 1, "random_yaw": False}])
     path.write_text(path.read_text().replace("seeds = 1\n", ""))
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=True,
                                   host="127.0.0.1", dashboard_address=None) as cluster:
         run_battery(path, tmp_path / "dask", dask=cluster.scheduler_address, progress=False)
     run_battery(path, tmp_path / "local", workers=2, progress=False)
-    columns = ["algorithm", "seed", "state", "time_to_goal"]
+    columns = ["algorithm", "seed", "state", "path_length"]
     on_dask, local = (runs_table(tmp_path / name)[columns].sort_values(["algorithm", "seed"])
                       .reset_index(drop=True) for name in ("dask", "local"))
     assert on_dask.equals(local)
-    assert on_dask.groupby("algorithm")["seed"].max().to_dict() == {"go_to_goal": 3,
+    assert on_dask.groupby("algorithm")["seed"].max().to_dict() == {"stand_still": 3,
                                                                    "random_speed": 6}

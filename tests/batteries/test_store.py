@@ -217,3 +217,32 @@ def test_add_runs_lists_only_new_runs_with_the_cells_label(tmp_path: Path) -> No
     assert [(r["seed"], r["state"], r["label"]) for r in rows[4:]] == [
         (3, "pending", "robots=1"), (4, "pending", "robots=1")]
     assert rows[5]["folder"] == "00006-go_to_goal-line-robots=1-s4"
+
+
+def test_execute_reads_the_trajectory_digest_of_summary_json(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import mimics.records.runner as runner
+
+    original = runner.run_to_folder
+    poses = {"value": "aa11"}
+
+    def with_digest(sim: object, folder: object, **options: object) -> object:
+        # the recorder of the seed work writes `trajectory_digest` into summary.json
+        extra = {**options.pop("extra", {}), "trajectory_digest": poses["value"]}
+        return original(sim, folder, extra=extra, **options)
+
+    monkeypatch.setattr(runner, "run_to_folder", with_digest)
+    store = make_store(tmp_path / "b")
+
+    def digest(seed: int, name: str) -> str:
+        task = store.task(1, 1, store.spec(), tmp_path / name)
+        return execute(type(task)(**{**task.__dict__, "seed": seed}), "here").digest
+
+    first, again = digest(1, "one"), digest(1, "again")
+    assert first.startswith("t:") and first == again  # same poses, same outcome
+    poses["value"] = "bb22"
+    assert digest(1, "three") != first  # other poses (same outcome): another run
+    monkeypatch.setattr(runner, "run_to_folder", original)
+    assert digest(4, "four").startswith("o:")  # no trajectory digest: the outcome alone
+    summary = json.loads((tmp_path / "one" / "summary.json").read_text())
+    assert summary["trajectory_digest"] == "aa11"

@@ -106,10 +106,12 @@ def test_until_and_seeds_together_are_refused() -> None:
 
 
 def until_battery(path: Path, algorithms: list[str], **rule: object) -> Path:
-    until = {"metric": "time_to_goal", "half_width": 0.05, "min_seeds": 4, "max_seeds": 12,
+    """Path length over 4 s: nil for a robot standing still (from fixed start poses), from
+    1 to 4 m for one driving at a random speed."""
+    until = {"metric": "path_length", "half_width": 0.05, "min_seeds": 4, "max_seeds": 12,
              **rule}
-    write_battery(path, algorithms, time=12.0, timeout=30.0, until=until,
-                  scenarios=[{"name": "line", "robots": 1, "distance": 3.0}])
+    write_battery(path, algorithms, time=4.0, timeout=30.0, until=until,
+                  scenarios=[{"name": "line", "robots": 1, "random_yaw": False}])
     text = path.read_text().replace("seeds = 1\n", "")
     path.write_text(text)
     return path
@@ -123,7 +125,7 @@ def seeds_run(folder: Path) -> dict[str, list[int]]:
 def test_a_killed_stopping_rule_battery_resumes_to_the_same_seeds(tmp_path: Path) -> None:
     if sys.platform == "win32":
         pytest.skip("SIGKILL is POSIX")
-    path = until_battery(tmp_path / "b.toml", ["go_to_goal", fault("slow_random")])
+    path = until_battery(tmp_path / "b.toml", [fault("stand_still"), fault("slow_random")])
     killed = tmp_path / "killed"
     code = ("import sys; from mimics.interfaces.cli.battery import app; "
             "app(sys.argv[1:], prog_name='mimics battery')")
@@ -154,7 +156,7 @@ def test_a_killed_stopping_rule_battery_resumes_to_the_same_seeds(tmp_path: Path
     assert set(result.counts) == {"done"}
     reference = run_battery(path, tmp_path / "reference", workers=2, progress=False)
     assert seeds_run(killed) == seeds_run(tmp_path / "reference")
-    assert seeds_run(killed)["go_to_goal"] == [1, 2, 3, 4]  # no spread: min_seeds
+    assert seeds_run(killed)["stand_still"] == [1, 2, 3, 4]  # no spread: min_seeds
     assert seeds_run(killed)["slow_random"] == list(range(1, 13))  # to max_seeds
     assert reference.counts == result.counts
     started = executions(killed)

@@ -39,9 +39,10 @@ def invoke(*args: str, input: str | None = None) -> object:
 def test_help_lists_the_commands() -> None:
     result = invoke("--help")
     assert result.exit_code == 0
-    for command in ("new", "run", "status", "resume", "rerun-failed", "report"):
+    for command in ("new", "run", "status", "resume", "rerun-failed", "report", "compare"):
         assert command in result.output
     assert "--last" in invoke("run", "--help").output
+    assert "--until" in invoke("run", "--help").output
 
 
 @pytest.mark.parametrize(("text", "expected"), [
@@ -171,16 +172,20 @@ def test_bad_until_options_exit_2(tmp_path: Path, option: str, expected: str) ->
 
 
 def test_until_option_runs_seeds_in_rounds_and_status_shows_them(tmp_path: Path) -> None:
+    from tests.batteries.helpers import fault
+
     path = tmp_path / "battery.toml"
-    path.write_text(GOOD + "distance = 2.0\n")
+    path.write_text(GOOD.replace('"go_to_goal"', f'"{fault("stand_still")}"')
+                    + "random_yaw = false\n")
     out = tmp_path / "out"
-    result = invoke("run", path, "--out", out, "--until", "collisions:0.5", "--workers", "1",
+    result = invoke("run", path, "--out", out, "--until", "path_length:0.5", "--workers", "1",
                     "--no-progress")
     assert result.exit_code == 0, result.output + result.stderr
-    # no collision in any run: nil spread, so the cell stops at the default min_seeds (10)
+    # robots standing still: nil spread, so the cell stops at the default min_seeds (10)
     assert "10 runs: 10 done" in result.output
-    assert "gave identical" in result.stderr  # go_to_goal ignores the seed on this line
+    assert "seeds 1-10 of stand_still x line (robots=2, random_yaw=False) gave identical" \
+        in result.stderr
     status = invoke("status", out)
     assert status.exit_code == 0
-    assert "until the 95% interval of collisions is within ± 0.5" in status.output
+    assert "until the 95% interval of path_length is within ± 0.5" in status.output
     assert "met" in status.output
