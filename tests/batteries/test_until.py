@@ -108,7 +108,7 @@ def test_until_and_seeds_together_are_refused() -> None:
 def until_battery(path: Path, algorithms: list[str], **rule: object) -> Path:
     """Path length over 4 s: nil for a robot standing still (from fixed start poses), from
     1 to 4 m for one driving at a random speed."""
-    until = {"metric": "path_length", "half_width": 0.05, "min_seeds": 4, "max_seeds": 12,
+    until = {"metric": "path_length", "half_width": 0.05, "min_seeds": 4, "max_seeds": 8,
              **rule}
     write_battery(path, algorithms, time=4.0, timeout=30.0, until=until,
                   scenarios=[{"name": "line", "robots": 1, "random_yaw": False}])
@@ -157,7 +157,7 @@ def test_a_killed_stopping_rule_battery_resumes_to_the_same_seeds(tmp_path: Path
     reference = run_battery(path, tmp_path / "reference", workers=2, progress=False)
     assert seeds_run(killed) == seeds_run(tmp_path / "reference")
     assert seeds_run(killed)["stand_still"] == [1, 2, 3, 4]  # no spread: min_seeds
-    assert seeds_run(killed)["slow_random"] == list(range(1, 13))  # to max_seeds
+    assert seeds_run(killed)["slow_random"] == list(range(1, 9))  # to max_seeds
     assert reference.counts == result.counts
     started = executions(killed)
     assert all(started[i] == 1 for i in finished_before)  # no finished seed ran again
