@@ -155,11 +155,11 @@ class SimulationStepper:
                 sim.step()
                 now = time.monotonic()
                 if single:
-                    with self._wake:
-                        self._steps_asked -= 1
-                        self._wake.notify_all()
                     self.on_frame(sim)
                     last_frame = now
+                    with self._wake:  # after the frame: wait_paused() then sees it drawn
+                        self._steps_asked -= 1
+                        self._wake.notify_all()
                     continue
                 if now - last_frame >= 1.0 / self.fps and sim.status == "running":
                     self.on_frame(sim)
