@@ -11,8 +11,9 @@ page reaches the notebook by running this script again. The rules:
   (``.toml``...) becomes a ``%%writefile name`` cell, as the page asks the reader
   to save it; another Python file becomes a code cell;
 - a shell block whose every line is a ``mimics`` command that needs no window
-  becomes a code cell running them (``!mimics ...``); other blocks (installing,
-  a window) stay as listings;
+  becomes a ``%%bash`` cell running them (stopping at the first that fails, so
+  that a failing command fails the notebook); other blocks (installing, a
+  window) stay as listings;
 - cells only a notebook has (a run shown in the cell, its plot and replay) are
   added after a section, named by its heading, from :data:`EXTRAS`.
 
@@ -72,17 +73,19 @@ EXTRAS: dict[str, dict[str, list[tuple[str, str]]]] = {
             ("code", "run.plot()"),
         ],
     },
-    "how-to/deadlocks.md": {
-        "## The settings": [
-            ("markdown", "The same run from Python, with the stalls it recorded (one row per "
-                         "episode):"),
-            ("code", f'{_IMPORT}\n\nrun = mimics.simulate("corridor", "wall_aware", '
-                     'params={"deadlock_window": 20, "livelock_window": 60})\n'
-                     'stalls = run.events[run.events["kind"].isin(["deadlock", "livelock"])]\n'
-                     'stalls[["time", "robot", "kind", "start", "detail"]]'),
-        ],
-        "## Where to look": [
-            ("code", "run.plot()"),
+    "how-to/team-form.md": {
+        "": [
+            ("markdown", "In a notebook: both forms on the same 200 robots and seed give the "
+                         "same trajectories; the summaries tell the wall time each took."),
+            ("code", f'{_IMPORT}\n\nper_robot = mimics.simulate("line", "go_to_goal", '
+                     'robots=200, time=10, seed=1)\nteam = mimics.simulate("line", '
+                     '"go_to_goal_team", robots=200, time=10, seed=1)\n'
+                     'columns = ["time", "step", "robot", "x", "y", "theta", "v", "w"]\n'
+                     'same = per_robot.trajectory[columns].equals(team.trajectory[columns])\n'
+                     'print("identical trajectories:", same)\n'
+                     'print(f"wall time: per robot {per_robot.summary()[\'wall_time\']:.2f} s, "\n'
+                     '      f"team {team.summary()[\'wall_time\']:.2f} s")'),
+            ("code", "team.plot()"),
         ],
     },
 }
@@ -126,7 +129,7 @@ def _shell(text: str, lang: str) -> tuple[str, str]:
     lines = [line for line in text.splitlines() if line.strip() and not line.startswith("#")]
     if lines and all(line.startswith("mimics ") and not INTERACTIVE.search(line)
                      for line in lines):
-        return "code", "\n".join(f"!{line}" for line in lines)
+        return "code", "\n".join(["%%bash", "set -e", *lines])
     return "markdown", f"```{lang or 'bash'}\n{text}\n```"
 
 
