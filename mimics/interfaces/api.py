@@ -35,7 +35,7 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
              params: dict[str, Any] | None = None,
              observers: tuple[Any, ...] = (), record_scans: bool = False,
              allow_overlap: bool = False) -> RunView:
-    """Run one simulation and return it with its records; with ``out``, also write its folder.
+    """Run one simulation and return its outcome, recorded; with ``out``, also write its folder.
 
     Without ``out`` the run is recorded in memory (the same rows a run folder
     holds; nothing is written): ``.trajectory``, ``.events``, ``.summary()``,
