@@ -135,3 +135,37 @@ def test_team_form_how_to_notebook_runs(tmp_path, kernel_env):
     printed = "".join(o.get("text", "") for o in outputs_of(notebook, "import mimics\n\nper_robot"))
     assert "identical trajectories: True" in printed
     assert png_of(outputs_of(notebook, "team.plot()")).shape[:2] == (800, 1000)
+
+
+def load_examples_generator():
+    spec = importlib.util.spec_from_file_location("examples_gen",
+                                                  ROOT / "examples" / "gen_notebooks.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_gallery_example_links_its_up_to_date_notebook():
+    examples = load_examples_generator()
+    assert examples.main(["--check"]) == 0, "run: python examples/gen_notebooks.py"
+    for name in examples.EXAMPLES:
+        assert "](notebook.ipynb)" in (ROOT / "examples" / name / "README.md").read_text()
+        nbformat.validate(nbformat.read(ROOT / "examples" / name / "notebook.ipynb", 4))
+
+
+def test_go_to_goal_example_notebook_runs_in_its_folder(kernel_env):
+    folder = ROOT / "examples" / "go_to_goal"
+    before = sorted(p.name for p in folder.iterdir())
+    notebook = nbformat.read(folder / "notebook.ipynb", as_version=4)
+    nbclient.NotebookClient(notebook, timeout=600, kernel_name="python3",
+                            resources={"metadata": {"path": str(folder)}}).execute()
+    assert sorted(p.name for p in folder.iterdir()) == before  # a run in memory writes nothing
+    html = outputs_of(notebook, "import mimics")[0]["data"]["text/html"]
+    steps = int(re.search(r"simulated time</th><td[^>]*>[\d.]+ s \((\d+) steps", html).group(1))
+    sim_time = round(steps * 0.1, 9)  # the line's steps are 0.1 s
+    # the README: all 10 robots reach their goals, well before the 40 s limit
+    assert "reached goal</th><td style=\"text-align:left\">10<" in html and sim_time < 40
+    declared, decoded = replay_frames(outputs_of(notebook, "run.animate()"))
+    assert declared == decoded == frames_for(sim_time, fps=10, speed=1)
+    counts = outputs_of(notebook, "run.events")[0]["data"]["text/html"]
+    assert re.search(r"<th>reached_goal</th>\s*<td>10</td>", counts)
