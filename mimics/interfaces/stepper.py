@@ -13,9 +13,9 @@ status ``"stopped"`` (observers see ``on_end`` as for any run).
 >>> sim = prepare("line", "go_to_goal", robots=2, time=1.0, seed=1)
 >>> seen = []
 >>> stepper = SimulationStepper(sim, lambda s: seen.append(s.state.step), speed=math.inf)
->>> stepper.step(); stepper.step(); stepper.wait_paused()
+>>> stepper.step(); stepper.step(); _ = stepper.wait_paused()
 >>> seen, stepper.state
-([1, 2], 'paused')
+([0, 1, 2], 'paused')
 >>> stepper.play(); stepper.wait_ended(timeout=60)
 True
 >>> sim.status, seen[-1] == sim.state.step
