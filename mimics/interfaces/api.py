@@ -25,8 +25,9 @@ from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
 
 if TYPE_CHECKING:
+    from mimics.interfaces.notebook.animation import Animation
     from mimics.interfaces.notebook.battery import BatteryView
-    from mimics.interfaces.notebook.live import LiveView
+    from mimics.interfaces.notebook.widget import LiveWidget
 
 
 def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | None = None,
@@ -101,7 +102,8 @@ def load_battery(path: str | Path) -> BatteryView:
     return BatteryView.open(path)
 
 
-def show(scenario: str | Path | Scenario, algorithm: Any, **options: Any) -> LiveView:
+def show(scenario: str | Path | Scenario, algorithm: Any, **options: Any
+         ) -> LiveWidget | Animation:
     """A live view of a new simulation in a notebook cell (Play/Pause/Step/Stop, speed).
 
     See :func:`mimics.interfaces.notebook.live.show` for the options.

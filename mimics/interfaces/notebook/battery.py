@@ -23,7 +23,7 @@ from typing import Any
 
 import pandas as pd
 
-from mimics.interfaces.notebook.html import enable_figure_display, figure_img
+from mimics.interfaces.notebook.html import enable_figure_display, figure_img, in_kernel
 from mimics.world.errors import MimicsError
 
 #: The figures of ``mimics battery plot``, by the name ``plot(kind)`` takes.
@@ -158,18 +158,6 @@ class BatteryView:
             parts.append(f"<p>{html.escape(str(exc))}</p>")
         parts.append("</div>")
         return "".join(parts)
-
-
-def in_kernel() -> bool:
-    """True inside a Jupyter kernel (where a progress bar belongs in the cell)."""
-    import sys
-
-    if "IPython" not in sys.modules:
-        return False
-    from IPython import get_ipython
-
-    shell = get_ipython()
-    return shell is not None and "IPKernelApp" in getattr(shell, "config", {})
 
 
 def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None = None,

@@ -64,3 +64,15 @@ def _registered(formatter: Any, kind: type) -> bool:
     except KeyError:
         return False
     return True
+
+
+def in_kernel() -> bool:
+    """True inside a Jupyter kernel (where widgets and a progress bar belong in the cell)."""
+    import sys
+
+    if "IPython" not in sys.modules:
+        return False
+    from IPython import get_ipython
+
+    shell = get_ipython()
+    return shell is not None and "IPKernelApp" in getattr(shell, "config", {})
