@@ -171,7 +171,8 @@ def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None
             in the current folder, NAME being the file's stem or ``battery``).
         workers: local worker processes (default: one per core).
         dask: a Dask scheduler address instead of local workers.
-        progress: show the progress bar (default: in a notebook cell, or on a terminal).
+        progress: show the progress bar (default: in a notebook cell, or on a terminal;
+            False: none).
 
     Raises:
         MimicsError: a bad battery, or a folder that already holds one; nothing runs.
@@ -189,7 +190,66 @@ def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None
     if out is None:
         stem = Path(spec.source).stem if spec.source else "battery"
         out = Path("batteries") / f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}"
-    if progress is None and in_kernel():
-        progress = True  # Rich draws the bar into the cell
-    result = drive(spec, out, workers=workers, dask=dask, progress=progress)
+    if (progress is None or progress) and in_kernel():
+        with CellProgress(out, total=len(spec.runs())):
+            result = drive(spec, out, workers=workers, dask=dask, progress=False)
+    else:
+        result = drive(spec, out, workers=workers, dask=dask, progress=progress)
     return BatteryView(out, result)
+
+
+class CellProgress:
+    """A progress bar in the notebook cell (``tqdm.auto``) while a battery runs.
+
+    The bar is shown from the kernel's main thread (so that it lands in the
+    cell) and moved by a thread that reads the battery's database every
+    ``period`` seconds (:func:`mimics.batteries.status.battery_status`, safe
+    while the battery runs): runs finished out of all, and the failures.
+
+    Args:
+        folder: the battery folder being run.
+        total: runs in the battery.
+        period: seconds between two readings.
+    """
+
+    def __init__(self, folder: str | Path, total: int, period: float = 0.5) -> None:
+        import threading
+
+        from tqdm.auto import tqdm
+
+        self.folder = Path(folder)
+        self.bar = tqdm(total=total, desc="battery", unit="run", dynamic_ncols=True)
+        self.period = period
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._follow, name="mimics-battery-bar",
+                                        daemon=True)
+
+    def __enter__(self) -> CellProgress:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        self._thread.join(5.0)
+        self.update()
+        self.bar.close()
+
+    def _follow(self) -> None:
+        while not self._stop.wait(self.period):
+            self.update()
+
+    def update(self) -> None:
+        """Move the bar to the runs finished now (nothing before the database exists)."""
+        from mimics.batteries.status import battery_status
+        from mimics.batteries.tasks import FAILED_STATES
+
+        if not (self.folder / "battery.db").is_file():
+            return
+        try:
+            status = battery_status(self.folder, max_errors=0)
+        except Exception:  # a database being created or locked: the next reading will do
+            return
+        failed = sum(status.counts.get(state, 0) for state in FAILED_STATES)
+        self.bar.n = status.total - status.left
+        self.bar.set_postfix(failed=failed, refresh=False)
+        self.bar.refresh()

@@ -171,3 +171,26 @@ def test_go_to_goal_example_notebook_runs_in_its_folder(kernel_env):
     assert declared == decoded == frames_for(sim_time, fps=10, speed=speed)
     counts = outputs_of(notebook, "run.events")[0]["data"]["text/html"]
     assert re.search(r"<th>reached_goal</th>\s*<td>10</td>", counts)
+
+
+def test_run_battery_draws_its_progress_bar_in_the_cell(tmp_path, kernel_env):
+    notebook = nbformat.v4.new_notebook()
+    notebook.cells = [nbformat.v4.new_code_cell(
+        "import mimics\n"
+        "spec = {'battery': {'algorithms': ['go_to_goal'], 'seeds': 2, 'time': 1.0},\n"
+        "        'scenarios': [{'name': 'line', 'robots': 2}]}\n"
+        "battery = mimics.run_battery(spec, 'night', workers=1)\nbattery")]
+    nbclient.NotebookClient(notebook, timeout=600, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}},
+                            store_widget_state=True).execute()
+    outputs = notebook.cells[0].outputs
+    views = [o["data"]["application/vnd.jupyter.widget-view+json"]["model_id"] for o in outputs
+             if "application/vnd.jupyter.widget-view+json" in o.get("data", {})]
+    assert len(views) == 1  # tqdm's bar: one widget in the cell, moved in place
+    state = notebook.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
+    bars = [m["state"] for m in state.values() if m["model_name"] == "FloatProgressModel"]
+    assert len(bars) == 1 and bars[0]["value"] == bars[0]["max"] == 2  # both runs, at the end
+    texts = [m["state"]["value"] for m in state.values() if m["model_name"] == "HTMLModel"]
+    assert any("2/2" in text for text in texts) and any("failed=0" in text for text in texts)
+    assert "night: 2 runs (2 done)" in outputs[-1]["data"]["text/html"]
+    assert (tmp_path / "night" / "battery.db").is_file()
