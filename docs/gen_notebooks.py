@@ -175,7 +175,7 @@ def cells_of(page: str) -> list[dict[str, object]]:
 
 def notebook_of(page: str) -> str:
     """``page``'s notebook as the text written (nbformat 4, no outputs)."""
-    note = (f"*This notebook is made from [{Path(page).name}]({Path(page).name}) by "
+    note = (f"*This notebook is made from the page `docs/{page}` by "
             "`docs/gen_notebooks.py`: edit the page, then run the script.*")
     notebook = {
         "cells": [_cell("markdown", note), *cells_of(page)],
