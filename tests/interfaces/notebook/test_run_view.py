@@ -132,3 +132,18 @@ def test_out_writes_the_folder_and_returns_the_same_object(tmp_path):
     assert run.path == tmp_path and (tmp_path / "summary.json").is_file()
     assert type(run) is type(mimics.load_run(tmp_path)) is mimics.RunView
     assert run.summary()["robots"] == 2 and len(run.trajectory) == 2 * 11
+
+
+def test_a_run_too_big_to_keep_in_memory_is_refused_before_it_runs(monkeypatch, tmp_path):
+    from mimics.catalog import load_scenario
+    from mimics.records import resources
+
+    # 1,000 robots x 1,200 steps: 1.2 million rows; a folder's recorder holds 1,048,576
+    # of them at most, memory holds them all. Between the two figures: refused in memory.
+    scenario = load_scenario("line", robots=1000)
+    on_disk = resources.run_memory(scenario, time=120.0).total
+    in_memory = resources.run_memory(scenario, time=120.0, flush_rows=2**62).total
+    assert in_memory - on_disk == resources.ROW_BYTES * (1000 * 1202 - 1_048_576)
+    monkeypatch.setattr(resources, "available_memory", lambda: (on_disk + in_memory) // 2)
+    with pytest.raises(MimicsError, match=r"in memory needs about .* give out=FOLDER"):
+        mimics.simulate("line", "go_to_goal", robots=1000, time=120.0)
