@@ -6,7 +6,9 @@ processes, database and folder as ``mimics battery run``), showing its progress
 bar in the cell (Rich's Jupyter display), and returns a :class:`BatteryView`;
 ``mimics.load_battery(folder)`` opens one already run (or still running).
 ``.table`` is one row per run, ``.summary()`` the report's aggregate (means and
-95% intervals per algorithm x scenario), ``.plot(...)`` the figures of
+95% intervals per algorithm x scenario), ``.intervals()`` and ``.compare()`` the
+report's per-cell intervals and paired comparison (``mimics battery compare``),
+``.warnings`` its identical-seed warnings, ``.plot(...)`` the figures of
 ``mimics battery plot``, ``.run(id)`` one run as a
 :class:`~mimics.interfaces.notebook.run.RunView`.
 
@@ -65,17 +67,22 @@ class BatteryView:
 
         ``runs``: one row per run; ``failures``: the failed runs; ``aggregate``: per
         algorithm x scenario (x parameters), runs by outcome and each count's mean
-        with its 95% interval over the done runs.
+        with its 95% interval over the done runs; ``intervals``: each metric's
+        estimate and 95% interval per cell (t for means, Wilson for proportions);
+        ``comparison``: each algorithm against the first, paired by seed.
         """
+        from mimics.batteries.comparison import cell_intervals, paired_comparison
         from mimics.batteries.report import aggregate, runs_table
         from mimics.batteries.tasks import FAILED_STATES
 
         runs = runs_table(self.folder)
         if runs.empty:
-            return {"runs": runs, "failures": runs, "aggregate": pd.DataFrame()}
+            return {"runs": runs, "failures": runs, "aggregate": pd.DataFrame(),
+                    "intervals": pd.DataFrame(), "comparison": pd.DataFrame()}
         return {"runs": runs,
                 "failures": runs[runs["state"].isin(FAILED_STATES)].reset_index(drop=True),
-                "aggregate": aggregate(runs)}
+                "aggregate": aggregate(runs), "intervals": cell_intervals(runs),
+                "comparison": paired_comparison(runs)}
 
     @property
     def table(self) -> pd.DataFrame:
@@ -85,6 +92,36 @@ class BatteryView:
     def summary(self) -> pd.DataFrame:
         """The report's aggregate: one row per algorithm x scenario (x parameter point)."""
         return self.report_tables()["aggregate"]
+
+    def intervals(self, metrics: list[str] | None = None) -> pd.DataFrame:
+        """Per cell, each metric's estimate with its 95% interval and the runs it rests on
+        (the intervals table of ``mimics battery report``)."""
+        from mimics.batteries.comparison import cell_intervals
+
+        runs = self.table
+        return pd.DataFrame() if runs.empty else cell_intervals(runs, metrics)
+
+    def compare(self, baseline: str | None = None,
+                metrics: list[str] | None = None) -> pd.DataFrame:
+        """Each algorithm minus ``baseline`` (default: the battery's first), paired by
+        scenario, parameters and seed: mean difference, 95% interval, Wilcoxon p-value
+        and pairs (``mimics battery compare``).
+
+        Raises:
+            MimicsError: an unknown baseline or metric.
+        """
+        from mimics.batteries.comparison import paired_comparison
+
+        runs = self.table
+        return pd.DataFrame() if runs.empty else paired_comparison(runs, baseline, metrics)
+
+    @property
+    def warnings(self) -> list[str]:
+        """One line per cell whose seeds gave identical runs (the seed changed nothing)."""
+        from mimics.batteries.comparison import identical_seed_warnings, randomize_hints
+
+        runs = self.table
+        return [] if runs.empty else identical_seed_warnings(runs, randomize_hints(runs))
 
     @property
     def counts(self) -> dict[str, int]:
@@ -148,6 +185,15 @@ class BatteryView:
                          "runs</p>")
             parts.append(agg.to_html(index=False, float_format=lambda v: f"{v:.3g}",
                                      na_rep="-"))
+        for title, frame in (("Per cell: each metric with its 95% interval (t for means, "
+                              "Wilson for proportions)", tables["intervals"]),
+                             ("Paired by seed against the baseline: mean difference, 95% "
+                              "t interval, Wilcoxon signed-rank p", tables["comparison"])):
+            if not frame.empty:
+                parts.append(f"<p>{title}</p>")
+                parts.append(frame.to_html(index=False, float_format=lambda v: f"{v:.3g}",
+                                           na_rep="-"))
+        parts.extend(f"<p>warning: {html.escape(line)}</p>" for line in self.warnings)
         if not failures.empty:
             parts.append(f"<p>{len(failures)} failed run(s)</p>")
             parts.append(failures[["id", "algorithm", "scenario", "seed", "state", "error"]]

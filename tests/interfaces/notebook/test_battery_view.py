@@ -47,7 +47,27 @@ def test_summary_is_the_reports_aggregate(battery):
     assert len(summary) == 1 and summary.iloc[0]["runs"] == 3
     assert summary.equals(expected)
     tables = battery.report_tables()
-    assert set(tables) == {"runs", "failures", "aggregate"} and tables["failures"].empty
+    assert set(tables) == {"runs", "failures", "aggregate", "intervals", "comparison"}
+    assert tables["failures"].empty
+    # one algorithm: nothing to compare; the intervals rest on the 3 done runs
+    assert battery.compare().empty and battery.intervals()["done"].tolist() == [3]
+
+
+def test_compare_pairs_runs_by_seed_against_the_baseline(tmp_path):
+    spec = {"battery": {"algorithms": ["go_to_goal", "wall_aware"], "seeds": 3, "time": 2.0},
+            "scenarios": [{"name": "line", "robots": 2}]}
+    two = mimics.run_battery(spec, tmp_path / "two", workers=1, progress=False)
+    runs = two.table
+    # the truth: per seed, wall_aware's path length minus go_to_goal's, from the run table
+    by_seed = runs.pivot(index="seed", columns="algorithm", values="path_length")
+    differences = (by_seed["wall_aware"] - by_seed["go_to_goal"]).to_numpy()
+    row = two.compare(metrics=["path_length"]).iloc[0]
+    assert (row["algorithm"], row["baseline"], row["pairs"]) == ("wall_aware", "go_to_goal", 3)
+    assert row["mean_difference"] == pytest.approx(differences.mean())
+    assert row["ci95_low"] <= row["mean_difference"] <= row["ci95_high"]
+    assert "Paired by seed" in two._repr_html_()
+    with pytest.raises(MimicsError, match="not an algorithm of this battery"):
+        two.compare(baseline="nobody")
 
 
 def test_plot_is_the_figure_of_mimics_battery_plot(battery, tmp_path):
