@@ -52,7 +52,7 @@ def ros_command(
     and message packages) and a running master (ROS_MASTER_URI). See
     docs/how-to/ros.md.
     """
-    from mimics.interfaces.cli.program import export_video, parse_params, print_summary
+    from mimics.interfaces.cli.run_summary import export_video, parse_params, print_summary
     from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
 
     if robots is not None and robots < 1:
