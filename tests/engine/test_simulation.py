@@ -294,3 +294,14 @@ def test_team_view_gives_each_robots_size():
     Simulation(scenario, team_step, seed=1, time_limit=0.1).run()
     assert seen["length"].tolist() == [PIONEER_3AT.length, PIONEER_2DX.length]
     assert seen["width"].tolist() == [PIONEER_3AT.width, PIONEER_2DX.width]
+
+
+def test_simulate_refuses_two_values_for_robots_or_time() -> None:
+    import mimics
+
+    with pytest.raises(mimics.MimicsError, match=r"robots=3 and params robots=7: two values"):
+        mimics.simulate("line", "go_to_goal", robots=3, params={"robots": 7})
+    with pytest.raises(mimics.MimicsError, match=r"time=2 and params time_limit=5.0: two"):
+        mimics.simulate("obstacle_room", "go_to_goal", time=2, params={"time_limit": 5.0})
+    assert mimics.simulate("line", "go_to_goal", robots=2, params={"robots": 2},
+                           time=0.2).robots == 2

@@ -111,3 +111,18 @@ def test_a_battery_exits_1_with_the_count_when_runs_could_not_finish(
     assert status == 1, out + err
     assert "mimics: 1 of 2 runs could not finish (1 error)" in err
     assert "rerun-failed" in err
+
+
+@pytest.mark.parametrize(("options", "named"), [
+    (("--robots", "3", "--param", "robots=7"), "--robots 3 and --param robots=7"),
+    (("--time", "2", "--param", "time_limit=5.0"), "--time 2 and --param time_limit=5.0"),
+])
+def test_two_values_for_one_parameter_are_bad_input_naming_both(
+        tmp_path: Path, options: tuple[str, ...], named: str) -> None:
+    status, _, err = mimics("run", "line", "go_to_goal", *options, "--out", tmp_path / "r")
+    assert status == 2 and err.count("\n") == 1
+    assert err.startswith(f"mimics: error: {named}: two values for the same parameter")
+    assert not (tmp_path / "r").exists()
+    # the same value twice is no conflict
+    assert mimics("run", "line", "go_to_goal", "--robots", "2", "--param", "robots=2",
+                  "--time", "0.3", "--out", tmp_path / "same")[0] == 0

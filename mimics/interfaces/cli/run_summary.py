@@ -31,6 +31,19 @@ def parse_params(items: list[str]) -> dict[str, Any]:
     return params
 
 
+def check_repeated(params: dict[str, Any], *, robots: int | None = None,
+                   time: float | None = None) -> None:
+    """Refuse an option and a ``--param`` that give two values for the same thing.
+
+    Raises:
+        MimicsError: naming both (``--robots 3 and --param robots=7``).
+    """
+    for option, key, value in (("--robots", "robots", robots), ("--time", "time_limit", time)):
+        if value is not None and key in params and params[key] != value:
+            raise MimicsError(f"{option} {value:g} and --param {key}={params[key]!r}: two values "
+                              f"for the same parameter; give one")
+
+
 def print_summary(summary: dict[str, Any], out: Path | None) -> None:
     """A short table of a run's outcome."""
     table = Table(title=f"{summary['scenario']} / {summary['algorithm']} / seed "

@@ -15,7 +15,12 @@ from typing import Annotated
 import typer
 
 from mimics.interfaces.cli.output import EXIT_FAILED, fail, note
-from mimics.interfaces.cli.run_summary import export_video, parse_params, print_summary
+from mimics.interfaces.cli.run_summary import (
+    check_repeated,
+    export_video,
+    parse_params,
+    print_summary,
+)
 from mimics.world.errors import MimicsError
 
 
@@ -82,6 +87,7 @@ def run(
     with kernels_compiled_ahead():
         try:
             params = parse_params(param or [])
+            check_repeated(params, robots=robots, time=time)
             sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed,
                           policy=policy,  # type: ignore[arg-type]
                           wall_limit=wall_limit, params=params,
