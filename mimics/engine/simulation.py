@@ -344,14 +344,13 @@ class Simulation:
         for failure in failures:
             robots = (np.flatnonzero(state.active).tolist() if failure.robot < 0
                       else [failure.robot])
-            detail = f"Exception: {failure.kind}: {failure.message}"
+            detail = f"Exception: {failure.kind}: {failure.message}" + (
+                f" ({failure.where})" if failure.where else "")
             for robot in robots:
                 self._mark(robot, Status.ERROR, detail, "exception", traceback=failure.traceback)
                 failed.append(robot)
         if self.policy == "abort" and self.status == "running":
-            first = failures[0]
-            who = "the team algorithm" if first.robot < 0 else f"robot {first.robot}"
-            self.error = f"{first.kind} in {who} at t={first.time:g} s: {first.message}"
+            self.error = failures[0].describe()
             self.status = "error"
         return np.array(failed, dtype=np.int64)
 

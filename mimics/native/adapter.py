@@ -213,7 +213,8 @@ class NativeRobotController(Controller):
                 self._sent = True
             if flag & _ERROR:
                 code = int(self._codes[j])
-                detail = f"robot {i}: {entry} returned {code}" + (f": {text}" if text else "")
+                detail = (f"robot {i}: {entry} returned {code} at step {sim.state.step}"
+                          + (f": {text}" if text else ""))
                 failures.append(UserFailure(i, now, "NativeError", detail, ""))
             elif flag & _NOT_FINITE:
                 failures.append(UserFailure(

@@ -10,6 +10,7 @@ from pathlib import Path
 from mimics.batteries import run_battery, runs_table
 from mimics.batteries.driver import rerun_failed
 from mimics.batteries.status import battery_status
+from mimics.engine.user_code import shown_path
 from tests.batteries.helpers import fault, write_battery
 
 FAULTY = ["raise_at_7", "loop_forever", "exit_3", "segfault", "nan"]
@@ -29,7 +30,10 @@ def test_every_fault_is_recorded_and_the_other_runs_complete(tmp_path: Path) -> 
                       "slow_go": "done"}
     assert result.counts == {"done": 2, "error": 2, "timeout": 1, "crashed": 2}
     error = table["error"]
-    assert error["raise_at_7"] == "ValueError in robot 0 at t=0.6 s: boom at step 7"
+    # the error names the file and line of the user's code and shows that line
+    assert error["raise_at_7"] == (f"ValueError in robot 0 at t=0.6 s, "
+                                   f"{shown_path(fault('raise_at_7'))}:7: boom at step 7\n"
+                                   f'    raise ValueError("boom at step 7")')
     assert 'raise ValueError("boom at step 7")' in table.loc["raise_at_7", "traceback"]
     assert "wall-clock timeout" in error["loop_forever"] and "killed" in error["loop_forever"]
     # the hung worker's stack, dumped before it was killed, shows where it looped

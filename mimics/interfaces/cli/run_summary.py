@@ -61,7 +61,9 @@ def print_summary(summary: dict[str, Any], out: Path | None) -> None:
         table.add_row(name, str(value))
     console.print(table)
     if summary.get("error"):
-        console.print(f"error: {summary['error']}", markup=False)
+        # not wrapped: the first line names file:line, the second is the source line
+        console.print(f"error: {summary['error']}", markup=False, highlight=False,
+                      soft_wrap=True)
     if out is not None:
         console.print(f"records in {out}", markup=False)
 
