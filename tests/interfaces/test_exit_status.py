@@ -139,4 +139,4 @@ def test_a_failing_step_is_reported_at_its_file_and_line(
             "attribute 'gaol'\n    gx, gy = robot.gaol\n") in out
     summary = (tmp_path / "r" / "summary.txt").read_text()
     assert "my_algo.py:6: 'Robot' object has no attribute 'gaol'\n" in summary
-    assert "\n                    gx, gy = robot.gaol\n" in summary  # aligned under its value
+    assert "\n" + " " * 24 + "gx, gy = robot.gaol\n" in summary  # indented under its value
