@@ -36,6 +36,7 @@ from mimics.engine.user_code import (
     user_traceback,
     where_of,
 )
+from mimics.engine.watchdog import StepTimeout, blame, raise_in_thread
 from mimics.world.errors import AlgorithmError
 
 if TYPE_CHECKING:
@@ -81,6 +82,15 @@ class Controller(ABC):
     @abstractmethod
     def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
         """Write references for robots ``ids`` into ``sim.state.reference``."""
+
+    def prepare_interrupt(self) -> None:
+        """Make :meth:`interrupt` possible (called when a run with a wall limit starts)."""
+        return None  # Python code needs nothing: an exception can be raised into it
+
+    def interrupt(self, thread_id: int) -> None:
+        """Stop the user code running in thread ``thread_id`` (from the wall-limit watchdog):
+        a :class:`~mimics.engine.watchdog.StepTimeout` raised into Python code."""
+        raise_in_thread(thread_id)
 
 
 def failure_from_exception(robot: int, now: float, exc: BaseException) -> UserFailure:
@@ -144,6 +154,9 @@ class PerRobotController(Controller):
             except Exception as exc:  # user code: contain everything it raises
                 self._instances.append(None)
                 failures.append(failure_from_exception(robot.id, sim.state.time, exc))
+            except StepTimeout as stop:  # past the wall limit: say whose call it was
+                blame(stop, robot.id, "reset()")
+                raise
         return failures
 
     def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
@@ -175,6 +188,9 @@ class PerRobotController(Controller):
                 times.append(clock() - start)
                 failures.append(failure_from_exception(i, now, exc))
                 continue
+            except StepTimeout as stop:  # past the wall limit: say whose call it was
+                blame(stop, i, "step()")
+                raise
             times.append(clock() - start)
             # two finite numbers, checked inline: this runs once per robot and step
             try:
@@ -221,6 +237,9 @@ class TeamController(Controller):
                 hook(Team(sim, ids))
         except Exception as exc:  # user code: contain everything it raises
             return [failure_from_exception(-1, sim.state.time, exc)]
+        except StepTimeout as stop:
+            blame(stop, -1, "team_reset()")
+            raise
         return []
 
     def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
@@ -233,6 +252,9 @@ class TeamController(Controller):
         except Exception as exc:  # user code: contain everything it raises
             state.user_time[ids] = (time.perf_counter() - start) / max(len(ids), 1)
             return [failure_from_exception(-1, now, exc)]
+        except StepTimeout as stop:
+            blame(stop, -1, "team_step()")
+            raise
         state.user_time[ids] = (time.perf_counter() - start) / max(len(ids), 1)
         try:
             speed, heading = output

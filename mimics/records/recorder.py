@@ -219,6 +219,8 @@ class RunRecorder:
         if self._closed:
             return
         began = time.perf_counter()
+        # events of a run that ended within a step (user code stopped at the wall limit)
+        self._events.collect(sim.events, sim.state, np.zeros(0, dtype=np.int64))
         if self._full_step != sim.state.step:  # the last step, when ``every`` skipped it
             self._trajectory.add(sim.state, np.flatnonzero(sim.state.active))
             if self._scans is not None:

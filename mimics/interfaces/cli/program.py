@@ -30,7 +30,8 @@ Exit status (every command):
        time or wall-clock limit, stop predicate), whatever its collisions;
        a battery whose runs all finished, whatever their outcomes
   1    it ran, but failed: a run ended in error (user code raised under
-       --policy abort); battery runs that could not finish (error, timeout,
+       --policy abort, or a step that did not return was stopped at
+       --wall-limit); battery runs that could not finish (error, timeout,
        crashed), with their count
   2    bad input: an option, a file or a name is wrong, or the run would
        not fit in memory; one line `mimics: error: ...`, nothing started

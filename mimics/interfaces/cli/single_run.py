@@ -38,8 +38,9 @@ def run(
     = "abort",
     param: Annotated[list[str] | None, typer.Option(help="Scenario parameter NAME=VALUE "
                                                          "(repeatable).")] = None,
-    wall_limit: Annotated[float | None, typer.Option(help="Stop after this many wall seconds."
-                                                     )] = None,
+    wall_limit: Annotated[float | None, typer.Option(
+        help="Stop after this many wall seconds, also inside a step that does not return "
+             "(exit 1).")] = None,
     robot_logs: Annotated[str, typer.Option(help="Per-robot text logs: auto, on or off.")]
     = "auto",
     view: Annotated[str, typer.Option(help="Live view: step, 1s, 10s or off.")] = "off",
@@ -53,7 +54,8 @@ def run(
     """Run one simulation, print its summary and write its run folder.
 
     Exit status 0 when the run ended by its end criteria, 1 when it ended in
-    error (user code raised under --policy abort), 2 for bad input.
+    error (user code raised under --policy abort, or a step still running at
+    --wall-limit was stopped), 2 for bad input.
     """
     from mimics.interfaces.cli.native import needs_child, run_in_child
 
@@ -108,7 +110,7 @@ def run(
     print_summary(result.summary(), folder)
     if video is not None:
         export_video(folder, video)
-    if result.status == "error":
+    if result.status == "error" or result.error:  # an error, or a step stopped at the limit
         raise typer.Exit(EXIT_FAILED)
 
 

@@ -1,0 +1,138 @@
+"""Ending a run whose user code does not return before the wall-clock limit.
+
+The engine checks the wall limit between steps; a step that never returns
+(``while True: pass``) never gets there. When a run has a wall limit, a
+:class:`Watchdog` thread waits for it and, if user code is still running
+:data:`GRACE` seconds after it, stops that code in the simulation's thread:
+
+* Python code gets a :class:`StepTimeout` raised into it (CPython's
+  ``PyThreadState_SetAsyncExc``), at the next line it runs, so the traceback
+  shows where it was stuck. ``StepTimeout`` is not an ``Exception``: a user's
+  ``except Exception`` does not swallow it. It is raised again every
+  :data:`RETRY` seconds while the code keeps running (a bare ``except:``), at
+  most :data:`TRIES` times. Code stuck inside one long C call (``time.sleep``)
+  is stopped when that call returns.
+* C and C++ code (``mimics.native``) is cut by a signal to that thread, whose
+  handler jumps back to the host code that called it.
+
+The watchdog only interrupts while the simulation is inside user code
+(:meth:`Watchdog.enter` and :meth:`Watchdog.leave` bracket it under a lock), so
+the engine's own arrays are never left half-updated. It exists only when the
+run has a wall limit, and ends with the run.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import threading
+import time
+from collections.abc import Callable
+
+from mimics.engine.user_code import failure_place, user_traceback
+
+#: Seconds past the wall limit before user code still running is interrupted.
+GRACE = 0.5
+#: Seconds between interruptions of code that keeps running.
+RETRY = 0.5
+#: Interruptions before the watchdog gives up (a battery still kills the worker).
+TRIES = 20
+
+_set_async = ctypes.PYFUNCTYPE(ctypes.c_int, ctypes.c_ulong, ctypes.py_object)(
+    ("PyThreadState_SetAsyncExc", ctypes.pythonapi))
+_clear_async = ctypes.PYFUNCTYPE(ctypes.c_int, ctypes.c_ulong, ctypes.c_void_p)(
+    ("PyThreadState_SetAsyncExc", ctypes.pythonapi))
+
+
+class StepTimeout(BaseException):
+    """Raised into user code still running past the wall limit.
+
+    ``robot`` is the robot whose call was stopped (-1: the team algorithm) and
+    ``entry`` the function called (``"step()"``, ``"mimics_step"``...); the
+    controller that called it fills them in.
+    """
+
+    robot: int = -1
+    entry: str = "step()"
+
+
+def blame(stop: StepTimeout, robot: int, entry: str) -> None:
+    """Say whose call ``stop`` stopped, unless the code that raised it already said."""
+    own = vars(stop)
+    own.setdefault("robot", robot)
+    own.setdefault("entry", entry)
+
+
+def raise_in_thread(thread_id: int) -> None:
+    """Have :class:`StepTimeout` raised in the Python thread ``thread_id``."""
+    _set_async(thread_id, StepTimeout)
+
+
+class Watchdog:
+    """Interrupts user code running past ``deadline`` (``time.perf_counter`` seconds).
+
+    Args:
+        deadline: when to interrupt user code still running.
+        interrupt: stops the user code running in the given thread (the
+            controller's :meth:`~mimics.engine.controllers.Controller.interrupt`).
+    """
+
+    def __init__(self, deadline: float, interrupt: Callable[[int], None]) -> None:
+        self._deadline = deadline
+        self._interrupt = interrupt
+        self._lock = threading.Lock()
+        self._inside = False
+        self._thread_id = threading.get_ident()
+        self._fired = False
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._watch, name="mimics-wall-limit",
+                                        daemon=True)
+        self._thread.start()
+
+    def enter(self) -> None:
+        """The simulation's thread starts running user code."""
+        with self._lock:
+            self._inside = True
+            self._thread_id = threading.get_ident()
+
+    def leave(self) -> None:
+        """The user code returned (or was stopped): no interruption may reach what follows."""
+        with self._lock:
+            self._inside = False
+            if self._fired:  # fired just as the code returned: drop what is still pending
+                _clear_async(self._thread_id, None)
+
+    def close(self) -> None:
+        """End the watchdog's thread (at the end of the run)."""
+        self._stop.set()
+        if self._thread is not threading.current_thread():
+            self._thread.join()
+
+    def _watch(self) -> None:
+        if self._stop.wait(max(0.0, self._deadline - time.perf_counter())):
+            return
+        for _ in range(TRIES):
+            with self._lock:
+                if not self._inside:
+                    return  # between steps: the engine's own check ends the run
+                self._fired = True
+                self._interrupt(self._thread_id)
+            if self._stop.wait(RETRY):
+                return
+
+
+def describe_timeout(stop: StepTimeout, wall_limit: float, step: int, now: float
+                     ) -> tuple[str, str, str]:
+    """The run's error, the event's detail and the user's traceback of a stopped call.
+
+    The error names the robot, the step and, for Python code, the file and line
+    it was stuck at, then shows that line: ``robot 0: step() did not return within
+    the wall limit of 3 s; stopped at step 12 (t=1.2 s), bad.py:5``.
+    """
+    place = failure_place(stop)
+    what = f"{stop.entry} did not return within the wall limit of {wall_limit:g} s"
+    who = "the team algorithm" if stop.robot < 0 else f"robot {stop.robot}"
+    error = (f"{who}: {what}; stopped at step {step} (t={now:g} s)"
+             + (f", {place}" if place else "") + (f"\n    {place.text}" if place and place.text
+                                                   else ""))
+    detail = f"Exception: StepTimeout: {what}" + (f" ({place})" if place else "")
+    return error, detail, user_traceback(stop) if place is not None else ""
