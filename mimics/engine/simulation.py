@@ -69,7 +69,8 @@ class Simulation:
         policy: on an exception in user code, ``"abort"`` ends the run with
             status ``error``; ``"deactivate"`` deactivates only that robot.
         time_limit: simulated seconds (default: the scenario's setting).
-        wall_limit: wall-clock seconds after which the run stops (``wall_limit``).
+        wall_limit: wall-clock seconds after which the run stops (status ``wall_limit``);
+            user code still running then is stopped (``mimics.engine.watchdog``).
         stop_when: a predicate on the simulation that ends the run when true.
         observers: objects with optional ``on_start``, ``on_step``, ``on_end``.
     """
