@@ -1,9 +1,9 @@
 """Ending a run whose user code does not return before the wall-clock limit.
 
 The engine checks the wall limit between steps; a step that never returns
-(``while True: pass``) never gets there. When a run has a wall limit, a
-:class:`Watchdog` thread waits for it and, if user code is still running
-:data:`GRACE` seconds after it, stops that code in the simulation's thread:
+(``while True: pass``) never gets there. A run with a wall limit has a
+:class:`Watchdog`; if user code is still running :data:`GRACE` seconds after
+the limit, it is stopped in the simulation's thread:
 
 * Python code gets a :class:`StepTimeout` raised into it (CPython's
   ``PyThreadState_SetAsyncExc``), at the next line it runs, so the traceback
@@ -17,15 +17,18 @@ The engine checks the wall limit between steps; a step that never returns
 
 The watchdog only interrupts while the simulation is inside user code
 (:meth:`Watchdog.enter` and :meth:`Watchdog.leave` bracket it under a lock), so
-the engine's own arrays are never left half-updated. It exists only when the
-run has a wall limit, and ends with the run.
+the engine's own arrays are never left half-updated. Watchdogs exist only in
+runs with a wall limit; one thread per process (``mimics-wall-limit``) checks
+them every :data:`POLL` seconds and ends :data:`IDLE` seconds after the last run.
 """
 
 from __future__ import annotations
 
 import ctypes
+import os
 import threading
 import time
+import weakref
 from collections.abc import Callable
 
 from mimics.engine.user_code import failure_place, user_traceback
@@ -36,6 +39,10 @@ GRACE = 0.5
 RETRY = 0.5
 #: Interruptions before the watchdog gives up (a battery still kills the worker).
 TRIES = 20
+#: Seconds between the watcher thread's checks.
+POLL = 0.1
+#: Seconds without an armed watchdog after which the watcher thread ends.
+IDLE = 2.0
 
 _set_async = ctypes.PYFUNCTYPE(ctypes.c_int, ctypes.c_ulong, ctypes.py_object)(
     ("PyThreadState_SetAsyncExc", ctypes.pythonapi))
@@ -77,16 +84,14 @@ class Watchdog:
     """
 
     def __init__(self, deadline: float, interrupt: Callable[[int], None]) -> None:
-        self._deadline = deadline
         self._interrupt = interrupt
         self._lock = threading.Lock()
         self._inside = False
         self._thread_id = threading.get_ident()
         self._fired = False
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._watch, name="mimics-wall-limit",
-                                        daemon=True)
-        self._thread.start()
+        self._next = deadline  # when to interrupt (again)
+        self._tries = 0
+        _WATCHER.arm(self)
 
     def enter(self) -> None:
         """The simulation's thread starts running user code."""
@@ -102,22 +107,76 @@ class Watchdog:
                 _clear_async(self._thread_id, None)
 
     def close(self) -> None:
-        """End the watchdog's thread (at the end of the run)."""
-        self._stop.set()
-        if self._thread is not threading.current_thread():
-            self._thread.join()
+        """Stop watching (at the end of the run)."""
+        _WATCHER.disarm(self)
+
+    def check(self, now: float) -> bool:
+        """Interrupt the user code if it runs past its time (between steps the engine's
+        own check ends the run); False once the watchdog gives up."""
+        if now < self._next:
+            return True
+        with self._lock:
+            if self._tries >= TRIES:
+                return False
+            if not self._inside:
+                return True
+            self._fired = True
+            self._tries += 1
+            self._next = now + RETRY
+            self._interrupt(self._thread_id)
+        return True
+
+
+class _Watcher:
+    """One daemon thread per process that checks the armed watchdogs every :data:`POLL`
+    seconds. It starts with the first armed watchdog and ends once none has been armed for
+    :data:`IDLE` seconds, so a battery's runs share it and nothing stays after them.
+    (A thread started and joined per run cost milliseconds a run on a busy machine: the
+    new thread, and its end, must be scheduled while the run holds the GIL.)"""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        # weak: a simulation dropped before its end (stepped by hand) is not watched forever
+        self._armed: weakref.WeakSet[Watchdog] = weakref.WeakSet()
+        self._thread: threading.Thread | None = None
+        if hasattr(os, "register_at_fork"):  # a forked child has no watcher thread yet
+            os.register_at_fork(after_in_child=self._forget)
+
+    def _forget(self) -> None:
+        self._lock = threading.Lock()
+        self._armed = weakref.WeakSet()
+        self._thread = None
+
+    def arm(self, watchdog: Watchdog) -> None:
+        with self._lock:
+            self._armed.add(watchdog)
+            if self._thread is None:
+                self._thread = threading.Thread(target=self._watch, name="mimics-wall-limit",
+                                                daemon=True)
+                self._thread.start()
+
+    def disarm(self, watchdog: Watchdog) -> None:
+        with self._lock:
+            self._armed.discard(watchdog)
 
     def _watch(self) -> None:
-        if self._stop.wait(max(0.0, self._deadline - time.perf_counter())):
-            return
-        for _ in range(TRIES):
+        idle = 0.0
+        while True:
+            time.sleep(POLL)
             with self._lock:
-                if not self._inside:
-                    return  # between steps: the engine's own check ends the run
-                self._fired = True
-                self._interrupt(self._thread_id)
-            if self._stop.wait(RETRY):
-                return
+                armed = list(self._armed)
+                idle = 0.0 if armed else idle + POLL
+                if idle >= IDLE:
+                    self._thread = None
+                    return
+            now = time.perf_counter()
+            done = [watchdog for watchdog in armed if not watchdog.check(now)]
+            with self._lock:
+                for watchdog in done:
+                    self._armed.discard(watchdog)
+
+
+_WATCHER = _Watcher()  # the process's watcher thread (not run state: runs only register)
 
 
 def describe_timeout(stop: StepTimeout, wall_limit: float, step: int, now: float

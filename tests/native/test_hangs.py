@@ -11,6 +11,7 @@ from pathlib import Path
 import mimics
 from mimics.engine.state import Status
 from mimics.engine.watchdog import GRACE, RETRY
+from tests.engine.test_wall_limit import threads_left
 from tests.native.conftest import ALGORITHMS
 from tests.processes import alive_with, marked_environment
 
@@ -27,7 +28,7 @@ def test_a_c_step_that_never_returns_is_cut_and_the_run_recorded(tmp_path: Path)
                       "1 s; stopped at step 3 (t=0.3 s)")
     assert 1.0 <= result.wall_time < NEVER
     assert result.final_status.tolist() == [Status.ACTIVE, Status.ERROR, Status.ACTIVE]
-    assert set(threading.enumerate()) == threads
+    assert threads_left(threads) == set()
     run = mimics.load_run(tmp_path / "run")
     assert run.complete and int(run.trajectory["step"].max()) == 3
     assert run.read_events(kinds=["exception"])["detail"].tolist() == [
