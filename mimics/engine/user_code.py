@@ -149,6 +149,8 @@ def return_lines(step: Any, output: Any) -> list[Place]:
     places = [node.lineno + first - 1 for node in kept]
     if output is None and not _always_returns(definition.body):
         places.append(definition.lineno + first - 1)  # it ran off its end: name its `def`
+    if not places:  # none fits only if the forms misjudged: name every return
+        places = [node.lineno + first - 1 for node in returns]
     filename = code.co_filename
     return [Place(filename, line, source_line(filename, line)) for line in sorted(set(places))]
 
@@ -176,14 +178,25 @@ def _could_return(value: ast.expr | None, output: Any) -> bool:
         if any(isinstance(e, ast.Starred) for e in value.elts):
             return True
         try:
-            count = len(output)
+            values = list(output)
         except TypeError:
             return False
-        return count == len(value.elts)
+        return len(values) == len(value.elts) and all(
+            _could_return(element, item) for element, item in zip(value.elts, values, strict=True)
+            if isinstance(element, ast.Constant))  # `return 0.0, theta` gave no NaN speed
     if isinstance(value, ast.Constant):
-        return value.value == output or (isinstance(value.value, float)
-                                         and math.isnan(value.value))
+        return _same_number(value.value, output)
     return True
+
+
+def _same_number(constant: Any, output: Any) -> bool:
+    """Whether a literal in the source equals an output value (NaN equal to NaN)."""
+    try:
+        if constant == output:
+            return True
+        return math.isnan(float(constant)) and math.isnan(float(output))
+    except (TypeError, ValueError):
+        return False
 
 
 def _always_returns(body: list[ast.stmt]) -> bool:

@@ -201,6 +201,21 @@ def many_returns(robot):
     return robot.y
 
 
+def two_pairs(robot):
+    if robot.id:
+        return 0.0, robot.theta
+    return robot.speed, 1.5
+
+
+def test_literals_in_a_returned_pair_rule_a_return_out() -> None:
+    first = two_pairs.__code__.co_firstlineno
+    assert [p.line for p in return_lines(two_pairs, (math.nan, 1.5))] == [first + 3]
+    # no return fits (forms misjudged): all are named rather than none
+    assert [p.line for p in return_lines(two_pairs, (math.nan, 0.2))] == [first + 2, first + 3]
+    assert [p.line for p in return_lines(two_pairs, (0.0, math.nan))] == [first + 2]
+    assert [p.line for p in return_lines(two_pairs, (0.0, 1.5))] == [first + 2, first + 3]
+
+
 def test_return_lines_keeps_the_returns_that_fit_the_output() -> None:
     first = two_returns.__code__.co_firstlineno
     assert [p.line for p in return_lines(two_returns, 1.0)] == [first + 2]
