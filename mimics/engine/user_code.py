@@ -16,6 +16,7 @@ failure was seen (nothing is traced on the normal path).
 from __future__ import annotations
 
 import ast
+import functools
 import inspect
 import linecache
 import math
@@ -126,33 +127,43 @@ def return_lines(step: Any, output: Any) -> list[Place]:
 
     Read from the function's source: a value that is not two numbers cannot
     come from ``return a, b``; ``None`` comes from a bare ``return`` or from
-    running off the end of the function (its ``def`` line is given then). Several candidates are
-    all given, in the file's order; none when the source is not available.
+    running off the end of the function (its ``def`` line is given then).
+    Several candidates are all given, in the file's order; none when the
+    source is not available.
     """
     function = function_of(step)
-    if function is None:
+    if function is None or not is_user_file(function.__code__.co_filename):
         return []
-    code: CodeType = function.__code__
-    if not is_user_file(code.co_filename):
+    parsed = _returns_of(function.__code__, function)
+    if parsed is None:
         return []
+    returns, def_line, falls_off = parsed
+    places = [line for line, value in returns if _could_return(value, output)]
+    if output is None and falls_off:
+        places.append(def_line)  # it ran off its end: name its `def`
+    if not places:  # none fits only if the forms misjudged: name every return
+        places = [line for line, _ in returns]
+    filename = function.__code__.co_filename
+    return [Place(filename, line, source_line(filename, line)) for line in sorted(set(places))]
+
+
+@functools.lru_cache(maxsize=64)
+def _returns_of(code: CodeType, function: FunctionType
+                ) -> tuple[list[tuple[int, ast.expr | None]], int, bool] | None:
+    """A function's ``(line, value)`` returns, its ``def`` line and whether it can run off
+    its end; parsed once per function (2,000 robots failing at once parse it once)."""
     try:
         lines, first = inspect.getsourcelines(function)
         tree = ast.parse(textwrap.dedent("".join(lines)))
     except (OSError, TypeError, SyntaxError):
-        return []
+        return None
     definition = next((node for node in ast.walk(tree)
                        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)), None)
     if definition is None:
-        return []
-    returns = [node for node in _own_nodes(definition) if isinstance(node, ast.Return)]
-    kept = [node for node in returns if _could_return(node.value, output)]
-    places = [node.lineno + first - 1 for node in kept]
-    if output is None and not _always_returns(definition.body):
-        places.append(definition.lineno + first - 1)  # it ran off its end: name its `def`
-    if not places:  # none fits only if the forms misjudged: name every return
-        places = [node.lineno + first - 1 for node in returns]
-    filename = code.co_filename
-    return [Place(filename, line, source_line(filename, line)) for line in sorted(set(places))]
+        return None
+    returns = [(node.lineno + first - 1, node.value) for node in _own_nodes(definition)
+               if isinstance(node, ast.Return)]
+    return returns, definition.lineno + first - 1, not _always_returns(definition.body)
 
 
 def _own_nodes(function: ast.AST) -> list[ast.AST]:
