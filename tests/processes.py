@@ -6,6 +6,8 @@ import os
 import subprocess
 import uuid
 
+from tests.system_packages import require
+
 
 def marked_environment() -> tuple[dict[str, str], str]:
     """A copy of the environment with a marker of its own, inherited by every child process."""
@@ -15,6 +17,7 @@ def marked_environment() -> tuple[dict[str, str], str]:
 
 def alive_with(marker: str) -> list[str]:
     """``pid command`` of the processes whose environment holds ``marker`` (ps's ``e``)."""
+    require("ps")
     listing = subprocess.run(["ps", "-e", "e", "-ww", "-o", "pid=,args="], capture_output=True,
                              text=True, check=True).stdout
     needle = f"MIMICS_TEST_MARKER={marker}"
