@@ -50,8 +50,8 @@ class Place:
 
 def is_user_file(filename: str) -> bool:
     """Whether frames of ``filename`` are the user's (not mimics', Python's or a package's)."""
-    if filename.startswith("<") and not filename.startswith("<ipython"):
-        return False  # <frozen ...>, <string>: no source a user can open
+    if filename.startswith("<"):  # <frozen ...>: Python's own; <stdin>, <string>: the user's
+        return not filename.startswith("<frozen")
     path = os.path.abspath(filename)
     if path.startswith(_USER_PARTS):
         return True
@@ -87,8 +87,9 @@ def failure_place(exc: BaseException) -> Place | None:
 
 
 def user_traceback(exc: BaseException) -> str:
-    """``exc``'s traceback with only the user's frames (all of them when none is the user's),
-    chained exceptions included, as Python prints it."""
+    """``exc``'s traceback with only the user's frames, chained exceptions included, as
+    Python prints it (the exception's line alone when no frame is the user's: an error
+    of compiled code raised by mimics for it)."""
     formatted = traceback.TracebackException.from_exception(exc)
     seen: set[int] = set()
     pending = [formatted]
@@ -97,9 +98,8 @@ def user_traceback(exc: BaseException) -> str:
         if id(current) in seen:
             continue
         seen.add(id(current))
-        kept = [f for f in current.stack if is_user_file(f.filename)]
-        if kept:
-            current.stack = traceback.StackSummary.from_list(kept)
+        current.stack = traceback.StackSummary.from_list(
+            [f for f in current.stack if is_user_file(f.filename)])
         pending.extend(e for e in (current.__cause__, current.__context__) if e is not None)
     return "".join(formatted.format())
 

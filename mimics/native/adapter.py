@@ -330,5 +330,5 @@ class NativeTeam:
             entry = "mimics_team_reset" if reset else "mimics_team_step"
             if self._lib.mimics_host_was_cut():  # past the wall limit
                 raise _was_cut(self._build, -1, entry)
-            raise NativeError(f"{entry} returned {code}")
+            raise NativeError(f"{entry} returned {code} at step {round(team.time / team.dt)}")
         return speed, heading
