@@ -40,7 +40,7 @@ from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.step_checks import check_moved
 from mimics.engine.wall_index import WallIndex, shared_wall_index
-from mimics.engine.watchdog import GRACE, StepTimeout, Watchdog, describe_timeout
+from mimics.engine.watchdog import StepTimeout, Watchdog, describe_timeout
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
@@ -149,7 +149,8 @@ class Simulation:
         self._sense()
         if self.wall_limit is not None:  # user code that never returns is stopped
             self.controller.prepare_interrupt()
-            self._watchdog = Watchdog(self._wall_start + self.wall_limit + GRACE,
+            self._watchdog = Watchdog(self.wall_limit,
+                                      lambda: time.perf_counter() - self._wall_start,
                                       self.controller.interrupt)
         self._handle_failures((self._guarded(None) if self._watchdog else
                                self.controller.reset(self)) or [])

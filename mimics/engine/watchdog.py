@@ -75,21 +75,25 @@ def raise_in_thread(thread_id: int) -> None:
 
 
 class Watchdog:
-    """Interrupts user code running past ``deadline`` (``time.perf_counter`` seconds).
+    """Interrupts user code still running when ``elapsed()`` passes ``limit`` + :data:`GRACE`.
 
     Args:
-        deadline: when to interrupt user code still running.
+        limit: the run's wall limit (s).
+        elapsed: the run's wall time so far (s), as the engine counts it for the limit.
         interrupt: stops the user code running in the given thread (the
             controller's :meth:`~mimics.engine.controllers.Controller.interrupt`).
     """
 
-    def __init__(self, deadline: float, interrupt: Callable[[int], None]) -> None:
+    def __init__(self, limit: float, elapsed: Callable[[], float],
+                 interrupt: Callable[[int], None]) -> None:
+        self._limit = limit + GRACE
+        self._elapsed = elapsed
         self._interrupt = interrupt
         self._lock = threading.Lock()
         self._inside = False
         self._thread_id = threading.get_ident()
         self._fired = False
-        self._next = deadline  # when to interrupt (again)
+        self._next = 0.0  # when to interrupt again (time.perf_counter)
         self._tries = 0
         _WATCHER.arm(self)
 
@@ -113,7 +117,7 @@ class Watchdog:
     def check(self, now: float) -> bool:
         """Interrupt the user code if it runs past its time (between steps the engine's
         own check ends the run); False once the watchdog gives up."""
-        if now < self._next:
+        if now < self._next or self._elapsed() < self._limit:
             return True
         with self._lock:
             if self._tries >= TRIES:
