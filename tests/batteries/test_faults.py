@@ -14,6 +14,7 @@ from mimics.batteries.driver import rerun_failed
 from mimics.batteries.status import battery_status
 from mimics.engine.user_code import shown_path
 from tests.batteries.helpers import fault, write_battery
+from tests.processes import left_running, marked_environment
 
 FAULTY = ["raise_at_7", "loop_forever", "exit_3", "segfault", "nan"]
 
@@ -80,9 +81,10 @@ def test_killed_and_crashed_workers_leave_no_leaked_semaphores(tmp_path: Path) -
                          ["go_to_goal", *(fault(f) for f in ("sleep_forever", "exit_3",
                                                               "loop_forever"))],
                          seeds=1, time=1.0, timeout=1.0)
+    env, marker = marked_environment()
     done = subprocess.run([sys.executable, "-m", "mimics", "battery", "run", str(path), "--out",
                            str(tmp_path / "b"), "--workers", "2"], capture_output=True,
-                          text=True, timeout=600, check=False)
+                          text=True, timeout=600, check=False, env=env)
     assert done.returncode == 1, done.stderr
     states = runs_table(tmp_path / "b").set_index("algorithm")["state"].to_dict()
     assert states == {"go_to_goal": "done", "sleep_forever": "timeout", "exit_3": "crashed",
@@ -90,3 +92,4 @@ def test_killed_and_crashed_workers_leave_no_leaked_semaphores(tmp_path: Path) -
     assert "killed" in runs_table(tmp_path / "b").set_index("algorithm").loc[
         "sleep_forever", "error"]  # the worker's hard deadline: it never got back to Python
     assert "leaked" not in done.stderr and "resource_tracker" not in done.stderr, done.stderr
+    assert left_running(marker) == []  # no worker, fork server or resource tracker left

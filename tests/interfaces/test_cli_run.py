@@ -14,7 +14,7 @@ import mimics
 from mimics.engine import warm_up
 from mimics.interfaces.cli import first_run
 from mimics.interfaces.cli import program as cli
-from tests.processes import alive_with, marked_environment
+from tests.processes import left_running, marked_environment
 
 runner = CliRunner()
 
@@ -82,7 +82,7 @@ def test_a_step_that_never_returns_ends_at_the_wall_limit_with_its_line(tmp_path
     assert done.stdout.split("stuck.py:")[1].startswith(("3\n    while x > -1:\n",
                                                          "4\n    y = y + 1\n"))
     assert "Traceback" not in done.stdout + done.stderr
-    assert alive_with(marker) == []
+    assert left_running(marker) == []
     run = mimics.load_run(tmp_path / "run")
     assert run.complete and run.summary["status"] == "wall_limit"
     assert run.summary["exceptions"] == 1 and len(run.trajectory) == 2  # the start, recorded

@@ -13,7 +13,7 @@ from mimics.engine.state import Status
 from mimics.engine.watchdog import GRACE, RETRY
 from tests.engine.test_wall_limit import threads_left
 from tests.native.conftest import ALGORITHMS
-from tests.processes import alive_with, marked_environment
+from tests.processes import left_running, marked_environment
 
 #: A bound that only a run the watchdog failed to stop exceeds (not a speed test).
 NEVER = 1.0 + GRACE + 20 * RETRY
@@ -58,7 +58,7 @@ def test_the_command_exits_1_naming_robot_and_step_and_leaves_nothing_running(
     assert ("error: robot 1: mimics_step in spin.c did not return within the wall limit of 1 s; "
             "stopped at step 3 (t=0.3 s)\n") in done.stdout
     assert "Traceback" not in done.stdout + done.stderr
-    assert alive_with(marker) == []  # neither the command nor its child process
+    assert left_running(marker) == []  # neither the command nor its child process
     report = subprocess.run([sys.executable, "-m", "mimics", "report", str(tmp_path / "run")],
                             capture_output=True, text=True, check=False)
     assert report.returncode == 0 and "wall_limit" in report.stdout
