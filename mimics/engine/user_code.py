@@ -21,6 +21,7 @@ import inspect
 import linecache
 import math
 import os
+import sys
 import sysconfig
 import textwrap
 import traceback
@@ -31,9 +32,12 @@ from typing import Any
 
 _MIMICS = Path(__file__).resolve().parent.parent
 _USER_PARTS = (str(_MIMICS / "algorithms") + os.sep,)
+# Python's library, installed packages (also Debian's dist-packages, where ROS's are) and mimics
 _NOT_USER = tuple(sorted({str(Path(p).resolve()) + os.sep for p in (
     sysconfig.get_paths()["stdlib"], sysconfig.get_paths()["purelib"],
-    sysconfig.get_paths()["platlib"])} | {str(_MIMICS) + os.sep}))
+    sysconfig.get_paths()["platlib"],
+    *(p for p in sys.path if Path(p).name in ("site-packages", "dist-packages")))}
+    | {str(_MIMICS) + os.sep}))
 
 
 @dataclass(frozen=True)
