@@ -69,7 +69,13 @@ def _load_file(path: Path, kind: str) -> ModuleType:
         raise MimicsError(f"{path}, line {exc.lineno}: syntax error: {exc.msg}") from exc
     except Exception as exc:  # user code at import time: report it in one line
         del sys.modules[name]
-        raise MimicsError(f"{path}: importing it raised {type(exc).__name__}: {exc}") from exc
+        from mimics.engine.user_code import failure_place, first_line
+
+        place = failure_place(exc)  # the user's line that raised, as for a syntax error
+        where = ("" if place is None else f", line {place.line}"
+                 if Path(place.file).resolve() == path.resolve() else f" (at {place})")
+        raise MimicsError(f"{path}{where}: importing it raised {type(exc).__name__}: "
+                          f"{first_line(exc)}") from exc
     return module
 
 

@@ -30,6 +30,8 @@ def _has_file(path: str) -> Callable[[], bool]:
 # A part: how to tell it is there, and the Debian packages that provide it.
 PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
     "compiler": (_has_command("gcc"), ["gcc", "g++", "libc6-dev"]),
+    # `ps`, for tests that look for processes left running (tests/processes.py)
+    "ps": (_has_command("ps"), ["procps"]),
     "chromium": (_has_command("chromium"), ["chromium"]),
     "ros": (
         lambda: _has_command("rosmaster")() and _has_file("/usr/include/ros/ros.h")()

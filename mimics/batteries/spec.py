@@ -249,6 +249,12 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     if not isinstance(name, str):
         raise fail(f"[battery] name: expected a string, got {name!r}")
     scenarios = _scenarios(data.get("scenarios"), base, fail)
+    if time is not None:
+        for k, entry in enumerate(scenarios, start=1):
+            if "time_limit" in entry.params:
+                raise fail(f"[battery] time = {time!r} and [[scenarios]] #{k} ({entry.name}) "
+                           f"time_limit = {_text(entry.params['time_limit'])}: two values for "
+                           "the simulated time; give one")
     count = len(algorithms) * (until.max_seeds if until else len(seeds)) * sum(
         math.prod(len(v) if isinstance(v, list) else 1 for v in entry.params.values())
         for entry in scenarios)
@@ -308,8 +314,27 @@ def _scenarios(value: Any, base: Path, fail: Any) -> tuple[ScenarioEntry, ...]:
         _check_scenario(entry, f"{where} ({name})", fail)
         if entry in entries:
             raise fail(f"{where}: the same scenario and parameters are listed twice")
+        _no_shared_points(entry, entries, where, fail)
         entries.append(entry)
     return tuple(entries)
+
+
+def _no_shared_points(entry: ScenarioEntry, earlier: list[ScenarioEntry], where: str,
+                      fail: Any) -> None:
+    """Refuse a table whose parameter points an earlier table of the same scenario has
+    (``robots = 10`` after ``robots = [1, 10]``): those runs would run twice."""
+    points = entry.points()
+    for k, other in enumerate(earlier, start=1):
+        if other.ref != entry.ref:
+            continue
+        shared = next((p for p in other.points() if p in points), None)
+        if shared is not None:
+            given = ", ".join(f"{key} = {_text(v)}" for key, v in entry.params.items())
+            before = ", ".join(f"{key} = {_text(v)}" for key, v in other.params.items())
+            point = ", ".join(f"{key} = {_text(v)}" for key, v in shared.items())
+            raise fail(f"{where}: {given or 'no parameters'} repeats runs of [[scenarios]] #{k} "
+                       f"({before or 'no parameters'}): {point or 'the defaults'}; give each "
+                       "point once")
 
 
 def _check_scenario(entry: ScenarioEntry, where: str, fail: Any) -> None:

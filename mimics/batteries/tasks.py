@@ -144,12 +144,12 @@ def execute(task: Task, worker: str) -> Outcome:
     outcome.counts = {key: int(summary[key]) for key in COUNTS}
     outcome.metrics = summary_metrics(summary)
     outcome.digest = run_digest(summary)
-    if outcome.state == "timeout":
-        outcome.error = (f"wall-clock timeout: stopped after {task.timeout:g} s at simulated "
+    outcome.error = str(summary.get("error") or "")
+    if outcome.state == "timeout":  # a step that did not return: its robot, step and line
+        outcome.error = (f"wall-clock timeout: {outcome.error}" if outcome.error else
+                         f"wall-clock timeout: stopped after {task.timeout:g} s at simulated "
                          f"t={outcome.sim_time:g} s")
-    else:
-        outcome.error = str(summary.get("error") or "")
-    if outcome.state == "error":
+    if outcome.state == "error" or outcome.error:
         first = next((e for e in result.events if e.kind == "exception"), None)
         outcome.traceback = first.traceback if first is not None else ""
     return _ended(outcome)

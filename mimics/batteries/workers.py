@@ -127,10 +127,27 @@ def _redirect_output(path: str) -> None:
 
 
 def _limit_threads(threads: int) -> None:
+    """Start Numba's thread pool with ``threads`` threads.
+
+    Numba guards the start of its pool with a multiprocessing ``RLock`` when the
+    start method's name holds "fork". Under ``forkserver`` that lock is a named
+    semaphore registered with the battery's resource tracker, which a worker
+    killed for time or crashed never releases: the battery then ended with
+    "resource_tracker: There appear to be N leaked semaphore objects". Under
+    ``fork`` the same lock is unlinked as soon as it is made, so it is made there.
+    """
     with contextlib.suppress(Exception):
         import numba
 
-        numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
+        method = multiprocessing.get_start_method(allow_none=True)
+        forks = "fork" in multiprocessing.get_all_start_methods()
+        if forks:
+            multiprocessing.set_start_method("fork", force=True)
+        try:
+            numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
+        finally:
+            if forks:
+                multiprocessing.set_start_method(method, force=True)
 
 
 def warm_up_engine() -> None:

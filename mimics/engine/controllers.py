@@ -21,7 +21,6 @@ from __future__ import annotations
 import inspect
 import math
 import time
-import traceback
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from types import ModuleType
@@ -30,6 +29,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mimics.engine.robot_view import Robot, Team
+from mimics.engine.user_code import (
+    failure_place,
+    first_line,
+    return_lines,
+    user_traceback,
+    where_of,
+)
+from mimics.engine.watchdog import StepTimeout, blame, raise_in_thread
 from mimics.world.errors import AlgorithmError
 
 if TYPE_CHECKING:
@@ -38,13 +45,28 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class UserFailure:
-    """An exception or invalid output of user code."""
+    """An exception or invalid output of user code.
+
+    ``where`` is the place in the user's code (``"my_algo.py:7"``; "" when unknown)
+    and ``line`` that line's source text; ``traceback`` holds the user's frames only.
+    """
 
     robot: int  # -1 when a team call failed as a whole
     time: float
     kind: str  # exception class name, or "InvalidOutput"
     message: str
     traceback: str
+    where: str = ""
+    line: str = ""
+
+    def describe(self) -> str:
+        """``"AttributeError in robot 0 at t=0 s, my_algo.py:7: message"``, then the source
+        line on a second line when known."""
+        who = "the team algorithm" if self.robot < 0 else f"robot {self.robot}"
+        at = f", {self.where}" if self.where else ""
+        message = self.message.removeprefix(f"{who}: ")  # "robot 2: step() returned..."
+        text = f"{self.kind} in {who} at t={self.time:g} s{at}: {message}"
+        return f"{text}\n    {self.line}" if self.line else text
 
 
 class Controller(ABC):
@@ -61,24 +83,49 @@ class Controller(ABC):
     def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
         """Write references for robots ``ids`` into ``sim.state.reference``."""
 
+    def prepare_interrupt(self) -> None:
+        """Make :meth:`interrupt` possible (called when a run with a wall limit starts)."""
+        return None  # Python code needs nothing: an exception can be raised into it
 
-def _failure_from_exception(robot: int, now: float, exc: BaseException) -> UserFailure:
-    tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
-    return UserFailure(robot, now, type(exc).__name__, str(exc) or type(exc).__name__, tb)
-
-
-def _invalid(robot: int, now: float, message: str) -> UserFailure:
-    return UserFailure(robot, now, "InvalidOutput", message, "")
-
-
-def _not_two_numbers(robot: int, now: float, output: Any) -> UserFailure:
-    return _invalid(robot, now, f"robot {robot}: step() must return (speed_ref, heading_ref),"
-                                f" two numbers; got {output!r}")
+    def interrupt(self, thread_id: int) -> None:
+        """Stop the user code running in thread ``thread_id`` (from the wall-limit watchdog):
+        a :class:`~mimics.engine.watchdog.StepTimeout` raised into Python code."""
+        raise_in_thread(thread_id)
 
 
-def _not_finite(robot: int, now: float, speed: float, heading: float) -> UserFailure:
-    return _invalid(robot, now, f"robot {robot}: step() returned a non-finite reference "
-                                f"(speed_ref={speed}, heading_ref={heading})")
+def failure_from_exception(robot: int, now: float, exc: BaseException) -> UserFailure:
+    """The failure of a user call that raised ``exc``, placed at the user's innermost line."""
+    place = failure_place(exc)
+    return UserFailure(robot, now, type(exc).__name__, first_line(exc), user_traceback(exc),
+                       str(place) if place else "", place.text if place else "")
+
+
+def invalid_output(robot: int, now: float, message: str, step: Any = None,
+                   output: Any = None) -> UserFailure:
+    """An invalid output of ``step``, placed at the ``return`` lines that can have given it."""
+    where, line = where_of(return_lines(step, output)) if step is not None else ("", "")
+    return UserFailure(robot, now, "InvalidOutput", message, "", where, line)
+
+
+def _not_two_numbers(robot: int, now: float, output: Any, step: Any) -> UserFailure:
+    return invalid_output(robot, now, f"robot {robot}: step() must return (speed_ref, "
+                                      f"heading_ref), two numbers; got {_shown(output)}",
+                          step, output)
+
+
+def _not_finite(robot: int, now: float, speed: float, heading: float, step: Any,
+                output: Any) -> UserFailure:
+    return invalid_output(robot, now, f"robot {robot}: step() returned a non-finite reference "
+                                      f"(speed_ref={speed}, heading_ref={heading})", step, output)
+
+
+def _shown(output: Any) -> str:
+    """An output as a student reads it: ``0.5 (a float)`` rather than ``np.float64(0.5)``."""
+    if output is None:
+        return "None (it ended without returning a value)"
+    text = repr(output.item() if isinstance(output, np.generic) else output)
+    text = text if len(text) <= 200 else text[:197] + "..."
+    return f"{text} (a {type(output).__name__})"
 
 
 class PerRobotController(Controller):
@@ -106,7 +153,10 @@ class PerRobotController(Controller):
                     hook(robot)
             except Exception as exc:  # user code: contain everything it raises
                 self._instances.append(None)
-                failures.append(_failure_from_exception(robot.id, sim.state.time, exc))
+                failures.append(failure_from_exception(robot.id, sim.state.time, exc))
+            except StepTimeout as stop:  # past the wall limit: say whose call it was
+                blame(stop, robot.id, "reset()")
+                raise
         return failures
 
     def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
@@ -136,22 +186,25 @@ class PerRobotController(Controller):
                 output = step(robot)
             except Exception as exc:  # user code: contain everything it raises
                 times.append(clock() - start)
-                failures.append(_failure_from_exception(i, now, exc))
+                failures.append(failure_from_exception(i, now, exc))
                 continue
+            except StepTimeout as stop:  # past the wall limit: say whose call it was
+                blame(stop, i, "step()")
+                raise
             times.append(clock() - start)
             # two finite numbers, checked inline: this runs once per robot and step
             try:
                 speed, heading = output
                 speed, heading = float(speed), float(heading)
             except (TypeError, ValueError):
-                failures.append(_not_two_numbers(i, now, output))
+                failures.append(_not_two_numbers(i, now, output, step))
                 continue
             if isfinite(speed) and isfinite(heading):
                 done.append(i)
                 speeds.append(speed)
                 headings.append(heading)
             else:
-                failures.append(_not_finite(i, now, speed, heading))
+                failures.append(_not_finite(i, now, speed, heading, step, output))
         state.user_time[ids] = times
         if len(done) == state.n:  # every robot, in order: whole columns
             state.reference[:, 0] = speeds
@@ -183,7 +236,10 @@ class TeamController(Controller):
             if hook is not None:
                 hook(Team(sim, ids))
         except Exception as exc:  # user code: contain everything it raises
-            return [_failure_from_exception(-1, sim.state.time, exc)]
+            return [failure_from_exception(-1, sim.state.time, exc)]
+        except StepTimeout as stop:
+            blame(stop, -1, "team_reset()")
+            raise
         return []
 
     def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
@@ -195,15 +251,19 @@ class TeamController(Controller):
             output = step(Team(sim, ids))
         except Exception as exc:  # user code: contain everything it raises
             state.user_time[ids] = (time.perf_counter() - start) / max(len(ids), 1)
-            return [_failure_from_exception(-1, now, exc)]
+            return [failure_from_exception(-1, now, exc)]
+        except StepTimeout as stop:
+            blame(stop, -1, "team_step()")
+            raise
         state.user_time[ids] = (time.perf_counter() - start) / max(len(ids), 1)
         try:
             speed, heading = output
             speed = _as_rows(speed, ids.shape)
             heading = _as_rows(heading, ids.shape)
         except (TypeError, ValueError):
-            return [_invalid(-1, now, f"team_step() must return (speed_refs, heading_refs), "
-                                      f"two arrays of length {len(ids)}; got {output!r:.200}")]
+            return [invalid_output(-1, now, f"team_step() must return (speed_refs, "
+                                            f"heading_refs), two arrays of length {len(ids)}; "
+                                            f"got {_shown(output)}", step, output)]
         good = np.isfinite(speed) & np.isfinite(heading)
         if np.count_nonzero(good) == len(ids):  # the usual case: no masking needed
             rows = slice(None) if len(ids) == state.n else ids
@@ -212,8 +272,10 @@ class TeamController(Controller):
             return []
         state.reference[ids[good], 0] = speed[good]
         state.reference[ids[good], 1] = heading[good]
-        return [_invalid(int(i), now, f"robot {int(i)}: team_step() returned a non-finite "
-                                      f"reference (speed_ref={s}, heading_ref={h})")
+        where, line = where_of(return_lines(step, output))
+        return [UserFailure(int(i), now, "InvalidOutput", f"robot {int(i)}: team_step() returned "
+                            f"a non-finite reference (speed_ref={s}, heading_ref={h})", "",
+                            where, line)
                 for i, s, h in zip(ids[~good], speed[~good], heading[~good], strict=True)]
 
 

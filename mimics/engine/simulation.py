@@ -40,6 +40,7 @@ from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.step_checks import check_moved
 from mimics.engine.wall_index import WallIndex, shared_wall_index
+from mimics.engine.watchdog import StepTimeout, Watchdog, describe_timeout
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
@@ -68,7 +69,8 @@ class Simulation:
         policy: on an exception in user code, ``"abort"`` ends the run with
             status ``error``; ``"deactivate"`` deactivates only that robot.
         time_limit: simulated seconds (default: the scenario's setting).
-        wall_limit: wall-clock seconds after which the run stops (``wall_limit``).
+        wall_limit: wall-clock seconds after which the run stops (status ``wall_limit``);
+            user code still running then is stopped (``mimics.engine.watchdog``).
         stop_when: a predicate on the simulation that ends the run when true.
         observers: objects with optional ``on_start``, ``on_step``, ``on_end``.
     """
@@ -121,14 +123,18 @@ class Simulation:
         self._pending: dict[int, Status] = {}  # deactivations applied at the end of the step
         self._started = False
         self._wall_start = 0.0
+        self._watchdog: Watchdog | None = None  # only with a wall limit (watchdog.py)
 
     # -- public API ---------------------------------------------------------
 
     def run(self) -> RunResult:
         """Run until an end criterion holds; returns the outcome."""
-        self.start()
-        while self.step():
-            pass
+        try:
+            self.start()
+            while self.step():
+                pass
+        finally:
+            self._close_watchdog()  # also when the run raises (an interrupt, a bug)
         return self.result()
 
     def start(self) -> None:
@@ -141,12 +147,17 @@ class Simulation:
         self._stalls.update(self.state)  # the windows start at time zero
         self._finish_deactivations()
         self._sense()
-        self._handle_failures(self.controller.reset(self))
+        if self.wall_limit is not None:  # user code that never returns is stopped
+            self.controller.prepare_interrupt()
+            self._watchdog = Watchdog(self.wall_limit,
+                                      lambda: time.perf_counter() - self._wall_start,
+                                      self.controller.interrupt)
+        self._handle_failures((self._guarded(None) if self._watchdog else
+                               self.controller.reset(self)) or [])
         for observer in self.observers:
             if hasattr(observer, "on_start"):
                 observer.on_start(self)
-        if self.status == "running":
-            self._check_end()
+        self._check_end()  # also ends a run whose reset hooks failed (observers' on_end)
 
     def step(self) -> bool:
         """Advance one step; returns False once the run has ended."""
@@ -159,7 +170,12 @@ class Simulation:
         ids = active.nonzero()[0]  # = flatnonzero, without its Python wrappers
         clear_messages(state.user_message, active)
         clear_messages(state.system_message, active)
-        failures = self.controller.compute(self, ids)
+        if self._watchdog is None:
+            failures = self.controller.compute(self, ids)
+        else:
+            failures = self._guarded(ids)
+            if failures is None:  # stopped past the wall limit: the run ends here
+                return self._check_end()
         self.timing.add(state.user_time if ids.size == state.n else state.user_time[ids])
         failed = self._handle_failures(failures)
         moving = ids[~np.isin(ids, failed)] if failed.size else ids
@@ -344,16 +360,45 @@ class Simulation:
         for failure in failures:
             robots = (np.flatnonzero(state.active).tolist() if failure.robot < 0
                       else [failure.robot])
-            detail = f"Exception: {failure.kind}: {failure.message}"
+            detail = f"Exception: {failure.kind}: {failure.message}" + (
+                f" ({failure.where})" if failure.where else "")
             for robot in robots:
                 self._mark(robot, Status.ERROR, detail, "exception", traceback=failure.traceback)
                 failed.append(robot)
         if self.policy == "abort" and self.status == "running":
-            first = failures[0]
-            who = "the team algorithm" if first.robot < 0 else f"robot {first.robot}"
-            self.error = f"{first.kind} in {who} at t={first.time:g} s: {first.message}"
+            self.error = failures[0].describe()
             self.status = "error"
         return np.array(failed, dtype=np.int64)
+
+    def _guarded(self, ids: np.ndarray | None) -> list[UserFailure] | None:
+        """The controller's ``compute(ids)`` (``reset`` for None) watched for the wall limit.
+
+        None when it was stopped (``watchdog.py``): the run then ends at the last whole
+        step, the robot whose call was stopped marked ``error`` where it was stuck."""
+        watchdog = self._watchdog
+        assert watchdog is not None
+        try:
+            watchdog.enter()
+            try:
+                return (self.controller.reset(self) if ids is None
+                        else self.controller.compute(self, ids))
+            finally:
+                watchdog.leave()
+        except StepTimeout as stop:
+            watchdog.leave()
+            state = self.state
+            self.error, detail, trace = describe_timeout(stop, self.wall_limit or 0.0,
+                                                         state.step, state.time)
+            for robot in np.flatnonzero(state.active) if stop.robot < 0 else [stop.robot]:
+                self._mark(int(robot), Status.ERROR, detail, "exception", traceback=trace)
+            self._finish_deactivations()
+            self.status = "wall_limit"
+            return None
+
+    def _close_watchdog(self) -> None:
+        if self._watchdog is not None:
+            self._watchdog.close()
+            self._watchdog = None
 
     def _user_wants_stop(self) -> bool:
         try:
@@ -378,6 +423,7 @@ class Simulation:
                 self.status = "stopped"
         if self.status == "running":
             return True
+        self._close_watchdog()
         result = self.result()
         for observer in self.observers:
             if hasattr(observer, "on_end"):

@@ -50,7 +50,8 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
         seed: seeds every random draw; same inputs and seed give identical results.
         policy: ``"abort"`` or ``"deactivate"`` on exceptions in user code.
         out: a folder for the run's records (summary.json and logs).
-        wall_limit: stop after this many wall-clock seconds.
+        wall_limit: stop after this many wall-clock seconds, also inside a step that
+            does not return (status ``wall_limit``, ``error`` naming the robot and line).
         params: other scenario parameters.
         observers: extra observers (e.g. a live view).
         record_scans: with ``out``, also record the laser scans (scans.parquet).

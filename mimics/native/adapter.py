@@ -10,12 +10,16 @@ Failures follow the contract of ``controllers.py``: a non-zero return code
 or a non-finite reference is recorded against the robot and handled by the
 run's policy. A crash (a segfault) takes the process with it: batteries
 record it as ``crashed`` and ``mimics run`` runs such files in a child
-process (``mimics.interfaces.cli.native``).
+process (``mimics.interfaces.cli.native``). A call still running past a
+run's wall limit is cut: the watchdog (``mimics.engine.watchdog``) sends
+:data:`CUT_SIGNAL` to the thread running it, whose handler in ``host.c``
+jumps back to the host; the run then ends as a Python step stopped there.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -23,6 +27,7 @@ import numpy as np
 
 from mimics.engine.controllers import Controller, TeamController, UserFailure
 from mimics.engine.robot_view import Robot, Team
+from mimics.engine.watchdog import StepTimeout
 from mimics.native.build import NativeBuild, load_native
 from mimics.world.errors import AlgorithmError
 
@@ -36,6 +41,9 @@ PROGRESS_ENV = "MIMICS_NATIVE_PROGRESS"
 _STEP, _RESET, _TEAM_STEP, _TEAM_RESET = 1, 2, 4, 8  # mimics_host_entry_points() bits
 _ERROR, _NOT_FINITE, _LOG, _SENT = 1, 2, 4, 8  # flags of mimics_host_run, as in host.c
 _BROADCAST = -1
+#: The signal that cuts a compiled call running past the wall limit (its handler is
+#: installed by runs with a wall limit only).
+CUT_SIGNAL = getattr(signal, "SIGUSR2", 0)
 
 
 class NativeError(Exception):
@@ -56,12 +64,32 @@ def native_controller(path: str | Path, name: str | None = None) -> Controller:
     entries = build.lib.mimics_host_entry_points()
     if entries & _TEAM_STEP:
         team = NativeTeam(build)
-        return TeamController(label, team_step=team.team_step, reset=team.team_reset)
+        return NativeTeamController(build, label, team_step=team.team_step,
+                                    reset=team.team_reset)
     if entries & _STEP:
         return NativeRobotController(build, label)
     raise AlgorithmError(f"{path}: define int mimics_step(const mimics_robot *robot, "
                          "mimics_output *out) or int mimics_team_step(const mimics_team *team, "
                          "double *speed, double *heading) (see mimics.h)")
+
+
+def _arm_cuts(build: NativeBuild) -> None:
+    """Install the handler that cuts this build's calls (see ``host.c``)."""
+    if not CUT_SIGNAL or build.lib.mimics_host_arm_cuts(int(CUT_SIGNAL)) != 0:
+        raise AlgorithmError(f"{build.source}: cannot install the handler that stops a call "
+                             "running past the wall limit on this system")
+
+
+def _cut(thread_id: int) -> None:
+    """Cut the compiled call running in thread ``thread_id`` (ignored between calls)."""
+    signal.pthread_kill(thread_id, CUT_SIGNAL)
+
+
+def _was_cut(build: NativeBuild, robot: int, entry: str) -> StepTimeout:
+    """The exception saying that ``robot``'s call of ``entry`` was cut (-1: the team's)."""
+    stop = StepTimeout()
+    stop.robot, stop.entry = robot, f"{entry} in {build.source.name}"
+    return stop
 
 
 def _progress_buffer() -> np.ndarray:
@@ -91,6 +119,12 @@ class NativeRobotController(Controller):
         self._pointed: dict[str, np.ndarray] = {}
         self._sent = False
         self._inboxes: list[int] = []
+
+    def prepare_interrupt(self) -> None:
+        _arm_cuts(self._build)
+
+    def interrupt(self, thread_id: int) -> None:
+        _cut(thread_id)
 
     def reset(self, sim: Simulation) -> list[UserFailure]:
         ffi, lib = self._ffi, self._lib
@@ -142,6 +176,10 @@ class NativeRobotController(Controller):
             ffi.cast("int *", ffi.from_buffer(self._codes)))
         if not flagged:
             return []
+        if flagged < 0 and self._lib.mimics_host_was_cut():  # past the wall limit
+            robot = int(self._progress[0])
+            self._progress[0] = -1
+            raise _was_cut(self._build, robot, "mimics_reset" if reset else "mimics_step")
         return self._flagged(sim, ids, reset)
 
     def _point_world(self, sim: Simulation) -> None:
@@ -213,7 +251,8 @@ class NativeRobotController(Controller):
                 self._sent = True
             if flag & _ERROR:
                 code = int(self._codes[j])
-                detail = f"robot {i}: {entry} returned {code}" + (f": {text}" if text else "")
+                detail = (f"robot {i}: {entry} returned {code} at step {sim.state.step}"
+                          + (f": {text}" if text else ""))
                 failures.append(UserFailure(i, now, "NativeError", detail, ""))
             elif flag & _NOT_FINITE:
                 failures.append(UserFailure(
@@ -222,10 +261,26 @@ class NativeRobotController(Controller):
         return failures
 
 
+class NativeTeamController(TeamController):
+    """The team form of a compiled algorithm: ``TeamController`` whose calls are cut by a
+    signal at the wall limit."""
+
+    def __init__(self, build: NativeBuild, name: str, **hooks: Any) -> None:
+        super().__init__(name, **hooks)
+        self._build = build
+
+    def prepare_interrupt(self) -> None:
+        _arm_cuts(self._build)
+
+    def interrupt(self, thread_id: int) -> None:
+        _cut(thread_id)
+
+
 class NativeTeam:
     """``mimics_team_step`` as a Python ``team_step(team)`` for ``TeamController``."""
 
     def __init__(self, build: NativeBuild) -> None:
+        self._build = build
         self._ffi, self._lib = build.ffi, build.lib
         self._key = f"mimics.native.{build.folder.name}"
 
@@ -273,5 +328,7 @@ class NativeTeam:
                                           int(reset))
         if code != 0:
             entry = "mimics_team_reset" if reset else "mimics_team_step"
-            raise NativeError(f"{entry} returned {code}")
+            if self._lib.mimics_host_was_cut():  # past the wall limit
+                raise _was_cut(self._build, -1, entry)
+            raise NativeError(f"{entry} returned {code} at step {round(team.time / team.dt)}")
         return speed, heading

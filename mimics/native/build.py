@@ -84,6 +84,8 @@ int mimics_host_abi(void);
 int mimics_host_run(mimics_host_world *w, mimics_robot *robots, mimics_output *outputs,
                     const int64_t *ids, int k, int reset, int *flags, int *codes);
 int mimics_host_team(const mimics_team *team, double *speed, double *heading, int reset);
+int mimics_host_arm_cuts(int signum);
+int mimics_host_was_cut(void);
 """
 
 _ERROR_LINE = re.compile(r"^(?P<where>.+?:\d+(?::\d+)?): (?:fatal )?error: (?P<message>.+)$",

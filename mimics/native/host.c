@@ -7,6 +7,9 @@
  */
 #define MIMICS_HOST 1
 #include <math.h>
+#include <setjmp.h>
+#include <signal.h>
+#include <string.h>
 #include <time.h>
 
 #include "mimics.h"
@@ -43,6 +46,36 @@ static int mimics_host_entry_points(void) {
 
 /* The ABI version the user's file was compiled against; -1 if it did not include mimics.h. */
 static int mimics_host_abi(void) { return mimics_abi_version ? mimics_abi_version() : -1; }
+
+/* Cutting a call that does not return (the wall-limit watchdog, mimics/engine/watchdog.py):
+ * the watchdog sends a signal to the thread running the user's code; while that thread is
+ * inside a host call below, the handler jumps back to the host, which returns -1. Outside,
+ * the signal is ignored. Per thread, so that each thread's calls are cut on their own. */
+static __thread sigjmp_buf cut_point;
+static __thread volatile sig_atomic_t cut_armed;
+static __thread int was_cut;
+
+static void cut_handler(int signum) {
+    (void)signum;
+    if (cut_armed) {
+        cut_armed = 0;
+        siglongjmp(cut_point, 1);
+    }
+}
+
+/* Install the handler of `signum` (SA_NODEFER: the signal is not left blocked by the jump);
+ * returns 0, or -1 with errno set. */
+static int mimics_host_arm_cuts(int signum) {
+    struct sigaction action;
+    memset(&action, 0, sizeof action);
+    action.sa_handler = cut_handler;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_NODEFER | SA_RESTART;
+    return sigaction(signum, &action, NULL);
+}
+
+/* Whether this thread's last host call was cut (its result is then meaningless). */
+static int mimics_host_was_cut(void) { return was_cut; }
 
 static double seconds_now(void) {
     struct timespec now;
@@ -94,6 +127,12 @@ static void fill_robot(const mimics_host_world *w, mimics_robot *r, int64_t i) {
  * flags[j] and codes[j] describe call j; returns how many calls have flags. */
 static int mimics_host_run(mimics_host_world *w, mimics_robot *robots, mimics_output *outputs,
                            const int64_t *ids, int k, int reset, int *flags, int *codes) {
+    was_cut = 0;
+    if (sigsetjmp(cut_point, 0)) {  /* cut: w->current still names the robot being called */
+        was_cut = 1;
+        return -1;
+    }
+    cut_armed = 1;
     int flagged = 0;
     for (int j = 0; j < k; j++) {
         int64_t i = ids[j];
@@ -126,11 +165,20 @@ static int mimics_host_run(mimics_host_world *w, mimics_robot *robots, mimics_ou
         flags[j] = flag;
         if (flag) flagged++;
     }
+    cut_armed = 0;
     w->current[0] = -1;
     return flagged;
 }
 
 static int mimics_host_team(const mimics_team *team, double *speed, double *heading, int reset) {
-    if (reset) return mimics_team_reset ? mimics_team_reset(team) : 0;
-    return mimics_team_step(team, speed, heading);
+    was_cut = 0;
+    if (sigsetjmp(cut_point, 0)) {
+        was_cut = 1;
+        return -1;
+    }
+    cut_armed = 1;
+    int code = reset ? (mimics_team_reset ? mimics_team_reset(team) : 0)
+                     : mimics_team_step(team, speed, heading);
+    cut_armed = 0;
+    return code;
 }

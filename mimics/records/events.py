@@ -17,7 +17,8 @@ detail      string  the engine's text ("Collision with robot 2", "Deadlock",
                     message itself
 other       int32   collisions: the robot hit, -1 for a wall; else -2
 start       float64 deadlock and livelock: when the stall began; else NaN
-traceback   string  exceptions: the user code's traceback; else empty
+traceback   string  exceptions: the user code's traceback (its frames only);
+                    else empty
 =========== ======= ======================================================
 
 ``user_message`` rows hold what a robot's code wrote with ``robot.log(...)``

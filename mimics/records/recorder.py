@@ -279,7 +279,9 @@ class RunRecorder:
         write_scenario_record(self.folder / SCENARIO_TOML, scenario, self.run_info)
 
     def _add_last_step(self, sim: Simulation) -> None:
-        """Buffer the last step, when ``every`` skipped it."""
+        """Buffer the events of a run that ended within a step (user code stopped at the
+        wall limit) and the last step, when ``every`` skipped it."""
+        self._events.collect(sim.events, sim.state, np.zeros(0, dtype=np.int64))
         if self._full_step != sim.state.step:
             self._trajectory.add(sim.state, np.flatnonzero(sim.state.active))
             if self._scans is not None:

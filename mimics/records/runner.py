@@ -45,6 +45,9 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
         raise MimicsError(f"wall limit: expected a positive number of seconds, got {wall_limit!r}")
     if policy not in ("abort", "deactivate"):
         raise MimicsError(f"policy: expected abort or deactivate, got {policy!r}")
+    if time is not None and params and "time_limit" in params and params["time_limit"] != time:
+        raise MimicsError(f"time={time!r} and params time_limit={params['time_limit']!r}: two "
+                          "values for the simulated time; give one")
     built = build_scenario(scenario, robots=robots, params=params, allow_overlap=allow_overlap)
     check_memory(built, time=time)
     if isinstance(algorithm, str | Path):
@@ -62,11 +65,15 @@ def build_scenario(scenario: str | Path | Scenario, *, robots: int | None = None
     ``robots`` and ``params`` are scenario parameters, for names and files only.
 
     Raises:
-        MimicsError: parameters given with a Scenario object, a bad parameter, or
-            robots starting in collision or outside the map (unless ``allow_overlap``).
+        MimicsError: parameters given with a Scenario object, a bad parameter, ``robots``
+            and ``params["robots"]`` that differ, or robots starting in collision or
+            outside the map (unless ``allow_overlap``).
     """
     params = dict(params or {})
     if robots is not None:
+        if "robots" in params and params["robots"] != robots:
+            raise MimicsError(f"robots={robots} and params robots={params['robots']!r}: two "
+                              "values for the same parameter; give one")
         params["robots"] = robots
     if not isinstance(scenario, Scenario):
         return load_scenario(scenario, allow_overlap=allow_overlap, **params)

@@ -143,5 +143,7 @@ def summary_text(summary: dict[str, Any]) -> str:
              f"{summary.get('seed', '?')}")
     rows = summary_rows(summary)
     width = max((len(label) for label, _ in rows), default=0)
-    lines = [title, "=" * len(title), *(f"{label:<{width}}  {value}" for label, value in rows)]
+    indent = "\n" + " " * (width + 2)  # a value's later lines (an error's source line) align
+    lines = [title, "=" * len(title),
+             *(f"{label:<{width}}  {str(value).replace(chr(10), indent)}" for label, value in rows)]
     return "\n".join(lines) + "\n"

@@ -117,3 +117,39 @@ def test_battery_toml_round_trips(tmp_path: Path) -> None:
     assert (spec.seeds, spec.time, spec.timeout, spec.policy) == ((4, 5), 3.0, 20.0,
                                                                   "deactivate")
     assert len(spec.runs()) == 4
+
+
+@pytest.mark.parametrize(("scenarios", "expected"), [
+    ('[[scenarios]]\nname = "line"\nrobots = [1, 10]\n[[scenarios]]\nname = "line"\n'
+     'robots = 10\n',
+     "[[scenarios]] #2: robots = 10 repeats runs of [[scenarios]] #1 (robots = [1, 10]): "
+     "robots = 10; give each point once"),
+    ('[[scenarios]]\nname = "line"\nrobots = 4\nspacing = [1.0, 2.0]\n[[scenarios]]\n'
+     'name = "line"\nrobots = [4, 8]\nspacing = 2.0\n',
+     "repeats runs of [[scenarios]] #1 (robots = 4, spacing = [1.0, 2.0]): robots = 4, "
+     "spacing = 2.0"),
+])
+def test_a_point_given_fixed_and_in_a_sweep_is_refused_naming_both_tables(
+        tmp_path: Path, scenarios: str, expected: str) -> None:
+    path = tmp_path / "twice.toml"
+    path.write_text(f'[battery]\nalgorithms = ["go_to_goal"]\n{scenarios}')
+    with pytest.raises(MimicsError) as error:
+        load_battery(path)
+    assert expected in str(error.value) and "\n" not in str(error.value)
+
+
+def test_the_same_scenario_with_other_points_is_accepted(tmp_path: Path) -> None:
+    path = tmp_path / "two.toml"
+    path.write_text('[battery]\nalgorithms = ["go_to_goal"]\n[[scenarios]]\nname = "line"\n'
+                    'robots = [1, 10]\n[[scenarios]]\nname = "line"\nrobots = [2, 20]\n')
+    assert [r.params["robots"] for r in load_battery(path).runs()] == [1, 10, 2, 20]
+
+
+def test_battery_time_and_a_scenario_time_limit_are_refused_naming_both(
+        tmp_path: Path) -> None:
+    path = tmp_path / "time.toml"
+    path.write_text('[battery]\nalgorithms = ["go_to_goal"]\ntime = 10\n[[scenarios]]\n'
+                    'name = "obstacle_room"\ntime_limit = [5.0, 20.0]\n')
+    with pytest.raises(MimicsError, match=r"\[battery\] time = 10 and \[\[scenarios\]\] #1 "
+                                          r"\(obstacle_room\) time_limit = \[5.0, 20.0\]"):
+        load_battery(path)

@@ -115,7 +115,9 @@ def test_execute_maps_engine_statuses_to_states(tmp_path: Path) -> None:
 
     raised = run(fault("raise_at_7"))
     assert raised.state == "error"
-    assert "ValueError in robot 0 at t=0.6 s: boom at step 7" in raised.error
+    assert raised.error.startswith("ValueError in robot 0 at t=0.6 s, ")
+    assert raised.error.endswith('raise_at_7.py:7: boom at step 7\n'
+                                 '    raise ValueError("boom at step 7")')
     assert 'raise ValueError("boom at step 7")' in raised.traceback
     deactivated = run(fault("raise_at_7"), policy="deactivate")
     assert (deactivated.state, deactivated.counts["exceptions"]) == ("done", 2)

@@ -8,6 +8,7 @@ import pytest
 from mimics.algorithms import go_to_goal, go_to_goal_team
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
+from mimics.engine.user_code import shown_path
 from mimics.scenarios.line import scenario as line
 from mimics.world.maps import Map
 from mimics.world.robot_types import PIONEER_3AT, RangerSpec, RobotType
@@ -109,7 +110,10 @@ def failing_at_step_7(robot):
 def test_abort_policy_ends_gracefully_with_error() -> None:
     result = Simulation(line(robots=3), failing_at_step_7, policy="abort").run()
     assert result.status == "error"
-    assert "RuntimeError in robot 1 at t=0.7 s: boom" in result.error
+    raised_at = failing_at_step_7.__code__.co_firstlineno + 2
+    where = f"{shown_path(__file__)}:{raised_at}"
+    assert result.error == (f"RuntimeError in robot 1 at t=0.7 s, {where}: boom\n"
+                            f"    raise RuntimeError(\"boom\")")
     exc = [e for e in result.events if e.kind == "exception"]
     assert len(exc) == 1 and exc[0].robot == 1
     assert "raise RuntimeError" in exc[0].traceback
@@ -294,3 +298,14 @@ def test_team_view_gives_each_robots_size():
     Simulation(scenario, team_step, seed=1, time_limit=0.1).run()
     assert seen["length"].tolist() == [PIONEER_3AT.length, PIONEER_2DX.length]
     assert seen["width"].tolist() == [PIONEER_3AT.width, PIONEER_2DX.width]
+
+
+def test_simulate_refuses_two_values_for_robots_or_time() -> None:
+    import mimics
+
+    with pytest.raises(mimics.MimicsError, match=r"robots=3 and params robots=7: two values"):
+        mimics.simulate("line", "go_to_goal", robots=3, params={"robots": 7})
+    with pytest.raises(mimics.MimicsError, match=r"time=2 and params time_limit=5.0: two"):
+        mimics.simulate("obstacle_room", "go_to_goal", time=2, params={"time_limit": 5.0})
+    assert mimics.simulate("line", "go_to_goal", robots=2, params={"robots": 2},
+                           time=0.2).robots == 2

@@ -1,15 +1,20 @@
 """`mimics run` on a fresh install: the kernels are compiled ahead, in parallel, before the
-timed run; the ray part's process is waited for by a run that scans and stopped otherwise."""
+timed run; the ray part's process is waited for by a run that scans and stopped otherwise.
+A step that never returns ends at --wall-limit, naming its line, with nothing left running."""
 
 import json
 import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
+import mimics
 from mimics.engine import warm_up
 from mimics.interfaces.cli import first_run
 from mimics.interfaces.cli import program as cli
+from tests.processes import left_running, marked_environment
 
 runner = CliRunner()
 
@@ -60,3 +65,24 @@ def test_warm_cache_says_nothing_about_compiling(tmp_path, monkeypatch):
                                      "0.5", "--out", str(tmp_path / "run")])
     assert result.exit_code == 0, result.output
     assert "compiling" not in result.output
+
+
+def test_a_step_that_never_returns_ends_at_the_wall_limit_with_its_line(tmp_path: Path) -> None:
+    (tmp_path / "stuck.py").write_text("def step(robot):\n    x, y, theta = robot.pose\n"
+                                       "    while x > -1:\n        y = y + 1\n"
+                                       "    return 0.5, 0.0\n")
+    env, marker = marked_environment()
+    done = subprocess.run([sys.executable, "-m", "mimics", "run", "line", "stuck.py",
+                           "--robots", "2", "--wall-limit", "1", "--out", "run"],
+                          cwd=tmp_path, capture_output=True, text=True, env=env, timeout=300,
+                          check=False)
+    assert done.returncode == 1, done.stderr
+    assert ("\nerror: robot 0: step() did not return within the wall limit of 1 s; stopped at "
+            "step 0 (t=0 s), stuck.py:") in done.stdout
+    assert done.stdout.split("stuck.py:")[1].startswith(("3\n    while x > -1:\n",
+                                                         "4\n    y = y + 1\n"))
+    assert "Traceback" not in done.stdout + done.stderr
+    assert left_running(marker) == []
+    run = mimics.load_run(tmp_path / "run")
+    assert run.complete and run.summary["status"] == "wall_limit"
+    assert run.summary["exceptions"] == 1 and len(run.trajectory) == 2  # the start, recorded

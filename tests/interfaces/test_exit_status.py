@@ -111,3 +111,32 @@ def test_a_battery_exits_1_with_the_count_when_runs_could_not_finish(
     assert status == 1, out + err
     assert "mimics: 1 of 2 runs could not finish (1 error)" in err
     assert "rerun-failed" in err
+
+
+@pytest.mark.parametrize(("options", "named"), [
+    (("--robots", "3", "--param", "robots=7"), "--robots 3 and --param robots=7"),
+    (("--time", "2", "--param", "time_limit=5.0"), "--time 2 and --param time_limit=5.0"),
+])
+def test_two_values_for_one_parameter_are_bad_input_naming_both(
+        tmp_path: Path, options: tuple[str, ...], named: str) -> None:
+    status, _, err = mimics("run", "line", "go_to_goal", *options, "--out", tmp_path / "r")
+    assert status == 2 and err.count("\n") == 1
+    assert err.startswith(f"mimics: error: {named}: two values for the same parameter")
+    assert not (tmp_path / "r").exists()
+    # the same value twice is no conflict
+    assert mimics("run", "line", "go_to_goal", "--robots", "2", "--param", "robots=2",
+                  "--time", "0.3", "--out", tmp_path / "same")[0] == 0
+
+
+def test_a_failing_step_is_reported_at_its_file_and_line(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    Path("my_algo.py").write_text("import math\n\n\ndef step(robot):\n    x, y, theta = "
+                                  "robot.pose\n    gx, gy = robot.gaol\n    return 0.5, 0.0\n")
+    status, out, _ = mimics("run", "line", "my_algo.py", "--robots", "2", "--out", "r")
+    assert status == 1
+    assert ("error: AttributeError in robot 0 at t=0 s, my_algo.py:6: 'Robot' object has no "
+            "attribute 'gaol'\n    gx, gy = robot.gaol\n") in out
+    summary = (tmp_path / "r" / "summary.txt").read_text()
+    assert "my_algo.py:6: 'Robot' object has no attribute 'gaol'\n" in summary
+    assert "\n" + " " * 24 + "gx, gy = robot.gaol\n" in summary  # indented under its value

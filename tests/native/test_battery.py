@@ -30,3 +30,16 @@ def test_crashes_are_recorded_with_their_signal_and_the_other_runs_finish(
         assert row["error"] == ("the worker process died during the run (killed by signal "
                                 f"{signal})")
         assert "Fatal Python error" in row["traceback"]  # the worker's fault handler
+
+
+def test_a_c_step_that_never_returns_is_cut_at_the_timeout(tmp_path: Path) -> None:
+    path = write_battery(tmp_path / "spin.toml", [str(ALGORITHMS / "spin.c")], seeds=2,
+                         time=1.0, timeout=1.0, scenarios=[{"name": "line", "robots": 3}])
+    result = run_battery(path, tmp_path / "b", workers=1, progress=False)
+    assert result.counts == {"timeout": 2}
+    table = runs_table(tmp_path / "b")
+    assert set(table["error"]) == {"wall-clock timeout: robot 1: mimics_step in spin.c did not "
+                                   "return within the wall limit of 1 s; stopped at step 3 "
+                                   "(t=0.3 s)"}
+    assert set(table["worker"]) == {table["worker"][0]}  # cut, not killed: the worker goes on
+    assert set(table["sim_time"]) == {0.3}

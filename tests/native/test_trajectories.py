@@ -97,8 +97,8 @@ def test_the_rest_of_the_abi_memory_messages_logs_comms_and_failures() -> None:
     assert seen[6][1] == "step 7 inbox 1 from 2 comms 2"
     exceptions = [e for e in result.events if e.kind == "exception"]
     assert [(e.robot, round(e.time, 6)) for e in exceptions] == [(0, 0.4), (2, 0.7)]
-    assert exceptions[0].detail == ("Exception: NativeError: robot 0: mimics_step returned 3: "
-                                    "step 5 inbox 2 from 1 comms 3 | giving up")
+    assert exceptions[0].detail == ("Exception: NativeError: robot 0: mimics_step returned 3 "
+                                    "at step 4: step 5 inbox 2 from 1 comms 3 | giving up")
     assert "InvalidOutput: robot 2: mimics_step returned a non-finite reference" in (
         exceptions[1].detail)
     assert seen[-1][1] == "step 10 inbox 0 from -1 comms 1"

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 import mimics
 from mimics.algorithms import go_to_goal
 from mimics.engine.simulation import Simulation
+from mimics.engine.user_code import shown_path
 from mimics.records.events import EVENTS_SCHEMA, EventBuffer, _messages
 from mimics.records.parts import PartWriter
 from mimics.records.robot_logs import read_robot_log
@@ -51,7 +52,9 @@ def test_exceptions_keep_their_traceback(tmp_path: Path, policy: str) -> None:
     failure = run.read_events(kinds=["exception"]).iloc[0]
     assert failure["robot"] == 1 and failure["time"] == 0.5
     assert "ZeroDivisionError" in failure["traceback"] and "fail_robot_1" in failure["traceback"]
-    message = "Exception: ZeroDivisionError: division by zero"
+    # the log's last line names the user's line that raised
+    where = f"{shown_path(fail_robot_1.__code__.co_filename)}:56"
+    message = f"Exception: ZeroDivisionError: division by zero ({where})"
     assert endings(tmp_path, 4)[1] == message
     assert run.summary["exceptions"] == 1
     assert run.summary["status"] == ("error" if policy == "abort" else "time_limit")

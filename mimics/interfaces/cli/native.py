@@ -5,8 +5,8 @@ Python process: compiled code that segfaults or aborts kills that child, not
 the command, which then says in one line which signal ended it and in which
 robot's call, and exits with status 1. A fresh interpreter rather than a
 fork: the parent may already have started Numba's OpenMP threads, which a
-forked child cannot use. The child prints the summary itself, so a run that
-does not crash looks exactly like any other.
+forked child cannot use. The child (``single_run.child_main``) prints the summary
+itself, so a run that does not crash looks exactly like any other.
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def run_in_child(arguments: dict[str, Any]) -> int:
         plain = {key: str(value) if isinstance(value, Path) else value
                  for key, value in arguments.items()}
         env = {**os.environ, CHILD_ENV: json.dumps(plain), PROGRESS_ENV: str(progress)}
-        code = "from mimics.interfaces.cli.native import child_main; child_main()"
+        code = "from mimics.interfaces.cli.single_run import child_main; child_main()"
         child = subprocess.Popen([sys.executable, "-c", code], env=env)
         status = _wait(child)
         if status >= 0:
@@ -81,27 +81,3 @@ def _wait(child: subprocess.Popen[bytes]) -> int:
             return child.wait()
         except KeyboardInterrupt:
             continue
-
-
-def child_main() -> None:
-    """In the child: run the command with the arguments the parent passed, then exit."""
-    from mimics.interfaces.cli.program import run
-    from mimics.world.errors import MimicsError
-
-    arguments = json.loads(os.environ[CHILD_ENV])
-    for key in ("out", "video"):
-        if arguments.get(key) is not None:
-            arguments[key] = Path(arguments[key])
-    try:
-        run(**arguments)
-    except KeyboardInterrupt:
-        fail("interrupted")
-        sys.exit(130)
-    except MimicsError as exc:
-        fail(str(exc))
-        sys.exit(2)
-    except Exception as exc:
-        if type(exc).__name__ == "Exit" and hasattr(exc, "exit_code"):  # typer.Exit
-            sys.exit(int(exc.exit_code))
-        raise
-    sys.exit(0)

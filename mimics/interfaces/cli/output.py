@@ -5,6 +5,9 @@ from __future__ import annotations
 import typer
 from rich.console import Console
 
+#: Exit statuses (see ``mimics --help`` and docs/reference/exit-status.md).
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+
 
 def fail(message: str) -> typer.Exit:
     """Print a one-line error on stderr; returns the exit to raise (status 2)."""

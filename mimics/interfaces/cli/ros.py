@@ -52,7 +52,12 @@ def ros_command(
     and message packages) and a running master (ROS_MASTER_URI). See
     docs/how-to/ros.md.
     """
-    from mimics.interfaces.cli.program import export_video, parse_params, print_summary
+    from mimics.interfaces.cli.run_summary import (
+        check_repeated,
+        export_video,
+        parse_params,
+        print_summary,
+    )
     from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
 
     if robots is not None and robots < 1:
@@ -70,6 +75,7 @@ def ros_command(
         raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
     try:
         params = parse_params(param or [])
+        check_repeated(params, robots=robots, time=time)
     except MimicsError as exc:
         raise fail(str(exc)) from None
     if robots is not None:

@@ -78,6 +78,8 @@ class RunBody(BaseModel):
     algorithm: str
     seed: int = Field(default=0, ge=0)
     time: float | None = Field(default=None, gt=0)
+    # wall-clock seconds: a step that never returns is stopped there (engine/watchdog.py)
+    wall_limit: float = Field(default=300.0, gt=0, le=86400)
 
 
 def scenario_file(workspace: Workspace, path: str, must_exist: bool = True) -> Any:
@@ -180,11 +182,11 @@ def place(request: Request, body: PlaceBody) -> dict[str, Any]:
 
 
 def run_scenario(workspace: Workspace, job: Job, scenario: str, algorithm: str, seed: int,
-                 time: float | None) -> dict[str, Any]:
+                 time: float | None, wall_limit: float | None = None) -> dict[str, Any]:
     """Run once and record into ``runs/NAME-ALGORITHM-sSEED`` (reported to ``job``)."""
     from mimics.records.runner import prepare, run_to_folder
 
-    sim = prepare(scenario, algorithm, seed=seed, time=time)
+    sim = prepare(scenario, algorithm, seed=seed, time=time, wall_limit=wall_limit)
     name = _SAFE.sub("_", f"{sim.scenario.name}-{sim.controller.name}-s{seed}")
     folder = workspace.folder("runs") / name
     limit = sim.scenario.settings.time_limit if time is None else time
@@ -196,7 +198,7 @@ def run_scenario(workspace: Workspace, job: Job, scenario: str, algorithm: str, 
 
     sim.observers.append(Progress())
     result = run_to_folder(sim, folder)
-    return {"run": workspace.relative(folder), "status": result.summary()["status"]}
+    return {"run": workspace.relative(folder), "status": result.status, "error": result.error}
 
 
 @router.post("/run")
@@ -207,5 +209,6 @@ def run(request: Request, body: RunBody) -> dict[str, Any]:
     ref = algorithm_ref(workspace, body.algorithm)
     load_scenario_toml(real)  # a broken file fails here, with its message, before the job
     job = request.app.state.jobs.start(
-        "run", lambda job: run_scenario(workspace, job, str(real), ref, body.seed, body.time))
+        "run", lambda job: run_scenario(workspace, job, str(real), ref, body.seed, body.time,
+                                        body.wall_limit))
     return job.as_dict()

@@ -175,6 +175,25 @@ def test_run_records_a_run_folder_that_load_run_reads(client: TestClient, worksp
         "path": "scenarios/none.toml", "algorithm": "go_to_goal"}).status_code == 404
 
 
+def test_a_run_whose_step_never_returns_ends_at_its_wall_limit(client: TestClient,
+                                                                workspace: Path) -> None:
+    client.put("/api/scenarios/file", json=scenario_body())
+    (workspace / "algorithms").mkdir(exist_ok=True)
+    (workspace / "algorithms" / "stuck.py").write_text(
+        "def step(robot):\n    while True:\n        pass\n")
+    job = client.post("/api/scenarios/run", json={"path": "scenarios/two.toml",
+                                                  "algorithm": "algorithms/stuck.py",
+                                                  "wall_limit": 0.5}).json()
+    done = wait(client, job["id"])
+    assert done["state"] == "done" and done["result"]["status"] == "wall_limit", done
+    assert done["result"]["error"].startswith(
+        "robot 0: step() did not return within the wall limit of 0.5 s; stopped at step 0")
+    assert done["result"]["error"].endswith(("stuck.py:2\n    while True:",
+                                             "stuck.py:3\n    pass"))
+    run = load_run(workspace / done["result"]["run"])
+    assert run.summary["error"] == done["result"]["error"]
+
+
 def test_frames_carry_the_recorded_poses_and_states(client: TestClient, workspace: Path
                                                     ) -> None:
     path = "runs/line-go_to_goal-s1"

@@ -118,7 +118,10 @@ export class RunPage {
     this.summary.textContent = `${meta.title}: ${s.status}, ${meta.robots} robots, `
       + `${s.reached_goal ?? "?"} reached goal, ${s.collisions ?? "?"} collisions, `
       + `${s.deadlocks ?? "?"} deadlocks, ${(s.sim_time ?? meta.duration).toFixed(1)} s`
-      + (meta.stride > 1 ? ` (every ${meta.stride}th step shown)` : "");
+      + (meta.stride > 1 ? ` (every ${meta.stride}th step shown)` : "")
+      // the error names the file and line of the user's code, then shows that line
+      + (s.error ? `\nerror: ${s.error}` : "");
+    this.summary.style.whiteSpace = s.error ? "pre-wrap" : "";
     this.legend.replaceChildren(...STATE_NAMES.map((name, k) => element("span", {},
       element("i", { style: `background:${this.colors[k]}` }), name.replace("_", " "))));
     this.view.fit(meta.map.bounds);

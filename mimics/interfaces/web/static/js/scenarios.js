@@ -360,7 +360,10 @@ export class ScenarioEditor {
     }));
     if (!end) return;
     if (end.state !== "done") { say(`run failed: ${end.error}`, true); return; }
-    say(`run finished (${end.result.status}): ${end.result.run}`);
+    // an error names the file and line of the user's code (its first line; the run's page
+    // shows the source line too)
+    const error = end.result.error ? `: ${end.result.error.split("\n")[0]}` : "";
+    say(`run finished (${end.result.status}): ${end.result.run}${error}`, Boolean(error));
     window.location.hash = `#/runs?path=${encodeURIComponent(end.result.run)}`;
   }
 }
