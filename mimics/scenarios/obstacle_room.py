@@ -10,7 +10,7 @@ from mimics.world.errors import ScenarioError
 from mimics.world.maps import Map
 from mimics.world.robot_types import PIONEER_2DX
 from mimics.world.scenario import Scenario, Settings
-from mimics.world.scenario_files import random_placement
+from mimics.world.placement import random_placement
 
 WIDTH, HEIGHT = 12.0, 10.0
 # obstacles as (x, y, width, height) boxes
