@@ -116,6 +116,7 @@ class RunResult:
     user_timing: dict[str, float | int] = field(default_factory=dict)
     parameters: dict[str, Any] = field(default_factory=dict)
     error: str = ""
+    trajectory_digest: str = ""  # Simulation.run_digest: poses of every step and outcomes
 
     def count(self, status: Status) -> int:
         """Robots whose final status is ``status``."""
@@ -163,6 +164,7 @@ class RunResult:
             "time_to_goal": _stats(times),
             "path_length": _stats(self.path_length),
             "path_efficiency": _stats(efficiency),
+            "trajectory_digest": self.trajectory_digest,
         }
 
     def events_as_dicts(self) -> list[dict[str, Any]]:

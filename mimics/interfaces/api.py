@@ -1,7 +1,8 @@
 """The Python entry point: run one simulation in one call.
 
 >>> import mimics
->>> run = mimics.simulate("line", "go_to_goal", robots=3, time=21.8, seed=1)
+>>> run = mimics.simulate("line", "go_to_goal", robots=3, time=21.8, seed=1,
+...                       params={"random_yaw": False})  # facing their goals
 >>> run.status, run.reached_goal
 ('completed', 3)
 """

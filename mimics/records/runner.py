@@ -45,7 +45,8 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
         raise MimicsError(f"wall limit: expected a positive number of seconds, got {wall_limit!r}")
     if policy not in ("abort", "deactivate"):
         raise MimicsError(f"policy: expected abort or deactivate, got {policy!r}")
-    built = build_scenario(scenario, robots=robots, params=params, allow_overlap=allow_overlap)
+    built = build_scenario(scenario, robots=robots, params=params, allow_overlap=allow_overlap,
+                           seed=seed)
     check_memory(built, time=time)
     if isinstance(algorithm, str | Path):
         name, module = find_algorithm(algorithm)
@@ -56,10 +57,13 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
 
 
 def build_scenario(scenario: str | Path | Scenario, *, robots: int | None = None,
-                   params: dict[str, Any] | None = None, allow_overlap: bool = False) -> Scenario:
+                   params: dict[str, Any] | None = None, allow_overlap: bool = False,
+                   seed: int | None = None) -> Scenario:
     """The scenario from a name, a file or an object, its start state checked.
 
-    ``robots`` and ``params`` are scenario parameters, for names and files only.
+    ``robots`` and ``params`` are scenario parameters, for names and files only;
+    ``seed``, the run's, draws the scenario's own randomness (start headings,
+    jitter, random placements) unless ``params`` fixes its ``seed``.
 
     Raises:
         MimicsError: parameters given with a Scenario object, a bad parameter, or
@@ -69,7 +73,7 @@ def build_scenario(scenario: str | Path | Scenario, *, robots: int | None = None
     if robots is not None:
         params["robots"] = robots
     if not isinstance(scenario, Scenario):
-        return load_scenario(scenario, allow_overlap=allow_overlap, **params)
+        return load_scenario(scenario, allow_overlap=allow_overlap, run_seed=seed, **params)
     if params:
         raise MimicsError("robots/params apply to a scenario name or file, not a Scenario")
     validate_scenario(scenario, f"scenario {scenario.name!r}",
@@ -89,7 +93,7 @@ def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs 
     what was recorded is kept, without summary.json, and the exception goes on.
 
     >>> import tempfile
-    >>> sim = prepare("line", "go_to_goal", robots=2, seed=1)
+    >>> sim = prepare("line", "go_to_goal", robots=2, seed=1, params={"random_yaw": False})
     >>> run_to_folder(sim, tempfile.mkdtemp(), robot_logs="off").reached_goal
     2
 

@@ -46,10 +46,19 @@ or generators, which give goals to all their robots or to none:
   walls, m), ``seed``, ``yaw`` (a number or ``"random"``, the default) and
   ``goal_region`` for random goals.
 
-Generators also take ``type``, and ``yaw`` and ``v`` for all their robots.
+Generators also take ``type``, and ``yaw`` and ``v`` for all their robots;
+``yaw = "random"`` gives line and grid robots random headings too.
+
+The run's seed draws the generators' randomness (placements, random goals,
+random headings: robot j's heading from its own keyed draw), so repetitions
+of a run with other seeds meet other layouts; a generator's own ``seed`` key,
+a ``seed`` parameter, or ``fixed = true`` at the top of the file fix the
+layout (``fixed``: drawn from seed 0). ``[settings] noise = "off"`` runs every
+sensor without noise.
+
 Parameters a battery can sweep (``load_scenario_toml(path, robots=20)``):
-``robots`` (keep the first N robots), ``seed`` (of the random generators) and
-every field of ``[settings]``.
+``robots`` (keep the first N robots), ``seed`` (of the random generators: a
+fixed layout) and every field of ``[settings]``.
 
 Every mistake is one :class:`ScenarioError` line naming the file, the key, the
 line where it can be found, and what was expected. :func:`validate_scenario`
@@ -103,14 +112,15 @@ __all__ = ["TOUCH_EPS", "Bodies", "load_scenario_toml", "overlapping_robots", "r
            "touching_walls", "validate_scenario"]
 
 # "run" is the [run] table of a recorded scenario.toml; it is ignored on load.
-TOP_KEYS = ("name", "description", "map", "types", "robots", "settings", "run")
+TOP_KEYS = ("name", "description", "fixed", "map", "types", "robots", "settings", "run")
 SWEEPABLE = ("robots", "seed")
 
 
-def scenario_from_toml_text(text: str, path: str | Path, **overrides: Any) -> Scenario:
+def scenario_from_toml_text(text: str, path: str | Path, *, run_seed: int | None = None,
+                            **overrides: Any) -> Scenario:
     """Build a scenario from TOML text; ``path`` names it in errors and anchors map files.
 
-    See :func:`load_scenario_toml` for the overrides.
+    See :func:`load_scenario_toml` for ``run_seed`` and the overrides.
     """
     path = Path(path)
     try:
@@ -125,6 +135,11 @@ def scenario_from_toml_text(text: str, path: str | Path, **overrides: Any) -> Sc
             raise ScenarioError(f"{path}: no parameter {key!r} (expected one of "
                                 f"{', '.join(SWEEPABLE + settings_keys)})")
     count, seed = overrides.get("robots"), overrides.get("seed")
+    fixed = data.get("fixed", False)
+    if not isinstance(fixed, bool):
+        raise src.error(("fixed",), f"expected true or false, got {fixed!r}")
+    if fixed:
+        run_seed = None  # the layout does not follow the run's seed
     if count is not None and (isinstance(count, bool) or not isinstance(count, int) or count < 1):
         raise ScenarioError(f"{path}: parameter robots: expected a whole number >= 1, got "
                             f"{count!r}")
@@ -147,7 +162,7 @@ def scenario_from_toml_text(text: str, path: str | Path, **overrides: Any) -> Sc
                         else f"expected a non-empty list of robot tables, got {entries!r}")
     robots = RobotRows([], [], [], [])
     for index, entry in enumerate(entries):
-        read_robot(src, index, entry, known, the_map, robots, seed)
+        read_robot(src, index, entry, known, the_map, robots, seed, run_seed)
     if count is not None:
         if count > len(robots.rows):
             raise ScenarioError(f"{path}: parameter robots: {count} asked, but the file defines "
@@ -169,20 +184,24 @@ def scenario_from_toml_text(text: str, path: str | Path, **overrides: Any) -> Sc
     return scenario
 
 
-def load_scenario_toml(path: str | Path, **param_overrides: Any) -> Scenario:
+def load_scenario_toml(path: str | Path, *, run_seed: int | None = None,
+                       **param_overrides: Any) -> Scenario:
     """Read a declarative scenario (module docstring) and check it strictly.
 
     Args:
         path: the ``.toml`` file.
+        run_seed: the run's seed: the random generators and random headings draw
+            from it, unless the file says ``fixed = true`` (then from 0), a
+            generator has its own ``seed``, or ``seed`` is given.
         **param_overrides: ``robots`` (keep the first N robots), ``seed`` (of
-            the random generators), or any field of ``[settings]``.
+            the random generators: a fixed layout), or any field of ``[settings]``.
 
     Raises:
         ScenarioError: one line naming the file, key, line and what was expected.
     """
     path = Path(path)
     return scenario_from_toml_text(read_input_text(path, "scenario", ScenarioError), path,
-                                   **param_overrides)
+                                   run_seed=run_seed, **param_overrides)
 
 
 def scenario_toml_parameters(path: str | Path) -> dict[str, Any]:

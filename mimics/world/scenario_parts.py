@@ -18,6 +18,7 @@ from mimics.world.maps import Map
 from mimics.world.placement import random_placement
 from mimics.world.robot_types import RobotType, robot_type_from_dict
 from mimics.world.scenario import Settings
+from mimics.world.streams import keyed_uniform, stream
 from mimics.world.toml_source import TableReader, TomlSource, is_number
 
 MAP_SOURCES = ("file", "builtin", "segments")
@@ -25,8 +26,8 @@ MAP_OPTIONS = ("scale", "resolution", "origin", "tolerance", "threshold", "negat
                "center", "boundary")
 ROBOT_KEYS = ("type", "x", "y", "yaw", "v", "goal")
 GENERATOR_KEYS = {
-    "line": ("count", "start", "step", "goal_offset"),
-    "grid": ("rows", "columns", "origin", "spacing", "goal_offset"),
+    "line": ("count", "start", "step", "goal_offset", "seed"),
+    "grid": ("rows", "columns", "origin", "spacing", "goal_offset", "seed"),
     "random": ("count", "region", "min_spacing", "clearance", "seed", "goal_region",
                "max_tries"),
 }
@@ -126,7 +127,10 @@ def _offset_goals(table: TableReader, xy: np.ndarray) -> np.ndarray:
 
 
 def read_robot(src: TomlSource, index: int, data: Any, known: dict[str, RobotType], map: Map,
-                robots: RobotRows, seed: int | None) -> None:
+                robots: RobotRows, seed: int | None, run_seed: int | None = None) -> None:
+    """Read ``robots[index]`` into ``robots``. A generator's randomness draws from ``seed``
+    (a ``seed`` parameter) if given, else its own ``seed`` key, else ``run_seed`` (the
+    run's, None when the file is ``fixed``), else 0."""
     key = ("robots", index)
     kind = data.get("generator") if isinstance(data, dict) else None
     if kind is None:
@@ -152,7 +156,7 @@ def read_robot(src: TomlSource, index: int, data: Any, known: dict[str, RobotTyp
         start = np.array(table.numbers("start", 2, what="[x, y]"))
         step = np.array(table.numbers("step", 2, what="[dx, dy]"))
         xy = start + np.arange(count)[:, None] * step
-        yaw = np.full(count, table.number("yaw", 0.0))
+        yaw = _yaws(table, count, seed, run_seed, index)
         goals = _offset_goals(table, xy)
     elif kind == "grid":
         rows, columns = table.integer("rows", 1), table.integer("columns", 1)
@@ -166,7 +170,7 @@ def read_robot(src: TomlSource, index: int, data: Any, known: dict[str, RobotTyp
             dx, dy = table.numbers("spacing", 2, what="a number or [dx, dy]")
         r, c = np.divmod(np.arange(rows * columns), columns)
         xy = origin + np.column_stack([c * dx, r * dy])
-        yaw = np.full(len(xy), table.number("yaw", 0.0))
+        yaw = _yaws(table, len(xy), seed, run_seed, index)
         goals = _offset_goals(table, xy)
     else:
         # placing compares each new robot with every one placed: quadratic, hence its own limit
@@ -180,8 +184,7 @@ def read_robot(src: TomlSource, index: int, data: Any, known: dict[str, RobotTyp
         for what, value in (("min_spacing", spacing), ("clearance", clearance)):
             if value is not None and value < 0:
                 raise table.fail(what, f"expected a distance >= 0 (m), got {value!r}")
-        own_seed = table.integer("seed", 0, 0, maximum=MAX_SEED)
-        rng = np.random.default_rng([own_seed if seed is None else seed, index])
+        rng = stream(_layout_seed(table, seed, run_seed), "toml.random", index)
         taken = np.array([row[:2] for row in robots.rows]).reshape(-1, 2)
         tries = table.integer("max_tries", 1, 2000, maximum=1_000_000)
         try:
@@ -190,8 +193,10 @@ def read_robot(src: TomlSource, index: int, data: Any, known: dict[str, RobotTyp
             goals = np.full((count, 2), np.nan)
             if table.has("goal_region"):
                 goal_region = table.numbers("goal_region", 4, what="[xmin, ymin, xmax, ymax]")
-                goals = random_placement(count, robot_type, map, rng, goal_region, spacing,
-                                         clearance, 0.0, None, tries)[:, :2]
+                goals = random_placement(count, robot_type, map,
+                                         stream(_layout_seed(table, seed, run_seed),
+                                                "toml.random_goals", index),
+                                         goal_region, spacing, clearance, 0.0, None, tries)[:, :2]
         except ScenarioError as exc:
             raise src.error(key, str(exc)) from None
         xy, yaw = poses[:, :2], poses[:, 2]
@@ -205,6 +210,25 @@ def read_robot(src: TomlSource, index: int, data: Any, known: dict[str, RobotTyp
         robots.entries.append(index)
 
 
+def _layout_seed(table: TableReader, seed: int | None, run_seed: int | None) -> int:
+    """The seed a generator draws from: the parameter, its own, the run's, or 0."""
+    if seed is not None:
+        return seed
+    if table.has("seed"):
+        return table.integer("seed", 0, maximum=MAX_SEED)
+    return 0 if run_seed is None else run_seed
+
+
+def _yaws(table: TableReader, count: int, seed: int | None, run_seed: int | None,
+          index: int) -> np.ndarray:
+    """A line or grid generator's headings: a number, or ``"random"``: robot j's heading
+    drawn from ``(layout seed, index, j)`` alone."""
+    if table.data.get("yaw") == "random":
+        return keyed_uniform(_layout_seed(table, seed, run_seed), f"toml.yaw.{index}", count,
+                             -math.pi, math.pi)
+    return np.full(count, table.number("yaw", 0.0))
+
+
 def read_settings(src: TomlSource, data: Any, overrides: dict[str, Any]) -> Settings:
     known = tuple(f.name for f in fields(Settings))
     table = TableReader(src, ("settings",), data, known)
@@ -215,9 +239,14 @@ def read_settings(src: TomlSource, data: Any, overrides: dict[str, Any]) -> Sett
                 return ScenarioError(f"{src.path}: parameter {name}: {message}")
             return src.error(("settings", name), message)
 
-        flag = isinstance(getattr(Settings(), name), bool)
-        if flag != isinstance(value, bool) or not (flag or isinstance(value, int | float)):
-            raise fail(f"expected {'true or false' if flag else 'a number'}, got {value!r}")
+        default = getattr(Settings(), name)
+        if isinstance(default, str):
+            if not isinstance(value, str):
+                raise fail(f"expected a string, got {value!r}")
+        else:
+            flag = isinstance(default, bool)
+            if flag != isinstance(value, bool) or not (flag or isinstance(value, int | float)):
+                raise fail(f"expected {'true or false' if flag else 'a number'}, got {value!r}")
         try:
             Settings(**{name: value})  # each field's own range check
         except ScenarioError as exc:
