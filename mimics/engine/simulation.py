@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import hashlib
 import time
+import zlib
 from collections.abc import Callable, Sequence
 from functools import cached_property
 from typing import Any, Literal, Protocol
@@ -127,7 +128,7 @@ class Simulation:
         self._pending: dict[int, Status] = {}  # deactivations applied at the end of the step
         self._started = False
         self._wall_start = 0.0
-        self._digest = hashlib.blake2b(digest_size=16)  # every step's poses (run_digest)
+        self._pose_crc = 0  # CRC-32 of every step's poses so far (run_digest)
 
     # -- public API ---------------------------------------------------------
 
@@ -147,7 +148,7 @@ class Simulation:
         self._check_moved(np.flatnonzero(self.state.active))  # collisions only, at the start
         self._stalls.update(self.state)  # the windows start at time zero
         self._finish_deactivations()
-        self._digest.update(np.ascontiguousarray(self.state.pose).data)
+        self._pose_crc = zlib.crc32(np.ascontiguousarray(self.state.pose).data)
         self._sense()
         self._handle_failures(self.controller.reset(self))
         for observer in self.observers:
@@ -180,7 +181,8 @@ class Simulation:
         # no status changes since the top of the step (they wait in _pending)
         self._check_stalls(distance, active)
         self._finish_deactivations()
-        self._digest.update(state.pose.data)  # 48 kB for 2,000 robots: about 30 us
+        # 48 kB for 2,000 robots: 27 us (a BLAKE2b of them: 130 us, 2% of a Hospital step)
+        self._pose_crc = zlib.crc32(state.pose.data, self._pose_crc)
         self._sense()
         for observer in self.observers:
             if hasattr(observer, "on_step"):
@@ -201,9 +203,10 @@ class Simulation:
         )
 
     def run_digest(self) -> str:
-        """A digest (BLAKE2b, 32 hex digits) of every step's poses so far and the robots'
-        statuses, goal times and collisions: seeds that changed nothing give the same."""
-        digest = self._digest.copy()
+        """A digest (BLAKE2b, 32 hex digits) of the CRC-32 of every step's poses so far and
+        of the robots' statuses, goal times and collisions: seeds that changed nothing give
+        the same; runs that differ, another (but for a 2**-32 chance in the poses' CRC)."""
+        digest = hashlib.blake2b(self._pose_crc.to_bytes(4, "little"), digest_size=16)
         state = self.state
         for array in (state.status, state.goal_time, state.collided_with):
             digest.update(np.ascontiguousarray(array).data)

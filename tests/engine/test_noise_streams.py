@@ -139,3 +139,29 @@ def test_same_seed_same_digest_other_seed_other_digest_noise_off_the_same() -> N
     assert digest(1) != digest(2)
     assert digest(1, "off") == digest(2, "off")  # nothing random left: seeds change nothing
     assert len(digest(1)) == 32 and int(digest(1), 16) >= 0
+
+
+def test_the_digest_is_that_of_the_poses_an_observer_saw_and_the_outcomes() -> None:
+    """The documented definition, recomputed from what an observer sees at every step."""
+    import hashlib
+    import zlib
+
+    class Poses:
+        crc = 0
+
+        def on_start(self, sim: Simulation) -> None:
+            self.crc = zlib.crc32(sim.state.pose.tobytes())
+
+        def on_step(self, sim: Simulation) -> None:
+            self.crc = zlib.crc32(sim.state.pose.tobytes(), self.crc)
+
+    watch = Poses()
+    sim = Simulation(under_a_wall(EYE, 3), lambda robot: (0.3, 0.2), seed=8, time_limit=3.0,
+                     observers=[watch])
+    result = sim.run()
+    expected = hashlib.blake2b(watch.crc.to_bytes(4, "little"), digest_size=16)
+    for array in (sim.state.status, sim.state.goal_time, sim.state.collided_with):
+        expected.update(array.tobytes())
+    expected.update(f"{result.status}:{result.steps}".encode())
+    assert result.trajectory_digest == expected.hexdigest()
+    assert result.summary()["trajectory_digest"] == result.trajectory_digest
