@@ -16,7 +16,6 @@ called after each step; the engine itself writes nothing and draws nothing.
 
 from __future__ import annotations
 
-import hashlib
 import time
 import zlib
 from collections.abc import Callable, Sequence
@@ -29,7 +28,7 @@ from mimics.engine.controllers import Controller, UserFailure, controller_from
 from mimics.engine.dynamics import move_robots
 from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.noise_streams import AlgorithmStreams, RangerNoise, StepStreams
-from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
+from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state, run_digest
 from mimics.engine.robot_index import RobotIndex, index_cell, index_robots
 from mimics.engine.scanner import Scanner
 from mimics.engine.sensors import (
@@ -203,15 +202,8 @@ class Simulation:
         )
 
     def run_digest(self) -> str:
-        """A digest (BLAKE2b, 32 hex digits) of the CRC-32 of every step's poses so far and
-        of the robots' statuses, goal times and collisions: seeds that changed nothing give
-        the same; runs that differ, another (but for a 2**-32 chance in the poses' CRC)."""
-        digest = hashlib.blake2b(self._pose_crc.to_bytes(4, "little"), digest_size=16)
-        state = self.state
-        for array in (state.status, state.goal_time, state.collided_with):
-            digest.update(np.ascontiguousarray(array).data)
-        digest.update(f"{self.status}:{state.step}".encode())
-        return digest.hexdigest()
+        """The run's digest so far (``outcome.run_digest``)."""
+        return run_digest(self._pose_crc, self.state, self.status)
 
     def user_rng(self, robot: int | None = None) -> np.random.Generator:
         """The algorithm's generator for ``robot`` (None: the team's), its own stream of
