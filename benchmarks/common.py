@@ -376,7 +376,8 @@ def deployment_benchmark(script: str, name: str, label: str, targets: dict[str, 
           f"{args.repeats} after {args.warmup} warm-up of {args.warmup_time:g} s, "
           f"logging {'on' if args.logging else 'off'}")
     rows = form_rows(script, name, args,
-                     {"per-robot": "deployment", "team": "deployment_team"}, scenario=name)
+                     {"per-robot": "deployment", "team": "deployment_team"}, scenario=name,
+                     params={"fixed": True, "noise": "off"})  # the paper's set-up
     for row in rows:
         row["target_sim_speed"] = targets[row["form"]]
         row["target_met"] = row["sim_speed"] >= targets[row["form"]]

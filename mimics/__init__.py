@@ -1,7 +1,8 @@
 """mimics: a fast multi-robot simulator for teaching, prototyping and Monte Carlo batteries.
 
 >>> import mimics
->>> run = mimics.simulate("line", "go_to_goal", robots=2, seed=1)
+>>> run = mimics.simulate("line", "go_to_goal", robots=2, seed=1,
+...                       params={"random_yaw": False})  # both facing their goals
 >>> run.reached_goal
 2
 """

@@ -155,13 +155,20 @@ def list_scenarios() -> list[tuple[str, str]]:
             for name in _builtin_names(mimics.scenarios)]
 
 
+def scenario_seed_changes(name: str) -> str:
+    """What the run's seed changes in a built-in scenario (its ``SEED_CHANGES``), besides
+    the sensors' noise."""
+    module = importlib.import_module(f"mimics.scenarios.{name}")
+    return str(getattr(module, "SEED_CHANGES", "nothing in the layout"))
+
+
 def scenario_parameters(name_or_path: str | Path) -> dict[str, Any]:
     """The keyword parameters a scenario accepts, with their defaults."""
     factory, _ = _scenario_factory(str(name_or_path))
     if factory is None:
         return {}
-    return {p.name: p.default for p in inspect.signature(factory).parameters.values()
-            if p.default is not inspect.Parameter.empty}
+    return {**{p.name: p.default for p in inspect.signature(factory).parameters.values()
+               if p.default is not inspect.Parameter.empty}, "noise": "on"}
 
 
 def _scenario_factory(text: str) -> tuple[Any, str]:
@@ -185,7 +192,7 @@ def _scenario_factory(text: str) -> tuple[Any, str]:
 
 
 def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
-                  **params: Any) -> Scenario:
+                  run_seed: int | None = None, **params: Any) -> Scenario:
     """Build a scenario from a built-in name, a ``.py`` file or a ``.toml`` file.
 
     ``params`` are the scenario's keyword parameters (``robots=60``); unknown
@@ -194,6 +201,12 @@ def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
     checked (:func:`mimics.world.start_state.validate_scenario`) unless
     ``allow_overlap`` (or the scenario's ``settings.allow_overlap``) keeps
     robots that start touching walls or each other.
+
+    ``run_seed``, the run's seed, reaches the scenario's own randomness: a
+    scenario whose ``scenario()`` takes ``seed`` is built with it (and a TOML
+    file's random generators draw from it), unless ``seed`` is among ``params``
+    (a fixed layout). ``noise = "on"`` or ``"off"`` is accepted by every
+    scenario (``settings.noise``).
     """
     from mimics.world.limits import MAX_ROBOTS, MAX_SEED, check_finite, check_whole
     from mimics.world.start_state import validate_scenario
@@ -210,7 +223,10 @@ def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
 
         if allow_overlap:
             params = {**params, "allow_overlap": True}
-        return load_scenario_toml(text, **params)
+        return load_scenario_toml(text, run_seed=run_seed, **params)
+    noise = params.pop("noise", None)
+    if noise is not None and noise not in ("on", "off"):
+        raise ScenarioError(f"scenario parameter noise: expected on or off, got {noise!r}")
     factory, label = _scenario_factory(text)
     accepted = inspect.signature(factory).parameters
     takes_any = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in accepted.values())
@@ -218,6 +234,9 @@ def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
         if key not in accepted and not takes_any:
             raise ScenarioError(f"scenario {label!r} has no parameter {key!r} (expected one of: "
                                 f"{', '.join(accepted) or 'none'})")
+    given = dict(params)  # what the user chose, recorded as the scenario's parameters
+    if run_seed is not None and "seed" not in params and ("seed" in accepted or takes_any):
+        params = {**params, "seed": run_seed}
     try:
         built = factory(**params)
     except MimicsError:
@@ -231,8 +250,12 @@ def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
         raise ScenarioError(f"scenario {label!r}: scenario() returned {type(built).__name__}, "
                             "expected a Scenario")
     defaults = {k: p.default for k, p in accepted.items()
-                if p.default is not inspect.Parameter.empty}
-    named = _named(built, label, {**defaults, **params})
+                if p.default is not inspect.Parameter.empty
+                and not (k == "seed" and "seed" not in given and run_seed is not None)}
+    if noise is not None:
+        built = built.with_settings(noise=noise)
+        given["noise"] = noise
+    named = _named(built, label, {**defaults, **given})
     validate_scenario(named, f"scenario {label!r}",
                       allow_overlap=allow_overlap or named.settings.allow_overlap)
     return named

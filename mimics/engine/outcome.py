@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -116,6 +117,7 @@ class RunResult:
     user_timing: dict[str, float | int] = field(default_factory=dict)
     parameters: dict[str, Any] = field(default_factory=dict)
     error: str = ""
+    trajectory_digest: str = ""  # Simulation.run_digest: poses of every step and outcomes
 
     def count(self, status: Status) -> int:
         """Robots whose final status is ``status``."""
@@ -163,6 +165,7 @@ class RunResult:
             "time_to_goal": _stats(times),
             "path_length": _stats(self.path_length),
             "path_efficiency": _stats(efficiency),
+            "trajectory_digest": self.trajectory_digest,
         }
 
     def events_as_dicts(self) -> list[dict[str, Any]]:
@@ -182,3 +185,15 @@ def result_from_state(state: WorldState, **fields_: Any) -> RunResult:
     return RunResult(final_status=state.status.copy(), collided_with=state.collided_with.copy(),
                      goal_time=state.goal_time.copy(), path_length=state.path_length.copy(),
                      **fields_)
+
+
+def run_digest(pose_crc: int, state: WorldState, status: str) -> str:
+    """A run's digest (BLAKE2b, 32 hex digits) from the CRC-32 of every step's poses so far
+    (``pose_crc``) and the robots' statuses, goal times and collisions: seeds that changed
+    nothing give the same; runs that differ, another (but for a 2**-32 chance in the
+    poses' CRC)."""
+    digest = hashlib.blake2b(pose_crc.to_bytes(4, "little"), digest_size=16)
+    for array in (state.status, state.goal_time, state.collided_with):
+        digest.update(np.ascontiguousarray(array).data)
+    digest.update(f"{status}:{state.step}".encode())
+    return digest.hexdigest()

@@ -204,8 +204,8 @@ class Robot:
 
     @property
     def rng(self) -> np.random.Generator:
-        """A generator seeded by the simulation's seed, for user code."""
-        return self._sim.user_rng
+        """This robot's generator for user code: its own stream of the run's seed."""
+        return self._sim.user_rng(self.id)
 
     @property
     def comms(self) -> np.ndarray:
@@ -344,8 +344,8 @@ class Team:
 
     @property
     def rng(self) -> np.random.Generator:
-        """A generator seeded by the simulation's seed, for user code."""
-        return self._sim.user_rng
+        """The team's generator for user code: its own stream of the run's seed."""
+        return self._sim.user_rng()
 
     @property
     def comms(self) -> np.ndarray:

@@ -4,8 +4,9 @@ Sensing only notes which robots scan and when; the rays are cast at the first
 read of ``state.scan`` or ``state.scan_hit`` after it, from that same state
 (nothing moves before the algorithm and the observers have read). A step whose
 readers read no scan casts no ray, as Stage updates no sensor that has no
-subscriber. The ranger's noise has a stretch of its stream per step, so a scan's
-noise does not depend on which earlier scans were read.
+subscriber. The ranger's noise has a stretch of its stream per step and a row per
+robot (:class:`~mimics.engine.noise_streams.RangerNoise`), so a scan's noise does
+not depend on which earlier scans were read, nor on which other robots scan.
 
 A robot's own read (``robot.scan``, per-robot algorithms) asks for its row
 only: the first one starts the trace on the helper threads, so the rays of
@@ -21,6 +22,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from mimics.engine.noise_streams import RangerNoise
 from mimics.engine.point_cull import SightLists
 from mimics.engine.ranger import RangerQuery, RowsInFlight, start_beams, trace_beams
 from mimics.engine.robot_index import RobotIndex
@@ -37,19 +39,15 @@ class Scanner:
     Args:
         state: the run's state (its scan buffers are filled).
         types: the robots' type arrays.
-        noise_seed: the seed of the ranger noise's stream (a stretch of it per step).
+        noise: the rangers' noise draws (a stretch of their stream per step).
         walls: gives the walls indexed for the ranger (built on first use).
         robots: gives the index of the robots others can see, for this step.
     """
 
-    def __init__(self, state: WorldState, types: TypeArrays, noise_seed: np.random.SeedSequence,
+    def __init__(self, state: WorldState, types: TypeArrays, noise: RangerNoise,
                  walls: Callable[[], WallIndex], robots: Callable[[], RobotIndex]) -> None:
         self._state, self._types = state, types
-        # the ranger noise: one PCG64 stream, step k drawing from 2**64 * k on (a stretch
-        # of its own, far longer than any step draws), reached by a jump from the start
-        self._noise_bits = np.random.PCG64(noise_seed)
-        self._noise_start = self._noise_bits.state
-        self._noise_rng = np.random.Generator(self._noise_bits)
+        self._noise = noise
         self._walls, self._robots = walls, robots
         self._has_ranger = types.beam_count > 0
         self._still = StillScans(types.max_range, types.beam_count,
@@ -148,15 +146,6 @@ class Scanner:
             ranges, hits = trace_beams(query, walls, robots, sight=sight)
         if "sigma_range" in types.noisy:  # known once per run: no test per step
             add_ranger_noise(ranges, query.max_range, types.sigma_range[rows],
-                             self._noise(state.step))
+                             self._noise.draws(state.step, None if everyone else ids))
         if not everyone:
             scan[rows], hit[rows] = ranges, hits
-
-    def _noise(self, step: int) -> np.random.Generator:
-        """The ranger noise of one step: its own stretch of the run's noise stream (a
-        jump costs 1.6 us; a stream seeded per step cost 10, most of a small team's
-        noise)."""
-        bits = self._noise_bits
-        bits.state = self._noise_start
-        bits.advance(int(step) << 64)  # (a NumPy integer would overflow the shift)
-        return self._noise_rng

@@ -1,7 +1,8 @@
-"""Noisy sensors other than the ranger: positioning, odometry and communication.
+"""Noisy sensors: positioning, odometry, the ranger's noise, and communication.
 
-Every draw comes from the world's own seeded generator, in a fixed order and
-for every robot, so the same seed gives the same noise whatever the algorithm.
+Every draw comes from the sensor's own stream of the run's seed, step by step
+and row by row by robot index (:mod:`mimics.engine.noise_streams`), so the same
+seed gives the same noise whatever the algorithm, whatever it reads.
 """
 
 from __future__ import annotations
@@ -9,47 +10,51 @@ from __future__ import annotations
 import numpy as np
 
 from mimics.engine.dynamics import advance_pose
+from mimics.engine.noise_streams import StepStreams
 from mimics.engine.state import TypeArrays, WorldState
 
 COMMS_COLUMNS = ("id", "x", "y", "theta", "v", "w")
 
 
 def _noisy(rng: np.random.Generator, values: np.ndarray, sigma: np.ndarray) -> np.ndarray:
-    """``values`` plus zero-mean Gaussian noise of per-robot ``sigma`` (rows)."""
-    if not np.any(sigma > 0):
-        return values.copy()
+    """``values`` plus zero-mean Gaussian noise of per-robot ``sigma`` (rows); ``rng`` is
+    the step's stretch of the sensor's stream (a row per robot, whatever its sigma)."""
     noise = rng.standard_normal(values.shape)
     scale = sigma.reshape(-1, *([1] * (values.ndim - 1)))
     return values + noise * scale
 
 
-def measure_positioning(state: WorldState, types: TypeArrays, rng: np.random.Generator) -> None:
-    """Fill the measured pose, velocity and acceleration from the ground truth."""
-    noise = types.noisy
+def measure_positioning(state: WorldState, types: TypeArrays,
+                        streams: dict[str, StepStreams]) -> None:
+    """Fill the measured pose, velocity and acceleration from the ground truth, with the
+    noise of this step (``streams``: ``"position"``, ``"velocity"``, ``"acceleration"``)."""
+    noise, step = types.noisy, state.step
     # Without noise the measured values are plain copies: skip the temporaries.
     if "sigma_position" in noise:
-        state.measured_pose[:, :2] = _noisy(rng, state.pose[:, :2], types.sigma_position)
+        state.measured_pose[:, :2] = _noisy(streams["position"].at(step), state.pose[:, :2],
+                                            types.sigma_position)
         state.measured_pose[:, 2] = state.pose[:, 2]
     else:  # the whole pose in one copy
         state.measured_pose[:] = state.pose
     if "sigma_velocity" in noise:
-        state.measured_velocity[:] = _noisy(rng, state.velocity, types.sigma_velocity)
+        state.measured_velocity[:] = _noisy(streams["velocity"].at(step), state.velocity,
+                                            types.sigma_velocity)
     else:
         state.measured_velocity[:] = state.velocity
     if "sigma_acceleration" in noise:
-        state.measured_acceleration[:] = _noisy(rng, state.acceleration,
-                                                types.sigma_acceleration)
+        state.measured_acceleration[:] = _noisy(streams["acceleration"].at(step),
+                                                state.acceleration, types.sigma_acceleration)
     else:
         state.measured_acceleration[:] = state.acceleration
 
 
 def add_ranger_noise(ranges: np.ndarray, max_range: np.ndarray, sigma: np.ndarray,
-                     rng: np.random.Generator) -> None:
+                     noise: np.ndarray) -> None:
     """Add Gaussian noise to each beam of ``ranges`` in place, clipped to ``[0, range]``
     (NaN slots stay NaN): ``clip(ranges + noise * sigma, 0, range)``, the same bits as
-    that expression, without its temporaries. The caller draws only when some ``sigma``
-    is positive (``TypeArrays.noisy``)."""
-    noise = rng.standard_normal(ranges.shape)
+    that expression, without its temporaries; ``noise`` (standard normal draws of the
+    same shape, :class:`~mimics.engine.noise_streams.RangerNoise`) is overwritten. The
+    caller draws only when some ``sigma`` is positive (``TypeArrays.noisy``)."""
     noise *= sigma[:, None]
     ranges += noise
     np.maximum(ranges, 0.0, out=ranges)  # np.clip's own order, without its wrapper
@@ -70,19 +75,16 @@ def odometry_is_exact(state: WorldState, types: TypeArrays) -> bool:
 
 
 def update_odometry(state: WorldState, types: TypeArrays, distance: np.ndarray,
-                    turn: np.ndarray, moving: np.ndarray | None, rng: np.random.Generator) -> None:
+                    turn: np.ndarray, moving: np.ndarray | None, streams: StepStreams) -> None:
     """Integrate noisy increments into the odometer; noise only where there is motion.
 
-    ``moving`` is a mask of the robots that moved, or None when all did.
+    ``moving`` is a mask of the robots that moved, or None when all did; ``streams`` is
+    the odometry's stream: step k draws a row ``[translation, rotation]`` per robot,
+    whichever of the two is noisy.
     """
-    noise = types.noisy
-    measured_distance, measured_turn = distance, turn
-    if "sigma_translation" in noise:
-        draw = rng.standard_normal(state.n)
-        measured_distance = distance + draw * types.sigma_translation * np.abs(distance)
-    if "sigma_rotation" in noise:
-        draw = rng.standard_normal(state.n)
-        measured_turn = turn + draw * types.sigma_rotation * np.abs(turn)
+    draws = streams.at(state.step).standard_normal((state.n, 2))
+    measured_distance = distance + draws[:, 0] * types.sigma_translation * np.abs(distance)
+    measured_turn = turn + draws[:, 1] * types.sigma_rotation * np.abs(turn)
     updated = advance_pose(state.odometry, measured_distance, measured_turn)
     if moving is None:
         state.odometry[:] = updated

@@ -97,6 +97,11 @@ class TypeArrays:
             values = np.array([get(t) for t in types], dtype=np.float64)  # type: ignore[operator]
             return values[idx]
 
+        exact = scenario.settings.noise == "off"  # the noise-free run: every sigma zero
+
+        def sigma(get: object) -> np.ndarray:
+            return np.zeros(len(idx)) if exact else per_robot(get)
+
         max_beams = max((t.ranger.beams for t in types), default=0)
         offsets_by_type = np.full((len(types), max_beams), np.nan)
         for k, t in enumerate(types):
@@ -115,12 +120,12 @@ class TypeArrays:
             beam_units=offset_units(offsets_by_type)[idx],
             beam_count=np.array([t.ranger.beams for t in types], dtype=np.int64)[idx],
             max_range=per_robot(lambda t: t.ranger.range),
-            sigma_range=per_robot(lambda t: t.ranger.sigma),
-            sigma_position=per_robot(lambda t: t.positioning.sigma_position),
-            sigma_velocity=per_robot(lambda t: t.positioning.sigma_velocity),
-            sigma_acceleration=per_robot(lambda t: t.positioning.sigma_acceleration),
-            sigma_translation=per_robot(lambda t: t.odometry.sigma_translation),
-            sigma_rotation=per_robot(lambda t: t.odometry.sigma_rotation),
+            sigma_range=sigma(lambda t: t.ranger.sigma),
+            sigma_position=sigma(lambda t: t.positioning.sigma_position),
+            sigma_velocity=sigma(lambda t: t.positioning.sigma_velocity),
+            sigma_acceleration=sigma(lambda t: t.positioning.sigma_acceleration),
+            sigma_translation=sigma(lambda t: t.odometry.sigma_translation),
+            sigma_rotation=sigma(lambda t: t.odometry.sigma_rotation),
         )
 
 

@@ -6,7 +6,8 @@
 ``show`` a live view in a notebook cell.
 
 >>> import mimics
->>> run = mimics.simulate("line", "go_to_goal", robots=3, time=21.8, seed=1)
+>>> run = mimics.simulate("line", "go_to_goal", robots=3, time=21.8, seed=1,
+...                       params={"random_yaw": False})  # facing their goals
 >>> run.status, run.reached_goal
 ('completed', 3)
 """

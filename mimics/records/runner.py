@@ -48,7 +48,8 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
     if time is not None and params and "time_limit" in params and params["time_limit"] != time:
         raise MimicsError(f"time={time!r} and params time_limit={params['time_limit']!r}: two "
                           "values for the simulated time; give one")
-    built = build_scenario(scenario, robots=robots, params=params, allow_overlap=allow_overlap)
+    built = build_scenario(scenario, robots=robots, params=params, allow_overlap=allow_overlap,
+                           seed=seed)
     check_memory(built, time=time)
     if isinstance(algorithm, str | Path):
         name, module = find_algorithm(algorithm)
@@ -59,10 +60,13 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
 
 
 def build_scenario(scenario: str | Path | Scenario, *, robots: int | None = None,
-                   params: dict[str, Any] | None = None, allow_overlap: bool = False) -> Scenario:
+                   params: dict[str, Any] | None = None, allow_overlap: bool = False,
+                   seed: int | None = None) -> Scenario:
     """The scenario from a name, a file or an object, its start state checked.
 
-    ``robots`` and ``params`` are scenario parameters, for names and files only.
+    ``robots`` and ``params`` are scenario parameters, for names and files only;
+    ``seed``, the run's, draws the scenario's own randomness (start headings,
+    jitter, random placements) unless ``params`` fixes its ``seed``.
 
     Raises:
         MimicsError: parameters given with a Scenario object, a bad parameter, ``robots``
@@ -76,7 +80,7 @@ def build_scenario(scenario: str | Path | Scenario, *, robots: int | None = None
                               "values for the same parameter; give one")
         params["robots"] = robots
     if not isinstance(scenario, Scenario):
-        return load_scenario(scenario, allow_overlap=allow_overlap, **params)
+        return load_scenario(scenario, allow_overlap=allow_overlap, run_seed=seed, **params)
     if params:
         raise MimicsError("robots/params apply to a scenario name or file, not a Scenario")
     validate_scenario(scenario, f"scenario {scenario.name!r}",
@@ -96,7 +100,7 @@ def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs 
     what was recorded is kept, without summary.json, and the exception goes on.
 
     >>> import tempfile
-    >>> sim = prepare("line", "go_to_goal", robots=2, seed=1)
+    >>> sim = prepare("line", "go_to_goal", robots=2, seed=1, params={"random_yaw": False})
     >>> run_to_folder(sim, tempfile.mkdtemp(), robot_logs="off").reached_goal
     2
 

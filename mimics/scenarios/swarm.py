@@ -6,7 +6,8 @@ a packed square lattice ``SPACING`` m apart in the middle). Square pillars
 stand on a regular grid across the arena; lattice points that would put a
 robot within ``CLEARANCE`` of a pillar are skipped. Pair it with
 ``dispersion_team`` (or ``dispersion``): the robots see each other with
-their eight short infrared beams and spread out.
+their eight short infrared beams and spread out. The run's seed draws every
+robot's start heading (``fixed = true``: those of seed 0).
 """
 
 import math
@@ -17,6 +18,9 @@ from mimics.world.errors import ScenarioError
 from mimics.world.maps import Map
 from mimics.world.robot_types import EPUCK
 from mimics.world.scenario import Scenario, Settings
+from mimics.world.streams import keyed_uniform
+
+SEED_CHANGES = "every robot's start heading (fixed = true: those of seed 0)"
 
 SPACING = 0.1  # m between lattice points: over the e-puck's 0.099 m diagonal, in sight
 AREA_PER_ROBOT = 0.25  # m^2 of arena per robot
@@ -61,10 +65,11 @@ def _start(robots: int, side: float, pillars: np.ndarray) -> np.ndarray:
     return xy[order[:robots]]
 
 
-def scenario(robots: int = 100, seed: int = 1, time_limit: float = 60.0) -> Scenario:
+def scenario(robots: int = 100, seed: int = 0, time_limit: float = 60.0,
+             fixed: bool = False) -> Scenario:
     """``robots`` e-pucks packed in the middle of a pillared arena sized for them, no goals.
 
-    Headings are random, seeded by ``seed``.
+    Headings are random, robot i's drawn from ``(seed, i)`` (seed 0 when ``fixed``).
     """
     if isinstance(robots, bool) or not isinstance(robots, int) or not 1 <= robots <= MAX_SWARM:
         raise ScenarioError(f"swarm: robots must be a whole number from 1 to {MAX_SWARM}, "
@@ -72,7 +77,7 @@ def scenario(robots: int = 100, seed: int = 1, time_limit: float = 60.0) -> Scen
     side = max(math.sqrt(robots * AREA_PER_ROBOT), 4.0)
     pillars = _pillars(side)
     xy = _start(robots, side, pillars)
-    yaw = np.random.default_rng(seed).uniform(-np.pi, np.pi, robots)
+    yaw = keyed_uniform(0 if fixed else seed, "swarm.start_yaw", robots, -np.pi, np.pi)
     rows = np.column_stack([xy, yaw, np.zeros(robots), np.full(robots, np.nan),
                             np.full(robots, np.nan)])
     return Scenario.from_matrix(rows, _arena(side, pillars), EPUCK,

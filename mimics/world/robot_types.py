@@ -197,27 +197,31 @@ def _finite(value: object) -> bool:
             and math.isfinite(value))
 
 
-def _ranger(name: str, fov_degrees: float, beams: int, range_m: float) -> RangerSpec:
-    return RangerSpec(name=name, fov=math.radians(fov_degrees), beams=beams, range=range_m)
-
+# Stage's position model's default odom_error [0.03 0.03 0.00 0.05] (x, y, z, heading
+# proportions): the Stage robots' odometry noise, as a Gaussian per metre and per radian
+STAGE_ODOMETRY = OdometryNoise(sigma_translation=0.03, sigma_rotation=0.05)
 
 PIONEER_3AT = RobotType(
     name="Pioneer3AT", width=0.5, length=0.7, kv=1.0, kw=1.0, tau_v=0.5, tau_w=0.2,
-    ranger=_ranger("Hokuyo UTM-30LX (simplified)", 270, 270, 30.0),
+    ranger=RangerSpec(name="Hokuyo UTM-30LX (simplified)", fov=math.radians(270), beams=270,
+                      range=30.0, sigma=0.03),
+    odometry=STAGE_ODOMETRY,
 )
 """The paper's Pioneer 3-AT (section 5.1). Tuned gains: speed kp 1.489, ki 3.297;
 heading kp 8.125, kd 1.434."""
 
 PIONEER_2DX = RobotType(
     name="Pioneer2DX", width=0.27, length=0.325, kv=0.3, kw=1.0, tau_v=0.05, tau_w=0.2,
-    ranger=_ranger("SICK LMS200", 180, 180, 8.0),
+    ranger=RangerSpec(name="SICK LMS200", fov=math.pi, beams=180, range=8.0, sigma=0.015),
+    odometry=STAGE_ODOMETRY,
 )
 """The paper's Pioneer 2-DX (the Cave). Tuned gains: speed kp 0.172, ki 10.99;
 heading kp 8.125, kd 1.434."""
 
 SWARMBOT = RobotType(
     name="Swarmbot", width=0.1, length=0.1, kv=0.3, kw=1.0, tau_v=0.05, tau_w=0.2,
-    ranger=_ranger("SICK LMS200 (2 m)", 180, 180, 2.0),
+    ranger=RangerSpec(name="SICK LMS200 (2 m)", fov=math.pi, beams=180, range=2.0, sigma=0.015),
+    odometry=STAGE_ODOMETRY,
 )
 """The Hospital's 0.1 m robot: Pioneer 2-DX dynamics, a 2 m LMS200. Gains as the 2-DX."""
 
@@ -270,7 +274,8 @@ heading kp 0.761, kd 0.013.
 KOBUKI = RobotType(
     name="Kobuki", width=0.3515, length=0.3515, kv=0.7, kw=math.pi,
     tau_v=0.7 / 0.5, tau_w=math.pi / 3.5,
-    ranger=_ranger("Asus Xtion PRO LIVE as a laser scan (simplified)", 58, 58, 3.5),
+    ranger=RangerSpec(name="Asus Xtion PRO LIVE as a laser scan (simplified)",
+                      fov=math.radians(58), beams=58, range=3.5, sigma=0.0175),
 )
 """Yujin Robot Kobuki base, the TurtleBot2.
 
@@ -299,6 +304,36 @@ BUILTIN_ROBOT_TYPES: dict[str, RobotType] = {
     t.name: t for t in (PIONEER_3AT, PIONEER_2DX, SWARMBOT, TURTLEBOT3_BURGER, EPUCK, KOBUKI,
                         POINT)
 }
+
+
+_ACCURACY_AS_SIGMA = "the maker's accuracy figure taken as one standard deviation"
+_STAGE_ODOMETRY_SOURCE = ("odometry: Stage's position model default odom_error [0.03 0.03 0 0.05] "
+                          "(rtv.github.io/Stage, position model), as 0.03 m per m and 0.05 rad "
+                          "per rad (Stage draws it once per run as a scale error; here per step)")
+
+NOISE_SOURCES: dict[str, str] = {
+    "Pioneer3AT": ("ranger: Hokuyo UTM-30LX specifications (accuracy +-30 mm at 0.1-10 m, "
+                   f"+-50 mm at 10-30 m): sigma 0.03 m, {_ACCURACY_AS_SIGMA}; "
+                   f"{_STAGE_ODOMETRY_SOURCE}"),
+    "Pioneer2DX": ("ranger: SICK LMS200 Technical Description (typical accuracy +-15 mm, mm "
+                   f"mode, up to 8 m): sigma 0.015 m, {_ACCURACY_AS_SIGMA}; "
+                   f"{_STAGE_ODOMETRY_SOURCE}"),
+    "Swarmbot": ("ranger: as the SICK LMS200 (typical accuracy +-15 mm): sigma 0.015 m; "
+                 f"{_STAGE_ODOMETRY_SOURCE}"),
+    "TurtleBot3Burger": ("ranger: ROBOTIS LDS-01 specifications in the TurtleBot3 e-Manual "
+                         "(accuracy +-15 mm at 0.12-0.499 m, +-5% at 0.5-3.5 m): sigma "
+                         "0.015 m; odometry: no published figure, none"),
+    "e-puck": ("ranger: the infrared sensors give an intensity, not a distance: 3 mm is an "
+               "assumed sigma (GCtronic publishes no distance accuracy); odometry: no "
+               "published figure, none"),
+    "Kobuki": ("ranger: Khoshelham and Elberink, 'Accuracy and resolution of Kinect depth "
+               "data for indoor mapping applications', Sensors 12(2), 2012 (random error "
+               "sigma = 1.425e-3 z^2 m for the same PrimeSense sensor as the Xtion): 0.0175 m at "
+               "its 3.5 m range; odometry: no published figure, none"),
+    "point": "no sensors, no noise",
+}
+"""Where each built-in type's noise figures come from (``mimics robot show TYPE``).
+Positioning noise is zero for every type: none has a positioning sensor of its own."""
 
 
 def robot_type_from_dict(data: dict[str, Any], where: str = "robot type") -> RobotType:

@@ -25,6 +25,8 @@ from mimics.world.limits import MAX_ROBOTS, MAX_STEPS
 from mimics.world.maps import Map
 from mimics.world.robot_types import RobotType
 
+NOISE_CHOICES = ("on", "off")
+
 
 @dataclass(frozen=True)
 class Settings:
@@ -41,6 +43,7 @@ class Settings:
     comm_range: float = math.inf  # m; robots farther apart do not see each other in comms
     inactive_as_obstacles: bool = True  # deactivated robots stay in place as obstacles
     allow_overlap: bool = False  # keep robots that start touching a wall or each other
+    noise: str = "on"  # "off": every sensor exact, whatever the robot types' noise figures
 
     def __post_init__(self) -> None:
         positive = ("dt", "time_limit", "goal_tolerance", "deadlock_window", "livelock_window")
@@ -58,6 +61,9 @@ class Settings:
         for name in ("deactivate_on_deadlock", "inactive_as_obstacles", "allow_overlap"):
             if not isinstance(getattr(self, name), bool):
                 raise ScenarioError(f"settings.{name}: expected true or false")
+        if self.noise not in NOISE_CHOICES:
+            raise ScenarioError(f"settings.noise: expected one of {', '.join(NOISE_CHOICES)}, "
+                                f"got {self.noise!r}")
         if self.time_limit / self.dt > MAX_STEPS:
             raise ScenarioError(f"settings.time_limit: {self.time_limit:g} s at dt = {self.dt:g} "
                                 f"s is over the limit of {MAX_STEPS} steps (expected at most "

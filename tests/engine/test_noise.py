@@ -146,7 +146,8 @@ def test_ranger_noise_in_place_is_the_clipped_sum_bit_for_bit() -> None:
     sigma = np.array([0.5, 0.1, 0.3, 0.0, 0.05])
     expected = np.clip(ranges + np.random.default_rng(11).standard_normal(ranges.shape)
                        * sigma[:, None], 0.0, max_range[:, None])
-    add_ranger_noise(ranges, max_range, sigma, np.random.default_rng(11))
+    add_ranger_noise(ranges, max_range, sigma,
+                     np.random.default_rng(11).standard_normal(ranges.shape))
     assert ranges.tobytes() == expected.tobytes()
     assert np.isnan(ranges[1, 6:]).all() and (ranges[3] == expected[3]).all()
     assert (ranges >= 0.0).sum() == ranges.size - 3 and np.nanmax(ranges - max_range[:, None]) <= 0

@@ -24,7 +24,8 @@ def one_robot(stage, goal=(np.nan, np.nan), walls=(), bounds=(-10, -10, 10, 10),
 
 
 def test_line_scenario_all_reach_their_goals() -> None:
-    result = Simulation(line(robots=5), go_to_goal, seed=1).run()
+    # facing their goals: with the paper's random headings some need longer than 21.8 s
+    result = Simulation(line(robots=5, random_yaw=False), go_to_goal, seed=1).run()
     assert result.status == "completed"
     assert result.reached_goal == 5
     assert result.collisions == 0
@@ -234,7 +235,8 @@ def test_robot_view_rows_are_made_once_and_follow_the_world() -> None:
 
 
 def test_noise_free_odometer_reads_the_true_pose_exactly() -> None:
-    sim = Simulation(line(robots=3, random_yaw=True), go_to_goal, seed=1, time_limit=5.0)
+    exact = line(robots=3, random_yaw=True).with_settings(noise="off")
+    sim = Simulation(exact, go_to_goal, seed=1, time_limit=5.0)
     sim.run()
     assert sim.state.odometry.tobytes() == sim.state.pose.tobytes()
 
@@ -245,7 +247,8 @@ def test_robots_that_failed_do_not_move_while_the_others_do() -> None:
             raise RuntimeError("stuck")
         return 0.5, 0.0
 
-    sim = Simulation(line(robots=3), step, policy="deactivate", time_limit=2.0)
+    sim = Simulation(line(robots=3, random_yaw=False).with_settings(noise="off"), step,
+                     policy="deactivate", time_limit=2.0)
     sim.run()
     frozen_at = sim.state.pose[1].copy()
     assert sim.state.status[1] == Status.ERROR

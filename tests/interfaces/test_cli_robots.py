@@ -30,6 +30,9 @@ def test_show_prints_the_parameters_and_writes_the_figure(tmp_path: Path) -> Non
     assert "speed step to 0.5 m/s" in result.output
     assert "settles (2%) in 1.0 s, overshoot 0.0%" in result.output
     assert "settles (2 deg) in 1.9 s" in result.output
+    # the datasheet noise and where it comes from
+    assert "sigma 0.03 m" in result.output and "Hokuyo UTM-30LX specifications" in result.output
+    assert "odom_error" in result.output
     image = imread(out)
     assert image.shape[:2] == (450, 1500)
     assert np.ptp(image[..., :3]) > 0.5  # something is drawn
@@ -58,3 +61,11 @@ def test_unwritable_figure_is_one_line(tmp_path: Path) -> None:
     result = runner.invoke(app, ["robot", "show", "e-puck", "--out", str(blocker / "x.png")])
     assert result.exit_code == 2
     assert result.output.strip().splitlines()[-1].startswith("mimics: error: cannot write")
+
+
+def test_list_scenarios_says_what_the_seed_changes() -> None:
+    result = runner.invoke(app, ["list", "scenarios"], terminal_width=250)
+    assert result.exit_code == 0, result.output
+    assert "the seed changes" in result.output
+    assert "each robot's start heading" in result.output  # the line
+    assert "start jitter" in result.output  # circle_swap, corridor, cave, hospital

@@ -72,13 +72,16 @@ def test_cave_has_100_pioneers_on_free_pixels() -> None:
 
 def test_hospital_has_2000_swarmbots_in_two_blocks() -> None:
     needs_stage()
-    hospital = load_scenario("hospital")
+    hospital = load_scenario("hospital", fixed=True)  # Stage's poses exactly
     assert hospital.robot_count == 2000 and hospital.types == (SWARMBOT,)
     assert hospital.map.bounds == pytest.approx((-70.0, -29.5, 70.0, 30.5))
     x, y = hospital.stages[:, 0], hospital.stages[:, 1]
     assert (x[:1000] <= -9.25).all() and (x[1000:] >= 0.0).all()
     assert set(np.round(y, 2).tolist()) == {-15.0, -14.75, -14.5, -14.25, -14.0}
-    assert load_scenario("hospital", robots=1000).stages[:, 0].max() == pytest.approx(-9.25)
+    assert load_scenario("hospital", robots=1000, fixed=True).stages[:, 0].max() == \
+        pytest.approx(-9.25)
+    jittered = load_scenario("hospital", run_seed=3).stages  # the run's seed moves each start
+    assert 0 < np.abs(jittered[:, :2] - hospital.stages[:, :2]).max() <= 0.02
 
 
 def test_teaching_scenarios_take_their_parameters() -> None:
@@ -86,8 +89,11 @@ def test_teaching_scenarios_take_their_parameters() -> None:
     assert corridor.robot_count == 12 and corridor.has_goal.all()
     west = corridor.stages[:, 0] < 8.0
     assert west.sum() == 6 and (corridor.goals[west, 0] > 8.0).all()
-    swap = load_scenario("circle_swap", robots=10, radius=5.0)
+    swap = load_scenario("circle_swap", robots=10, radius=5.0, fixed=True)
     assert np.allclose(swap.goals, -swap.stages[:, :2])
+    jittered = load_scenario("circle_swap", robots=10, radius=5.0, run_seed=2)
+    assert np.array_equal(jittered.goals, swap.goals)
+    assert 0 < np.abs(jittered.stages[:, :2] - swap.stages[:, :2]).max() <= 0.1
     room = load_scenario("obstacle_room", robots=20, seed=4)
     assert room.robot_count == 20 and not room.has_goal.any()
     assert not np.array_equal(room.stages, load_scenario("obstacle_room", robots=20).stages)

@@ -69,10 +69,17 @@ def list_algorithms_command() -> None:
 
 @list_app.command("scenarios")
 def list_scenarios_command() -> None:
-    """Built-in scenarios, with a one-line description each."""
-    from mimics.catalog import list_scenarios
+    """Built-in scenarios: a one-line description each, and what the run's seed changes."""
+    from mimics.catalog import list_scenarios, scenario_seed_changes
 
-    _print_catalog("scenario", list_scenarios())
+    table = Table(show_header=True, caption="Every seed also changes the sensors' noise (off "
+                                            "with --param noise=off).")
+    table.add_column("scenario")
+    table.add_column("description")
+    table.add_column("the seed changes")
+    for name, description in list_scenarios():
+        table.add_row(name, description, scenario_seed_changes(name))
+    console.print(table)
 
 
 def _print_catalog(kind: str, entries: list[tuple[str, str]]) -> None:

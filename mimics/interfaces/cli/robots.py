@@ -21,7 +21,12 @@ from rich.table import Table
 
 from mimics.interfaces.cli.output import fail, say
 from mimics.world.errors import MimicsError
-from mimics.world.robot_types import BUILTIN_ROBOT_TYPES, RobotType, builtin_robot_type
+from mimics.world.robot_types import (
+    BUILTIN_ROBOT_TYPES,
+    NOISE_SOURCES,
+    RobotType,
+    builtin_robot_type,
+)
 
 robot_app = typer.Typer(help="Robot types: their parameters and closed-loop responses.",
                         no_args_is_help=True, rich_markup_mode=None)
@@ -52,6 +57,8 @@ def _parameter_rows(t: RobotType) -> list[tuple[str, str]]:
          f"{t.positioning.sigma_acceleration:g} m/s^2"),
         ("odometry sigma (per m, per rad)",
          f"{t.odometry.sigma_translation:g}, {t.odometry.sigma_rotation:g}"),
+        ("noise source", NOISE_SOURCES.get(t.name, "the type's own file")),
+        ("noise off", 'a scenario setting noise = "off" (or --param noise=off) runs it exact'),
     ]
 
 

@@ -195,7 +195,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     # lockstep, loaded 2-core machine: 9.2 s of wall time with 2 threads, 1.2 to
     # 2.0 s with one).
     numba.set_num_threads(1)
-    built = load_scenario(scenario, **(params or {}))
+    built = load_scenario(scenario, run_seed=seed, **(params or {}))
     inbox = Inbox(built.robot_count, options.lockstep)
     references = RosReferences(inbox, built.stages[:, 2], options.timeout)
     sim = prepare(built, references.controller(), time=time, seed=seed, observers=observers)

@@ -37,8 +37,9 @@ def open_field(rows: list[list[float]], *, noisy: bool = False, time_limit: floa
                        positioning=PositioningNoise(sigma_position=0.02, sigma_velocity=0.01),
                        odometry=OdometryNoise(sigma_translation=0.01, sigma_rotation=0.01))
     walls = Map(np.array([[-9.0, -9.0, -9.0, 9.0]]), bounds, "one wall")
-    return Scenario.from_matrix(rows, walls, kind, settings=Settings(time_limit=time_limit),
-                                name="open_field")
+    # not noisy: exact sensors (the built-in type carries its datasheet noise)
+    settings = Settings(time_limit=time_limit, noise="on" if noisy else "off")
+    return Scenario.from_matrix(rows, walls, kind, settings=settings, name="open_field")
 
 
 @pytest.fixture

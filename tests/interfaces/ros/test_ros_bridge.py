@@ -25,6 +25,9 @@ from tests.interfaces.ros.helpers import (
 )
 from tests.system_packages import require
 
+# the line with every robot facing its goal (its default draws the paper's random headings)
+FACING = ("--param", "random_yaw=false")
+
 
 def _load_plan() -> ModuleType:
     spec = importlib.util.spec_from_file_location("scripted_plan", NODES / "scripted_plan.py")
@@ -58,8 +61,8 @@ def built_in_go_to_goal(folder: Path, robots: int, seed: int) -> pd.DataFrame:
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        run_to_folder(prepare("line", "go_to_goal", robots=robots, seed=seed), folder,
-                      robot_logs="off")
+        run_to_folder(prepare("line", "go_to_goal", robots=robots, seed=seed,
+                              params={"random_yaw": False}), folder, robot_logs="off")
     finally:
         numba.set_num_threads(threads)
     return trajectory(folder)
@@ -78,7 +81,7 @@ def test_rospy_example_drives_five_robots_and_lockstep_repeats_exactly(ros_env, 
     runs = []
     for name in ("first", "second"):
         folder = tmp_path / name
-        bridge, output = with_node(ros_env, node, "line", "--robots", "5", "--seed", "3",
+        bridge, output = with_node(ros_env, node, "line", "--robots", "5", "--seed", "3", *FACING,
                                    "--lockstep", "--out", str(folder), "--robot-logs", "off")
         assert bridge.returncode == 0, bridge.stderr + output
         outcome = summary(folder)
@@ -101,7 +104,7 @@ def test_roscpp_example_drives_five_robots(ros_env, tmp_path):
                            capture_output=True, text=True, check=False)
     assert build.returncode == 0, build.stderr
     folder = tmp_path / "cpp"
-    bridge, output = with_node(ros_env, [str(binary), "5"], "line", "--robots", "5",
+    bridge, output = with_node(ros_env, [str(binary), "5"], "line", "--robots", "5", *FACING,
                                "--seed", "3", "--out", str(folder), "--robot-logs", "off")
     assert bridge.returncode == 0, bridge.stderr + output
     outcome = summary(folder)
@@ -112,7 +115,8 @@ def test_roscpp_example_drives_five_robots(ros_env, tmp_path):
     # the same binary as a `ros:` algorithm: mimics starts a master and the node itself
     own = tmp_path / "ros_algorithm"
     done = subprocess.run([sys.executable, "-m", "mimics", "run", "line",
-                           f"ros:{binary} {{robots}}", "--robots", "5", "--seed", "3", "--out",
+                           f"ros:{binary} {{robots}}", "--robots", "5", "--seed", "3", *FACING,
+                           "--out",
                            str(own), "--robot-logs", "off"], capture_output=True, text=True,
                           timeout=120, check=False)
     assert done.returncode == 0, done.stdout + done.stderr
@@ -203,7 +207,7 @@ def test_params_shape_the_scenario_and_the_view_and_video_come_as_for_run(ros_en
     from mimics.interfaces.live_view import no_display_notice
     from mimics.records.runner import prepare, run_to_folder
 
-    params = ("--param", "spacing=2.5", "--param", "distance=4.0")
+    params = ("--param", "spacing=2.5", "--param", "distance=4.0", *FACING)
     node = [SYSTEM_PYTHON, str(EXAMPLES / "go_to_goal_node.py"), "--robots", "3"]
     folder, video = tmp_path / "ros", tmp_path / "run.mp4"
     bridge, output = with_node(ros_env, node, "line", "--robots", "3", *params, "--seed", "2",
@@ -217,7 +221,7 @@ def test_params_shape_the_scenario_and_the_view_and_video_come_as_for_run(ros_en
     start = ros_run[ros_run["step"] == ros_run["step"].min()].sort_values("robot")
     np.testing.assert_allclose(start["y"], [2.5, 5.0, 7.5], atol=1e-9)  # spacing 2.5
     reference = prepare("line", "go_to_goal", robots=3, seed=2,
-                        params={"spacing": 2.5, "distance": 4.0})
+                        params={"spacing": 2.5, "distance": 4.0, "random_yaw": False})
     run_to_folder(reference, tmp_path / "python", robot_logs="off")
     assert_same_run(ros_run, trajectory(tmp_path / "python"))
     reader = imageio.get_reader(video, format="FFMPEG")
