@@ -100,3 +100,25 @@ def test_the_robot_page_names_every_attribute_an_algorithm_can_read():
         missing = sorted(name for name in public if f"`{prefix}{name}" not in page
                          and f", `.{name}`" not in page and f"`, `.{name}" not in page)
         assert not missing, f"{cls.__name__}: not on robot-and-team.md: {missing}"
+
+
+SECONDS = re.compile(r"\b\d+(?:\.\d+)?(?: to \d+(?:\.\d+)?)? ?s\b")
+
+
+def test_the_compile_time_is_given_in_one_place_only():
+    """The kernels' compile time is stated on the performance page; others link to it."""
+    home = ROOT / "docs/explanation/performance.md"
+    texts = {path: path.read_text(encoding="utf-8")
+             for path in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]}
+    texts[ROOT / "mimics/interfaces/cli/first_run.py"] = (
+        ROOT / "mimics/interfaces/cli/first_run.py").read_text(encoding="utf-8")
+    figures = []
+    for path, text in texts.items():
+        for paragraph in re.split(r"\n\s*\n", text):
+            if path != home and "compil" in paragraph and "kernel" in paragraph:
+                figures += [f"{path.relative_to(ROOT)}: {m.group(0)!r} in {paragraph[:80]!r}"
+                            for m in SECONDS.finditer(paragraph)]
+    assert not figures, "compile times outside docs/explanation/performance.md:\n" + "\n".join(
+        figures)
+    assert "#the-first-runs-compile" in texts[ROOT / "README.md"]
+    assert SECONDS.search(home.read_text(encoding="utf-8").split("### The first run's compile")[1])

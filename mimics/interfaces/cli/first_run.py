@@ -62,6 +62,6 @@ def _await_ray(process: subprocess.Popen[bytes]) -> None:
 
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
-             "(once, about 17 s)")
+             "(once: it is cached on disk for the next runs)")
         compile_ray_helpers()  # here, while the process compiles the kernel itself
         process.wait()
