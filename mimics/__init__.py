@@ -29,7 +29,12 @@ _EXPORTS = {
     "find_algorithm": "mimics.catalog",
     "list_algorithms": "mimics.catalog",
     "list_scenarios": "mimics.catalog",
-    "load_run": "mimics.records.run_folder",
+    "load_run": "mimics.interfaces.api",
+    "run_battery": "mimics.interfaces.api",
+    "load_battery": "mimics.interfaces.api",
+    "show": "mimics.interfaces.api",
+    "RunView": "mimics.interfaces.notebook.run",
+    "BatteryView": "mimics.interfaces.notebook.battery",
 }
 
 __all__ = [*_EXPORTS, "__version__"]

@@ -12,7 +12,11 @@ Modules: :mod:`~mimics.batteries.spec` (battery files), :mod:`~mimics.batteries.
 (SQLite state), :mod:`~mimics.batteries.workers` (isolated worker processes),
 :mod:`~mimics.batteries.local` and :mod:`~mimics.batteries.dask_backend`
 (executors), :mod:`~mimics.batteries.driver` (the loop),
-:mod:`~mimics.batteries.report` (the top-tier table), :mod:`~mimics.batteries.status`.
+:mod:`~mimics.batteries.report` (the top-tier table), :mod:`~mimics.batteries.status`,
+:mod:`~mimics.batteries.metrics` (per-run metrics and digests),
+:mod:`~mimics.batteries.stats` (intervals, paired differences, signed-rank tests),
+:mod:`~mimics.batteries.comparison` (their tables), :mod:`~mimics.batteries.until` and
+:mod:`~mimics.batteries.rounds` (batteries that stop when the answer is known).
 """
 
 from __future__ import annotations

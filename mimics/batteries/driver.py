@@ -44,6 +44,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from mimics.batteries.progress import BatteryProgress
+from mimics.batteries.rounds import Rounds, extend_all
 from mimics.batteries.spec import BatterySpec, load_battery
 from mimics.batteries.store import RUNS_DIR, TMP_DIR, WORKERS_DIR, BatteryStore
 from mimics.batteries.tasks import FAILED_STATES, OUTCOME_FILE, Outcome, Task
@@ -186,10 +187,11 @@ def _drive(store: BatteryStore, *, workers: int | None, dask: str | None,
             if reset:
                 store.reset_failed(reset)
             _clear(store.folder / TMP_DIR)
+            spec = store.spec()
+            extend_all(store, spec)  # rounds a killed battery finished but did not schedule
             pending = store.ids("pending")
             finished = 0
             if pending:
-                spec = store.spec()
                 store.set_meta("session_started", str(time.time()))
                 counts = store.counts()
                 failed = sum(counts.get(s, 0) for s in FAILED_STATES)
@@ -218,6 +220,7 @@ def _loop(store: BatteryStore, spec: BatterySpec, executor: Executor, queue: deq
     (store.folder / WORKERS_DIR).mkdir(exist_ok=True)
     (store.folder / RUNS_DIR).mkdir(exist_ok=True)
     active: dict[int, Task] = {}
+    rounds = Rounds(store, spec)  # under a stopping rule: each cell's next round
     finished = 0
     arrived: list[tuple[Task, Outcome]] = []
     while queue or active or arrived:
@@ -233,6 +236,10 @@ def _loop(store: BatteryStore, spec: BatterySpec, executor: Executor, queue: deq
             finish(store, task, outcome)
             finished += 1
             bar.advance(outcome.state)
+            added = rounds.after(task.run_id)
+            if added:
+                queue.extend(added)
+                bar.grow(len(added))
         arrived = []
         if not (queue or active):
             break

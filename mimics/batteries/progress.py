@@ -72,6 +72,11 @@ class BatteryProgress:
         if self._progress is not None:
             self._progress.stop()
 
+    def grow(self, runs: int) -> None:
+        """A stopping rule listed ``runs`` more runs."""
+        if self._progress is not None:
+            self._progress.update(self._task, total=self._progress.tasks[0].total + runs)
+
     def advance(self, state: str) -> None:
         """One more run finished in ``state``."""
         if state in FAILED_STATES:

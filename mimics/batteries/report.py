@@ -24,6 +24,7 @@ import pandas as pd
 from rich.console import Console
 from rich.table import Table
 
+from mimics.batteries.metrics import SUMMARY_STATS, row_value
 from mimics.batteries.store import RUNS_DIR, BatteryStore
 from mimics.batteries.tasks import COUNTS, FAILED_STATES
 from mimics.world.errors import MimicsError
@@ -35,8 +36,8 @@ METRICS = ("reached_goal", "collisions", "deadlocks", "livelocks", "escaped", "e
            "wall_time")
 #: Columns of the CSV/Parquet export, in order (``param_NAME`` columns follow ``parameters``).
 EXPORT_COLUMNS = ("id", "algorithm", "scenario", "parameters", "seed", "state", "misbehaving",
-                  "status", *COUNTS, "sim_time", "wall_time", "attempts", "worker", "started",
-                  "ended", "error", "folder")
+                  "status", *COUNTS, "success", *SUMMARY_STATS, "sim_time", "wall_time",
+                  "digest", "attempts", "worker", "started", "ended", "error", "folder")
 
 
 def runs_table(folder: str | Path) -> pd.DataFrame:
@@ -45,7 +46,9 @@ def runs_table(folder: str | Path) -> pd.DataFrame:
     Columns: those of :data:`EXPORT_COLUMNS` plus ``param_NAME`` for each
     scenario parameter of the battery file, ``params`` (JSON), ``label``
     and ``traceback``. Counts are nullable integers (empty for runs without
-    an outcome: pending, running, killed, crashed).
+    an outcome: pending, running, killed, crashed). ``success`` (1.0 when every
+    robot reached its goal) and the summary's per-robot means (``time_to_goal``,
+    ``path_length``, ``path_efficiency``) are floats, NaN where undefined.
 
     Raises:
         MimicsError: when ``folder`` is not a battery folder.
@@ -58,6 +61,8 @@ def runs_table(folder: str | Path) -> pd.DataFrame:
     table = pd.DataFrame(rows)
     if table.empty:
         return table
+    for metric in ("success", *SUMMARY_STATS):
+        table[metric] = [row_value(row, metric) for row in rows]
     for column in COUNTS:
         table[column] = table[column].astype("Int64")
     table["parameters"] = table["label"]
@@ -142,8 +147,18 @@ def export_table(table: pd.DataFrame, path: str | Path, fmt: str | None = None) 
 # -- printing ------------------------------------------------------------------------
 
 def print_report(table: pd.DataFrame, console: Console, *, only_misbehaving: bool = False,
-                 runs: bool = True) -> None:
-    """Print the per-run table, the failures and the aggregate."""
+                 runs: bool = True, baseline: str | None = None,
+                 metrics: list[str] | None = None) -> None:
+    """Print the per-run table, the failures, the intervals per cell, the paired
+    comparison (with two or more algorithms) and the identical-seed warnings."""
+    from mimics.batteries.comparison import (
+        cell_intervals,
+        identical_seed_warnings,
+        paired_comparison,
+        randomize_hints,
+    )
+    from mimics.batteries.tables import comparison_rich, intervals_rich
+
     if table.empty:
         console.print("the battery has no runs", markup=False)
         return
@@ -156,7 +171,11 @@ def print_report(table: pd.DataFrame, console: Console, *, only_misbehaving: boo
         for row in failures.itertuples():
             console.print(f"  #{row.id} {row.state}: {row.error}", markup=False,
                           highlight=False)
-    console.print(_aggregate_rich(aggregate(table)))
+    console.print(intervals_rich(cell_intervals(table, metrics), metrics))
+    if table["algorithm"].nunique() > 1:
+        console.print(comparison_rich(paired_comparison(table, baseline, metrics)))
+    for line in identical_seed_warnings(table, randomize_hints(table)):
+        console.print(f"warning: {line}", style="yellow", markup=False, highlight=False)
 
 
 def _cell(value: Any, digits: int = 0) -> str:
@@ -181,27 +200,3 @@ def _runs_rich(table: pd.DataFrame) -> Table:
                      _cell(row.escaped), _cell(row.exceptions), _cell(row.wall_time, 2),
                      _cell(row.sim_time, 1), style=style)
     return rich
-
-
-def _aggregate_rich(agg: pd.DataFrame) -> Table:
-    rich = Table(title="Per algorithm x scenario: mean ± 95% interval over done runs",
-                 header_style="bold")
-    for name in ("algorithm", "scenario", "parameters", "runs", "done", "failed", "reached",
-                 "collisions", "deadlocks", "livelocks", "escaped", "exceptions", "wall (s)"):
-        rich.add_column(name, justify="left" if name in ("algorithm", "scenario",
-                                                         "parameters") else "right")
-    for row in agg.to_dict("records"):
-        cells = [_mean_text(row[m], row[f"{m}_ci95"], 3 if m == "wall_time" else 2)
-                 for m in METRICS]
-        rich.add_row(row["algorithm"], row["scenario"], row["parameters"], str(row["runs"]),
-                     str(row["done"]), str(row["failed"]), *cells,
-                     style="red" if row["failed"] else None)
-    return rich
-
-
-def _mean_text(mean: float, half: float, digits: int) -> str:
-    if math.isnan(mean):
-        return "-"
-    if math.isnan(half):
-        return f"{mean:.{digits}f}"
-    return f"{mean:.{digits}f} ± {half:.{digits}f}"

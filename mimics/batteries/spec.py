@@ -13,6 +13,12 @@ combination is one run::
     record_every = 1      # record every n-th step of the trajectory
     record_scans = false  # also record the laser scans (scans.parquet)
 
+    [battery.until]       # instead of `seeds`: seeds 1, 2... in rounds until the answer is known
+    metric = "time_to_goal"
+    half_width = 0.2      # stop a cell when its 95% interval is at most this wide each side
+    min_seeds = 10
+    max_seeds = 500
+
     [[scenarios]]
     name = "line"         # a built-in name or a path
     robots = [1, 10, 60]  # any scenario parameter; a list sweeps it
@@ -44,11 +50,12 @@ from pathlib import Path
 from typing import Any
 
 from mimics.batteries.references import algorithm_label, check_algorithms, is_path, resolve
+from mimics.batteries.until import UntilRule, parse_until
 from mimics.world.errors import MimicsError, read_input_text
 from mimics.world.limits import MAX_SEED
 
 BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
-                "record_every", "record_scans")
+                "record_every", "record_scans", "until")
 TOP_KEYS = ("battery", "scenarios")
 POLICIES = ("abort", "deactivate")
 ROBOT_LOGS = ("off", "auto", "on")
@@ -119,6 +126,8 @@ class BatterySpec:
         record_scans: also record the laser scans in each run folder.
         name: a label for the battery.
         source: the file it was read from ("" when built in memory).
+        until: the stopping rule (None: a fixed battery); ``seeds`` is then its first
+            round, 1..min_seeds, and later rounds are added as cells finish them.
     """
 
     algorithms: tuple[str, ...]
@@ -132,6 +141,7 @@ class BatterySpec:
     record_scans: bool = False
     name: str = ""
     source: str = ""
+    until: UntilRule | None = None
 
     def runs(self) -> list[RunSpec]:
         """Every run, in order: algorithm, scenario, parameter point, seed."""
@@ -153,8 +163,10 @@ class BatterySpec:
         """The spec stored by :meth:`to_json`."""
         data = json.loads(text)
         scenarios = tuple(ScenarioEntry(**s) for s in data.pop("scenarios"))
+        until = data.pop("until", None)
         return cls(algorithms=tuple(data.pop("algorithms")), scenarios=scenarios,
-                   seeds=tuple(data.pop("seeds")), **data)
+                   seeds=tuple(data.pop("seeds")),
+                   until=None if until is None else UntilRule(**until), **data)
 
 
 def _text(value: Any) -> str:
@@ -203,7 +215,15 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
         raise fail("missing [battery] table (with at least `algorithms`)")
     _no_unknown(table, BATTERY_KEYS, "[battery]", fail)
     algorithms = check_algorithms(table.get("algorithms"), base, fail)
-    seeds = _seeds(table.get("seeds", 1), fail)
+    until = None
+    if "until" in table:
+        until = parse_until(table["until"], fail)
+        if "seeds" in table:
+            raise fail("[battery] seeds: not with [battery.until], which runs seeds 1, 2... "
+                       "up to max_seeds (remove one of them)")
+        seeds = tuple(range(1, until.min_seeds + 1))
+    else:
+        seeds = _seeds(table.get("seeds", 1), fail)
     time = table.get("time")
     if time is not None and not (_is_number(time) and time > 0 and math.isfinite(time)):
         raise fail(f"[battery] time: expected a positive number of simulated seconds, got "
@@ -229,7 +249,7 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     if not isinstance(name, str):
         raise fail(f"[battery] name: expected a string, got {name!r}")
     scenarios = _scenarios(data.get("scenarios"), base, fail)
-    count = len(algorithms) * len(seeds) * sum(
+    count = len(algorithms) * (until.max_seeds if until else len(seeds)) * sum(
         math.prod(len(v) if isinstance(v, list) else 1 for v in entry.params.values())
         for entry in scenarios)
     if count > MAX_RUNS:
@@ -239,7 +259,7 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
                        time=None if time is None else float(time), timeout=float(timeout),
                        policy=policy, robot_logs=robot_logs, record_every=every,
                        record_scans=scans, name=name,
-                       source=str(Path(source).resolve()) if source else "")
+                       source=str(Path(source).resolve()) if source else "", until=until)
 
 
 def _is_number(value: Any) -> bool:

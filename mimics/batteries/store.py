@@ -33,7 +33,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from mimics.batteries.spec import BatterySpec
+from mimics.batteries.spec import BatterySpec, RunSpec
 from mimics.batteries.tasks import COUNTS, FAILED_STATES, OUTCOME_FILE, STATES, Outcome, Task
 from mimics.world.errors import MimicsError
 
@@ -66,10 +66,14 @@ CREATE TABLE runs (
     wall_time REAL,
     error TEXT,
     traceback TEXT,
+    metrics TEXT,
+    digest TEXT,
     UNIQUE (algorithm_ref, scenario_ref, params, seed)
 );
 CREATE INDEX runs_by_state ON runs (state);
 """
+#: Columns added since the first schema (a battery made before them gains them, empty).
+_ADDED_COLUMNS = (("metrics", "TEXT"), ("digest", "TEXT"))
 
 
 class BatteryStore:
@@ -149,6 +153,7 @@ class BatteryStore:
             raise MimicsError(f"{path}: not a battery database ({exc})") from None
         if version is None or version[0] != SCHEMA_VERSION:
             raise MimicsError(f"{path}: unsupported battery database version {version}")
+        _add_columns(db)
         return cls(root, db)
 
     def close(self) -> None:
@@ -235,11 +240,43 @@ class BatteryStore:
             cursor = self.db.execute(
                 f"UPDATE runs SET state = ?, status = ?, worker = ?, started = ?, ended = ?, "
                 f"{', '.join(f'{c} = ?' for c in COUNTS)}, sim_time = ?, wall_time = ?, "
-                f"error = ?, traceback = ? WHERE id = ? AND attempts = ? AND state = 'running'",
+                f"error = ?, traceback = ?, metrics = ?, digest = ? "
+                f"WHERE id = ? AND attempts = ? AND state = 'running'",
                 (outcome.state, outcome.status or None, outcome.worker, outcome.started,
                  outcome.ended, *counts, outcome.sim_time, outcome.wall_time, outcome.error,
-                 outcome.traceback, outcome.run_id, outcome.attempt))
+                 outcome.traceback, json.dumps(outcome.metrics) if outcome.metrics else None,
+                 outcome.digest or None, outcome.run_id, outcome.attempt))
             return cursor.rowcount == 1
+
+    def add_runs(self, runs: list[RunSpec]) -> list[int]:
+        """List more runs, ``pending`` (a stopping rule's next round); runs already
+        listed (same algorithm, scenario, parameters and seed) are left as they are.
+
+        Returns:
+            The ids of the runs added, in order.
+        """
+        added = []
+        with _transaction(self.db):
+            next_id = int(self.db.execute("SELECT coalesce(max(id), 0) FROM runs").fetchone()[0])
+            for run in runs:
+                params = json.dumps(run.params, sort_keys=True)
+                if self.db.execute(
+                        "SELECT 1 FROM runs WHERE algorithm_ref = ? AND scenario_ref = ? AND "
+                        "params = ? AND seed = ?",
+                        (run.algorithm_ref, run.scenario_ref, params, run.seed)).fetchone():
+                    continue
+                next_id += 1
+                found = self.db.execute(  # the cell's label as first listed (its key order)
+                    "SELECT label FROM runs WHERE algorithm_ref = ? AND scenario_ref = ? AND "
+                    "params = ? LIMIT 1", (run.algorithm_ref, run.scenario_ref, params)).fetchone()
+                self.db.execute(
+                    "INSERT INTO runs (id, algorithm, algorithm_ref, scenario, scenario_ref, "
+                    "params, label, seed, folder) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    (next_id, run.algorithm, run.algorithm_ref, run.scenario, run.scenario_ref,
+                     params, found[0] if found else run.label, run.seed,
+                     run.folder_name(next_id)))
+                added.append(next_id)
+        return added
 
     def requeue_running(self) -> tuple[int, int]:
         """After a battery died: adopt finished folders, set other running runs pending.
@@ -270,6 +307,14 @@ class BatteryStore:
             cursor = self.db.execute(
                 f"UPDATE runs SET state = 'pending' WHERE state IN ({marks})", states)
             return cursor.rowcount
+
+
+def _add_columns(db: sqlite3.Connection) -> None:
+    present = {row[1] for row in db.execute("PRAGMA table_info(runs)")}
+    for name, kind in _ADDED_COLUMNS:
+        if name not in present:
+            with contextlib.suppress(sqlite3.OperationalError):  # a reader raced us to it
+                db.execute(f"ALTER TABLE runs ADD COLUMN {name} {kind}")
 
 
 def _connect(path: Path) -> sqlite3.Connection:

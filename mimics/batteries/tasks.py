@@ -72,6 +72,8 @@ class Outcome:
     wall_time: float | None = None
     sim_time: float | None = None
     counts: dict[str, int] = field(default_factory=dict)
+    metrics: dict[str, float | None] = field(default_factory=dict)  # from the summary's stats
+    digest: str = ""  # the run's fingerprint (metrics.run_digest)
 
     def to_json(self) -> str:
         """The outcome as JSON (the run folder's ``battery.json``)."""
@@ -102,6 +104,8 @@ def execute(task: Task, worker: str) -> Outcome:
     """
     import numpy as np
 
+    from mimics.batteries.metrics import run_digest, summary_metrics
+    from mimics.records.layout import SUMMARY_JSON
     from mimics.records.runner import prepare, run_to_folder
     from mimics.world.errors import MimicsError
 
@@ -132,12 +136,14 @@ def execute(task: Task, worker: str) -> Outcome:
         outcome.error = f"the run raised {type(exc).__name__}: {exc}"
         outcome.traceback = traceback.format_exc()
         return _ended(outcome)
-    summary = result.summary()
+    summary = _written_summary(Path(task.folder) / SUMMARY_JSON) or result.summary()
     outcome.status = str(summary["status"])
     outcome.state = STATE_OF_STATUS.get(outcome.status, "error")
     outcome.wall_time = float(summary["wall_time"])
     outcome.sim_time = float(summary["sim_time"])
     outcome.counts = {key: int(summary[key]) for key in COUNTS}
+    outcome.metrics = summary_metrics(summary)
+    outcome.digest = run_digest(summary)
     if outcome.state == "timeout":
         outcome.error = (f"wall-clock timeout: stopped after {task.timeout:g} s at simulated "
                          f"t={outcome.sim_time:g} s")
@@ -147,6 +153,16 @@ def execute(task: Task, worker: str) -> Outcome:
         first = next((e for e in result.events if e.kind == "exception"), None)
         outcome.traceback = first.traceback if first is not None else ""
     return _ended(outcome)
+
+
+def _written_summary(path: Path) -> dict[str, Any] | None:
+    """The run folder's summary.json: the engine's summary with what the recorder adds
+    (such as ``trajectory_digest``, which the run's digest reads when present)."""
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) else None
 
 
 def _ended(outcome: Outcome) -> Outcome:

@@ -194,6 +194,8 @@ class WorkerProcess:
         context = worker_context(warm_up)
         forked = context.get_start_method() == "forkserver"
         self.name = name
+        if log_dir is not None:  # the worker opens its log at once: a fast fork may beat
+            log_dir.mkdir(parents=True, exist_ok=True)  # the driver's mkdir
         self.log_path = (log_dir / f"{name}.log").resolve() if log_dir is not None else None
         parent_end, child_end = context.Pipe()
         self.process = context.Process(

@@ -1,4 +1,9 @@
-"""The Python entry point: run one simulation in one call.
+"""The Python entry points: one simulation, a run folder, a battery, a live view.
+
+``simulate`` and ``load_run`` give a :class:`~mimics.interfaces.notebook.run.RunView`
+(tables, summary, plot, replay; shown in a notebook cell), ``run_battery`` and
+``load_battery`` a :class:`~mimics.interfaces.notebook.battery.BatteryView`,
+``show`` a live view in a notebook cell.
 
 >>> import mimics
 >>> run = mimics.simulate("line", "go_to_goal", robots=3, time=21.8, seed=1)
@@ -9,13 +14,20 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from mimics.engine.outcome import RunResult
-from mimics.engine.simulation import Policy
+from mimics.engine.simulation import Policy, Simulation
+from mimics.interfaces.notebook.run import RunView
+from mimics.records.memory import MemoryRecorder, MemoryRun
+from mimics.records.run_folder import load_run as load_run_folder
 from mimics.records.runner import prepare, run_to_folder
 from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
+
+if TYPE_CHECKING:
+    from mimics.interfaces.notebook.animation import Animation
+    from mimics.interfaces.notebook.battery import BatteryView
+    from mimics.interfaces.notebook.widget import LiveWidget
 
 
 def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | None = None,
@@ -23,8 +35,12 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
              out: str | Path | None = None, wall_limit: float | None = None,
              params: dict[str, Any] | None = None,
              observers: tuple[Any, ...] = (), record_scans: bool = False,
-             allow_overlap: bool = False) -> RunResult:
-    """Run one simulation and return its outcome; with ``out``, also write its folder.
+             allow_overlap: bool = False) -> RunView:
+    """Run one simulation and return its outcome, recorded; with ``out``, also write its folder.
+
+    Without ``out`` the run is recorded in memory (the same rows a run folder
+    holds; nothing is written): ``.trajectory``, ``.events``, ``.summary()``,
+    ``.plot()``, ``.animate()``, and ``.save(folder)`` to write it later.
 
     Args:
         scenario: a built-in name (``"line"``), a ``.py``/``.toml`` file, or a Scenario.
@@ -47,5 +63,71 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
     if out is None:
         if record_scans:
             raise MimicsError("record_scans: give out=FOLDER too (the scans go in the run folder)")
-        return sim.run()
-    return run_to_folder(sim, out, record_scans=record_scans)
+        check_memory_recording(sim)
+        recorder = MemoryRecorder()
+        sim.observers.append(recorder)
+        result = sim.run()
+        sim.observers.remove(recorder)
+        return RunView(MemoryRun(recorder, result), result)
+    result = run_to_folder(sim, out, record_scans=record_scans)
+    return RunView(load_run_folder(out), result)
+
+
+def check_memory_recording(sim: Simulation) -> None:
+    """Refuse a run whose records would not fit in memory (every row is kept until the end).
+
+    Raises:
+        MimicsError: one line with the figures, suggesting ``out=FOLDER``.
+    """
+    from mimics.records import resources
+
+    whole = 2**62  # the rows are never flushed: the buffer is the whole run
+    estimate = resources.run_memory(sim.scenario, flush_rows=whole, time=sim.time_limit)
+    available = resources.available_memory()
+    if available is not None and estimate.total > available:
+        raise MimicsError(
+            f"scenario {sim.scenario.name!r}: recording this run in memory needs about "
+            f"{resources.size_text(estimate.total)}, more than the "
+            f"{resources.size_text(available)} available: give out=FOLDER (the run is then "
+            "written as it goes) or a shorter time")
+
+
+def load_run(path: str | Path) -> RunView:
+    """Open a run folder: the same object as :func:`simulate` returns.
+
+    Its files are read when first used (:func:`mimics.records.run_folder.load_run`).
+
+    Raises:
+        MimicsError: in one line naming the folder or file, when the folder is
+            not a run, or its summary or a Parquet file is unreadable or truncated.
+    """
+    return RunView(load_run_folder(path))
+
+
+def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None = None,
+                dask: str | None = None, progress: bool | None = None) -> BatteryView:
+    """Run a battery (a battery file, a dict of one, or a spec) and return its results.
+
+    See :func:`mimics.interfaces.notebook.battery.run_battery`.
+    """
+    from mimics.interfaces.notebook.battery import run_battery as run
+
+    return run(spec, out, workers=workers, dask=dask, progress=progress)
+
+
+def load_battery(path: str | Path) -> BatteryView:
+    """Open a battery folder (finished or not): its table, report and plots."""
+    from mimics.interfaces.notebook.battery import BatteryView
+
+    return BatteryView.open(path)
+
+
+def show(scenario: str | Path | Scenario, algorithm: Any, **options: Any
+         ) -> LiveWidget | Animation:
+    """A live view of a new simulation in a notebook cell (Play/Pause/Step/Stop, speed).
+
+    See :func:`mimics.interfaces.notebook.live.show` for the options.
+    """
+    from mimics.interfaces.notebook.live import show as live
+
+    return live(scenario, algorithm, **options)

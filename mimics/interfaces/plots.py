@@ -61,8 +61,14 @@ def _new_figure(width_px: int, height_px: int, dpi: float = 100.0) -> Figure:
     return fig
 
 
-def _save(fig: Figure, out: Path) -> Path:
-    """Save a PNG at the figure's exact pixel size; one clear error if it cannot be written."""
+def _save(fig: Figure, out: str | Path | None) -> Any:
+    """Save a PNG at the figure's exact pixel size; one clear error if it cannot be written.
+
+    ``out`` None: the figure itself is returned (for a notebook), not saved.
+    """
+    if out is None:
+        return fig
+    out = Path(out)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
         fig.savefig(out, dpi=fig.dpi, format="png")
@@ -73,18 +79,18 @@ def _save(fig: Figure, out: Path) -> Path:
 
 # -- one run -------------------------------------------------------------------
 
-def plot_run(run: str | Path | Any, out: str | Path, *, width_px: int = 1000,
-             height_px: int = 800) -> Path:
+def plot_run(run: str | Path | Any, out: str | Path | None, *, width_px: int = 1000,
+             height_px: int = 800) -> Path | Figure:
     """Trajectories over the map with deactivation marks and a legend, as a PNG.
 
     Args:
         run: a run folder or a loaded run.
-        out: the PNG to write.
+        out: the PNG to write (None: return the Matplotlib Figure instead).
         width_px: image width in pixels.
         height_px: image height in pixels.
 
     Returns:
-        The path written.
+        The path written (the Figure when ``out`` is None).
 
     Raises:
         MimicsError: not a run, an unreadable trajectory, or an unwritable ``out``.
@@ -148,7 +154,7 @@ def plot_run(run: str | Path | Any, out: str | Path, *, width_px: int = 1000,
     ax.set_title(f"{data.title}: {status}, {data.duration:g} s simulated, {data.n} robots"
                  if status else data.title, fontsize=10)
     fig.legend(handles=handles, loc="outside right upper", fontsize=8, frameon=False)
-    return _save(fig, Path(out))
+    return _save(fig, out)
 
 
 def _livelock_points(data: Any) -> np.ndarray:
@@ -249,9 +255,10 @@ def _combo_labels(table: pd.DataFrame) -> list[tuple[str, str]]:
     return sorted({(a, s) for a, s in zip(table["algorithm"], table["scenario"], strict=True)})
 
 
-def plot_outcomes(table: pd.DataFrame, out: str | Path, *, width_px: int = 1200,
-                  height_px: int = 600) -> Path:
-    """Robot outcomes (fractions of all robots) and run statuses per algorithm x scenario."""
+def plot_outcomes(table: pd.DataFrame, out: str | Path | None, *, width_px: int = 1200,
+                  height_px: int = 600) -> Path | Figure:
+    """Robot outcomes (fractions of all robots) and run statuses per algorithm x scenario
+    (``out`` None: the Figure is returned, not saved)."""
     combos = _combo_labels(table)
     fig = _new_figure(width_px, height_px)
     left, right = fig.subplots(1, 2, width_ratios=[3, 2])
@@ -290,11 +297,11 @@ def plot_outcomes(table: pd.DataFrame, out: str | Path, *, width_px: int = 1200,
     right.set_ylabel("runs")
     right.set_title("Run statuses", fontsize=10)
     right.legend(fontsize=7, frameon=False)
-    return _save(fig, Path(out))
+    return _save(fig, out)
 
 
-def plot_time_to_goal(table: pd.DataFrame, out: str | Path, *, width_px: int = 1000,
-                      height_px: int = 600) -> Path:
+def plot_time_to_goal(table: pd.DataFrame, out: str | Path | None, *, width_px: int = 1000,
+                      height_px: int = 600) -> Path | Figure:
     """Distributions of the time robots took to reach their goals, per algorithm x scenario.
 
     Per-robot times come from each run's ``reached_goal`` events; a run whose
@@ -323,7 +330,7 @@ def plot_time_to_goal(table: pd.DataFrame, out: str | Path, *, width_px: int = 1
     ax.set_ylabel("time to goal (s)")
     note = f" ({fallbacks} run(s) without readable events: their mean)" if fallbacks else ""
     ax.set_title(f"Time to goal per robot{note}", fontsize=10, pad=14)
-    return _save(fig, Path(out))
+    return _save(fig, out)
 
 
 def _goal_times(folder: str, mean: Any) -> tuple[np.ndarray, bool]:
@@ -337,8 +344,8 @@ def _goal_times(folder: str, mean: Any) -> tuple[np.ndarray, bool]:
         return np.zeros(0), False
 
 
-def plot_wall_time_vs_robots(table: pd.DataFrame, out: str | Path, *, scenario: str = "line",
-                             width_px: int = 900, height_px: int = 600) -> Path:
+def plot_wall_time_vs_robots(table: pd.DataFrame, out: str | Path | None, *, scenario: str = "line",
+                             width_px: int = 900, height_px: int = 600) -> Path | Figure:
     """The paper's Figure 2: mean wall time of a run against its number of robots.
 
     One line per algorithm and setting (the run parameters other than ``robots``
@@ -379,7 +386,7 @@ def plot_wall_time_vs_robots(table: pd.DataFrame, out: str | Path, *, scenario: 
                  f"{sim_time:g} s simulated per run (mean and s.d. over seeds)", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    return _save(fig, Path(out))
+    return _save(fig, out)
 
 
 def battery_plots(directory: str | Path, out: str | Path | None = None

@@ -85,6 +85,32 @@ def mimics_version() -> str:
     return str(version)
 
 
+def prepare_run_folder(folder: Path) -> None:
+    """Make ``folder``, removing the records of an earlier run in it (summary.json first).
+
+    Raises:
+        MimicsError: when it holds records but is not a run folder (nothing is
+            removed then), or cannot be written.
+    """
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        present = [name for name in RECORD_NAMES if (folder / name).exists()]
+        if present and not (folder / SCENARIO_TOML).is_file():
+            # not a run folder (every run writes scenario.toml first): the user's files
+            raise MimicsError(f"{folder}: holds {present[0]} but is not a run folder "
+                              f"(no {SCENARIO_TOML}); nothing was removed: give a new or "
+                              "empty folder, or an earlier run's folder")
+        for name in RECORD_NAMES:  # summary.json first: an old one must not mark this run
+            path = folder / name
+            if path.is_dir():
+                shutil.rmtree(path)
+            elif path.exists():
+                path.unlink()
+    except OSError as exc:
+        raise MimicsError(f"{folder}: cannot write the run folder here "
+                          f"({exc.strerror or exc})") from None
+
+
 class RunRecorder:
     """Records one simulation into ``folder`` (an observer: pass it in ``observers``).
 
@@ -130,10 +156,8 @@ class RunRecorder:
         self.extra = dict(extra or {})
         self.run_info: dict[str, Any] = {}
         self.summary_path: Path | None = None
-        self._trajectory = TrajectoryBuffer(
-            PartWriter(self.folder / TRAJECTORY_PARTS, TRAJECTORY_SCHEMA, compression))
-        self._events = EventBuffer(PartWriter(self.folder / EVENTS_PARTS, EVENTS_SCHEMA,
-                                              compression))
+        self._trajectory = TrajectoryBuffer(self._writer(TRAJECTORY_PARTS, TRAJECTORY_SCHEMA))
+        self._events = EventBuffer(self._writer(EVENTS_PARTS, EVENTS_SCHEMA))
         self._scans: ScanBuffer | None = None  # made at the start, from the scenario
         self._scan_rows = 0
         self._was_active = np.zeros(0, dtype=bool)
@@ -153,23 +177,7 @@ class RunRecorder:
             raise MimicsError(f"{self.folder}: a RunRecorder records one run only")
         began = time.perf_counter()
         self._started = True
-        try:
-            self.folder.mkdir(parents=True, exist_ok=True)
-            present = [name for name in RECORD_NAMES if (self.folder / name).exists()]
-            if present and not (self.folder / SCENARIO_TOML).is_file():
-                # not a run folder (every run writes scenario.toml first): the user's files
-                raise MimicsError(f"{self.folder}: holds {present[0]} but is not a run folder "
-                                  f"(no {SCENARIO_TOML}); nothing was removed: give a new or "
-                                  "empty folder, or an earlier run's folder")
-            for name in RECORD_NAMES:  # summary.json first: an old one must not mark this run
-                path = self.folder / name
-                if path.is_dir():
-                    shutil.rmtree(path)
-                elif path.exists():
-                    path.unlink()
-        except OSError as exc:
-            raise MimicsError(f"{self.folder}: cannot write the run folder here "
-                              f"({exc.strerror or exc})") from None
+        self._open_folder()
         self.run_info = {
             "seed": sim.seed, "algorithm": sim.controller.name, "policy": sim.policy,
             "time_limit": sim.time_limit, "wall_limit": sim.wall_limit,
@@ -177,12 +185,11 @@ class RunRecorder:
             "created": datetime.now().astimezone().isoformat(timespec="seconds"),
             "uuid": str(uuid.uuid4()),
         }
-        write_scenario_record(self.folder / SCENARIO_TOML, sim.scenario, self.run_info)
+        self._write_scenario(sim.scenario)
         everyone = np.arange(sim.state.n)
         if self.record_scans:
             layout = ScanLayout.from_scenario(sim.scenario)
-            self._scans = ScanBuffer(PartWriter(self.folder / SCANS_PARTS, layout.schema(),
-                                                self.compression), layout)
+            self._scans = ScanBuffer(self._writer(SCANS_PARTS, layout.schema()), layout)
             self._scans.add(sim.state, np.flatnonzero(sim.state.active))
         self._trajectory.add(sim.state, everyone)
         self._events.collect(sim.events, sim.state, everyone)
@@ -219,10 +226,7 @@ class RunRecorder:
         if self._closed:
             return
         began = time.perf_counter()
-        if self._full_step != sim.state.step:  # the last step, when ``every`` skipped it
-            self._trajectory.add(sim.state, np.flatnonzero(sim.state.active))
-            if self._scans is not None:
-                self._scans.add(sim.state, np.flatnonzero(sim.state.active))
+        self._add_last_step(sim)
         logs = self.robot_logs == "on" or (self.robot_logs == "auto"
                                            and sim.state.n <= AUTO_ROBOT_LOGS)
         if logs and self._trajectory.writer.parts == 0 and self._events.writer.parts == 0:
@@ -238,8 +242,14 @@ class RunRecorder:
                                  events=self._events.writer.merged)
             # the kept tables (up to about 200 MB) are not needed once the logs are written
             self._trajectory.writer.merged = self._events.writer.merged = None
+        self.summary_path = write_summary(result, self.folder,
+                                          self.summary_extra(sim, logs, began))
+
+    def summary_extra(self, sim: Simulation, logs: bool, began: float) -> dict[str, Any]:
+        """The keys summary.json adds to ``RunResult.summary()``: the run's facts and its
+        records (``logs``: per-robot logs written; ``began``: when writing began)."""
         counts = self._events.counts
-        extra = {
+        return {
             "run_uuid": self.run_info["uuid"], "created": self.run_info["created"],
             "mimics_version": self.run_info["mimics_version"], "policy": sim.policy,
             "time_limit": sim.time_limit, "wall_limit": sim.wall_limit,
@@ -254,7 +264,26 @@ class RunRecorder:
                         "write_time": time.perf_counter() - began},
             **self.extra,
         }
-        self.summary_path = write_summary(result, self.folder, extra)
+
+    # -- hooks of an in-memory recorder (mimics.records.memory) ----------------
+
+    def _writer(self, parts: str, schema: pa.Schema) -> PartWriter:
+        """Where a table's parts go: files in the run folder's ``parts`` folder."""
+        return PartWriter(self.folder / parts, schema, self.compression)
+
+    def _open_folder(self) -> None:
+        """Make the folder, removing an earlier run's records (never other files)."""
+        prepare_run_folder(self.folder)
+
+    def _write_scenario(self, scenario: Scenario) -> None:
+        write_scenario_record(self.folder / SCENARIO_TOML, scenario, self.run_info)
+
+    def _add_last_step(self, sim: Simulation) -> None:
+        """Buffer the last step, when ``every`` skipped it."""
+        if self._full_step != sim.state.step:
+            self._trajectory.add(sim.state, np.flatnonzero(sim.state.active))
+            if self._scans is not None:
+                self._scans.add(sim.state, np.flatnonzero(sim.state.active))
 
     # -- writing -------------------------------------------------------------
 

@@ -151,6 +151,11 @@ def check_memory(scenario: Scenario, *, flush_rows: int = FLUSH_ROWS, every: int
     return estimate
 
 
+def size_text(count: int) -> str:
+    """A byte count for a person: ``"1.5 GB"``."""
+    return _size(count)
+
+
 def _size(count: int) -> str:
     for unit, scale in (("TB", 2**40), ("GB", 2**30), ("MB", 2**20)):
         if count >= scale:

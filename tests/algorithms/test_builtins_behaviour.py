@@ -30,7 +30,7 @@ def test_go_to_goal_drives_straight_so_everyone_meets_head_on(algorithm):
         assert (np.asarray(run.collided_with) >= 0).all(), f"{name}: a wall was hit"
         # the circle's robots meet near its centre, at most one robot length off
         if name == "circle_swap":
-            times = [e.time for e in run.events if e.kind == "collision"]
+            times = run.events.loc[run.events["kind"] == "collision", "time"].tolist()
             assert 10.0 < min(times) < 20.0  # 4 m at 0.3 m/s, minus the robots' size
 
 

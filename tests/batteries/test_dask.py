@@ -43,3 +43,22 @@ def test_an_unreachable_scheduler_is_one_line_and_nothing_is_written(
     with pytest.raises(MimicsError, match="cannot reach the scheduler"):
         run_battery(path, tmp_path / "b", dask="tcp://127.0.0.1:9", progress=False)
     assert not (tmp_path / "b").exists()
+
+
+def test_a_stopping_rule_battery_on_dask_runs_the_seeds_local_workers_run(
+        tmp_path: Path) -> None:
+    until = {"metric": "path_length", "half_width": 0.05, "min_seeds": 3, "max_seeds": 6}
+    path = write_battery(tmp_path / "b.toml", [fault("stand_still"), fault("random_speed")],
+                         time=4.0, timeout=30.0, until=until,
+                         scenarios=[{"name": "line", "robots": 1, "random_yaw": False}])
+    path.write_text(path.read_text().replace("seeds = 1\n", ""))
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=True,
+                                  host="127.0.0.1", dashboard_address=None) as cluster:
+        run_battery(path, tmp_path / "dask", dask=cluster.scheduler_address, progress=False)
+    run_battery(path, tmp_path / "local", workers=2, progress=False)
+    columns = ["algorithm", "seed", "state", "path_length"]
+    on_dask, local = (runs_table(tmp_path / name)[columns].sort_values(["algorithm", "seed"])
+                      .reset_index(drop=True) for name in ("dask", "local"))
+    assert on_dask.equals(local)
+    assert on_dask.groupby("algorithm")["seed"].max().to_dict() == {"stand_still": 3,
+                                                                   "random_speed": 6}

@@ -186,3 +186,63 @@ def test_progress_is_quiet_off_a_terminal_and_counts_failures() -> None:
                                                   width=120)) as bar:
         bar.advance("timeout")
     assert "2/3" in shown.getvalue() and "2 failed" in shown.getvalue()
+
+
+def test_a_battery_made_before_metrics_and_digests_gains_their_columns(tmp_path: Path) -> None:
+    make_store(tmp_path / "b").close()
+    with sqlite3.connect(tmp_path / "b" / "battery.db") as db:  # the first schema's table
+        db.execute("ALTER TABLE runs DROP COLUMN metrics")
+        db.execute("ALTER TABLE runs DROP COLUMN digest")
+    store = BatteryStore.open(tmp_path / "b")
+    store.start(1)
+    done = outcome(1, 1)
+    done.metrics, done.digest = {"time_to_goal": 2.5, "path_length": None}, "o:abc"
+    assert store.record(done)
+    store.close()
+    table = runs_table(tmp_path / "b")
+    assert table.loc[0, "time_to_goal"] == 2.5 and table.loc[0, "digest"] == "o:abc"
+    assert np.isnan(table.loc[0, "path_length"]) and table["time_to_goal"].isna().sum() == 5
+
+
+def test_add_runs_lists_only_new_runs_with_the_cells_label(tmp_path: Path) -> None:
+    from mimics.batteries.spec import RunSpec
+
+    store = make_store(tmp_path / "b", seeds=2)
+    first = store.rows()[0]
+    runs = [RunSpec(first["algorithm_ref"], "go_to_goal", "line", "line", {"robots": 1}, seed)
+            for seed in (2, 3, 4)]
+    assert store.add_runs(runs) == [5, 6]  # seed 2 is listed already
+    assert store.add_runs(runs) == []
+    rows = store.rows()
+    assert [(r["seed"], r["state"], r["label"]) for r in rows[4:]] == [
+        (3, "pending", "robots=1"), (4, "pending", "robots=1")]
+    assert rows[5]["folder"] == "00006-go_to_goal-line-robots=1-s4"
+
+
+def test_execute_reads_the_trajectory_digest_of_summary_json(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import mimics.records.runner as runner
+
+    original = runner.run_to_folder
+    poses = {"value": "aa11"}
+
+    def with_digest(sim: object, folder: object, **options: object) -> object:
+        # the recorder of the seed work writes `trajectory_digest` into summary.json
+        extra = {**options.pop("extra", {}), "trajectory_digest": poses["value"]}
+        return original(sim, folder, extra=extra, **options)
+
+    monkeypatch.setattr(runner, "run_to_folder", with_digest)
+    store = make_store(tmp_path / "b")
+
+    def digest(seed: int, name: str) -> str:
+        task = store.task(1, 1, store.spec(), tmp_path / name)
+        return execute(type(task)(**{**task.__dict__, "seed": seed}), "here").digest
+
+    first, again = digest(1, "one"), digest(1, "again")
+    assert first.startswith("t:") and first == again  # same poses, same outcome
+    poses["value"] = "bb22"
+    assert digest(1, "three") != first  # other poses (same outcome): another run
+    monkeypatch.setattr(runner, "run_to_folder", original)
+    assert digest(4, "four").startswith("o:")  # no trajectory digest: the outcome alone
+    summary = json.loads((tmp_path / "one" / "summary.json").read_text())
+    assert summary["trajectory_digest"] == "aa11"

@@ -39,9 +39,10 @@ def invoke(*args: str, input: str | None = None) -> object:
 def test_help_lists_the_commands() -> None:
     result = invoke("--help")
     assert result.exit_code == 0
-    for command in ("new", "run", "status", "resume", "rerun-failed", "report"):
+    for command in ("new", "run", "status", "resume", "rerun-failed", "report", "compare"):
         assert command in result.output
     assert "--last" in invoke("run", "--help").output
+    assert "--until" in invoke("run", "--help").output
 
 
 @pytest.mark.parametrize(("text", "expected"), [
@@ -125,3 +126,66 @@ def test_new_asks_for_what_the_options_do_not_give(tmp_path: Path,
     assert data["battery"] == {"algorithms": ["go_to_goal"], "seeds": 5, "time": 2.5,
                                "timeout": 60.0, "policy": "deactivate", "robot_logs": "off"}
     assert data["scenarios"] == [{"name": "line", "robots": [1, 3]}]
+
+
+UNTIL = GOOD.replace("seeds = 2\n", "") + '''
+[battery.until]
+metric = "time_to_goal"
+half_width = 0.2
+'''
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    (UNTIL.replace('"time_to_goal"', '"speed"'), "[battery.until] metric: expected one of"),
+    (UNTIL.replace("0.2", "0"), "[battery.until] half_width: expected a positive number"),
+    (UNTIL.replace("0.2", "-0.5"), "[battery.until] half_width: expected a positive number"),
+    (UNTIL.replace("0.2", '"narrow"'), "[battery.until] half_width: expected a positive"),
+    (UNTIL + "min_seeds = 50\nmax_seeds = 20\n", "[battery.until] min_seeds: 50 is more than"),
+    (UNTIL + "max_seeds = 1.5\n", "[battery.until] max_seeds: expected a whole number"),
+    (UNTIL.replace("[battery]", "[battery]\nseeds = 3"), "[battery] seeds: not with"),
+])
+def test_bad_until_tables_exit_2_naming_the_field(tmp_path: Path, text: str,
+                                                  expected: str) -> None:
+    path = tmp_path / "battery.toml"
+    path.write_text(text)
+    result = invoke("run", path, "--out", tmp_path / "out")
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and expected in lines[0] and str(path) in lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(("option", "expected"), [
+    ("speed:0.2", "--until metric: expected one of"),
+    ("time_to_goal:0", "--until half_width: expected a positive number"),
+    ("time_to_goal:wide", "--until 'time_to_goal:wide': the half-width 'wide' is not a number"),
+    ("time_to_goal", "--until 'time_to_goal': expected METRIC:HALF_WIDTH"),
+])
+def test_bad_until_options_exit_2(tmp_path: Path, option: str, expected: str) -> None:
+    path = tmp_path / "battery.toml"
+    path.write_text(GOOD)
+    result = invoke("run", path, "--out", tmp_path / "out", "--until", option)
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and expected in lines[0], lines
+    assert not (tmp_path / "out").exists()
+
+
+def test_until_option_runs_seeds_in_rounds_and_status_shows_them(tmp_path: Path) -> None:
+    from tests.batteries.helpers import fault
+
+    path = tmp_path / "battery.toml"
+    path.write_text(GOOD.replace('"go_to_goal"', f'"{fault("stand_still")}"')
+                    + "random_yaw = false\n")
+    out = tmp_path / "out"
+    result = invoke("run", path, "--out", out, "--until", "path_length:0.5", "--workers", "1",
+                    "--no-progress")
+    assert result.exit_code == 0, result.output + result.stderr
+    # robots standing still: nil spread, so the cell stops at the default min_seeds (10)
+    assert "10 runs: 10 done" in result.output
+    assert "seeds 1-10 of stand_still x line (robots=2, random_yaw=False) gave identical" \
+        in result.stderr
+    status = invoke("status", out)
+    assert status.exit_code == 0
+    assert "until the 95% interval of path_length is within ± 0.5" in status.output
+    assert "met" in status.output

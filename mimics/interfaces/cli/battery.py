@@ -13,6 +13,8 @@ nothing is started.
     mimics battery resume batteries/night1   # after a kill, a reboot, a crash
     mimics battery rerun-failed batteries/night1
     mimics battery report batteries/night1 [--csv out.csv] [--parquet out.parquet]
+    mimics battery compare batteries/night1 [--baseline ALGO] [--metric M ...] [--csv out.csv]
+    mimics battery run battery.toml --until time_to_goal:0.2   # seeds until the answer is known
 """
 
 from __future__ import annotations
@@ -41,8 +43,6 @@ Dask = Annotated[str | None, typer.Option(
 ShowProgress = Annotated[bool | None, typer.Option(
     "--progress/--no-progress", help="Progress bar [default: when on a terminal].")]
 Folder = Annotated[Path, typer.Argument(help="A battery folder (the --out of `battery run`).")]
-
-
 
 
 def _out() -> Console:
@@ -251,6 +251,10 @@ def run(
     workers: Workers = None,
     dask: Dask = None,
     progress: ShowProgress = None,
+    until: Annotated[str | None, typer.Option(
+        help="METRIC:HALF_WIDTH: run seeds 1, 2... in rounds per cell until the 95% interval "
+             "of the metric's mean is at most HALF_WIDTH each side (as [battery.until]; "
+             "min_seeds and max_seeds from the file's table, else 10 and 500).")] = None,
 ) -> None:
     """Run a battery: every run is listed in battery.db, then all run in parallel.
 
@@ -272,9 +276,13 @@ def run(
         path = last_battery() if last else battery
         assert path is not None
         spec = load_battery(path)
+        if until is not None:
+            from mimics.interfaces.cli.battery_report import with_until
+
+            spec = with_until(spec, until)
         folder = out or Path("batteries") / f"{path.stem}-{time.strftime('%Y%m%d-%H%M%S')}"
         remember_battery(path)
-        _announce(folder, len(spec.runs()), workers, dask)
+        _announce(folder, len(spec.runs()), workers, dask, spec.until is not None)
         result = run_battery(spec, folder, workers=workers, dask=dask, progress=progress)
     except MimicsError as exc:
         raise _fail(str(exc)) from None
@@ -329,15 +337,20 @@ def rerun_failed_command(
     _finished(result)
 
 
-def _announce(folder: Path, runs: int, workers: int | None, dask: str | None) -> None:
+def _announce(folder: Path, runs: int, workers: int | None, dask: str | None,
+              rounds: bool = False) -> None:
     where = f"the Dask cluster at {dask}" if dask else \
         f"{min(workers or os.cpu_count() or 1, runs)} local worker(s)"
-    Console(stderr=True, highlight=False).print(f"battery {folder}: {runs} runs on {where}",
-                                                markup=False)
+    Console(stderr=True, highlight=False).print(
+        f"battery {folder}: {runs} runs{' in the first round' if rounds else ''} on {where}",
+        markup=False)
 
 
 def _finished(result: Any) -> None:
     _out().print(result.line(), markup=False)
+    from mimics.interfaces.cli.battery_report import print_warnings
+
+    print_warnings(result.folder)
     if result.adopted:
         _out().print(f"({result.adopted} run(s) had finished just before the battery stopped: "
                      "kept)", markup=False)
@@ -370,6 +383,7 @@ def _finished(result: Any) -> None:
 def status(folder: Folder) -> None:
     """Runs by state, whether the battery is running, its rate and ETA, the first failures."""
     from mimics.batteries.status import battery_status
+    from mimics.interfaces.cli.battery_report import duration, print_until_progress
 
     try:
         snapshot = battery_status(folder)
@@ -389,14 +403,9 @@ def status(folder: Folder) -> None:
         rate = snapshot.rate
         table.add_row("rate", f"{rate:.1f} runs/s" if rate >= 1 else f"{rate * 60:.1f} runs/min")
     if snapshot.eta is not None:
-        table.add_row("ETA", _duration(snapshot.eta))
+        table.add_row("ETA", duration(snapshot.eta))
     console.print(table)
+    print_until_progress(folder, console)
     for run_id, state, error in snapshot.errors:
         console.print(f"#{run_id} {state}: {error}", markup=False)
 
-
-def _duration(seconds: float) -> str:
-    whole = round(seconds)
-    hours, rest = divmod(whole, 3600)
-    minutes, secs = divmod(rest, 60)
-    return f"{hours}h{minutes:02d}m{secs:02d}s" if hours else f"{minutes}m{secs:02d}s"

@@ -221,6 +221,7 @@ def _print_catalog(kind: str, entries: list[tuple[str, str]]) -> None:
 
 def _mount_subcommands() -> None:
     from mimics.interfaces.cli.battery import app as battery_app
+    from mimics.interfaces.cli.battery_report import compare_command as battery_compare
     from mimics.interfaces.cli.battery_report import report_command as battery_report
     from mimics.interfaces.cli.export import export_command
     from mimics.interfaces.cli.maps import app as map_app
@@ -233,6 +234,7 @@ def _mount_subcommands() -> None:
     from mimics.interfaces.cli.view import battery_plot_command, plot_command, replay_command
 
     battery_app.command("report")(battery_report)
+    battery_app.command("compare")(battery_compare)
     battery_app.command("plot")(battery_plot_command)
     app.add_typer(battery_app, name="battery")
     app.add_typer(map_app, name="map")

@@ -15,10 +15,10 @@ import json
 import re
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
 import tomli_w
-from fastapi import APIRouter, HTTPException, Request
+from fastapi import APIRouter, HTTPException, Query, Request
 from fastapi.responses import Response
 from pydantic import BaseModel, Field
 
@@ -52,6 +52,7 @@ class BatteryBody(BaseModel):
     time: float | None = Field(default=None, gt=0)
     timeout: float = Field(default=300.0, gt=0)
     policy: str = "abort"
+    until: dict[str, Any] | None = None  # a [battery.until] table (then `seeds` is ignored)
     dry_run: bool = False
 
 
@@ -102,8 +103,11 @@ def create(request: Request, body: BatteryBody) -> dict[str, Any]:
         raise HTTPException(400, f"policy {body.policy!r}: expected {' or '.join(POLICIES)}")
     table: dict[str, Any] = {"name": body.name,
                              "algorithms": [algorithm_ref(workspace, a) for a in body.algorithms],
-                             "seeds": body.seeds, "timeout": body.timeout,
-                             "policy": body.policy}
+                             "timeout": body.timeout, "policy": body.policy}
+    if body.until is not None:
+        table["until"] = body.until
+    else:
+        table["seeds"] = body.seeds
     if body.time is not None:
         table["time"] = body.time
     scenarios = [{"name": _scenario_ref(workspace, s.name), **s.params} for s in body.scenarios]
@@ -113,8 +117,9 @@ def create(request: Request, body: BatteryBody) -> dict[str, Any]:
     source = workspace.folder("batteries") / f"{body.name}.toml"
     spec = spec_from_dict(data, workspace.root, str(source) if not body.dry_run else "")
     runs = len(spec.runs())
-    if body.dry_run:
-        return {"runs": runs}
+    if body.dry_run:  # under a stopping rule: the first round, and at most
+        return {"runs": runs} if spec.until is None else {
+            "runs": runs, "max_runs": runs // spec.until.min_seeds * spec.until.max_seeds}
     folder = workspace.folder("batteries") / body.name
     if folder.exists():
         raise HTTPException(409, f"batteries/{body.name} exists already (choose another name)")
@@ -203,3 +208,49 @@ def plot(request: Request, path: str, name: str) -> Response:
             raise HTTPException(404, f"{name}: not drawn for this battery "
                                      f"({'; '.join(skipped) or 'no data'})")
         return Response(target.read_bytes(), media_type="image/png")
+
+
+@router.get("/evidence")
+def evidence(request: Request, path: str, baseline: str | None = None,
+             metric: Annotated[list[str] | None, Query()] = None) -> dict[str, Any]:
+    """Each cell's intervals, the paired comparison against a baseline, the stopping
+    rule's progress per cell and the identical-seed warnings (NaN as null)."""
+    from mimics.batteries.comparison import (
+        cell_intervals,
+        check_metrics,
+        identical_seed_warnings,
+        paired_comparison,
+        randomize_hints,
+    )
+    from mimics.batteries.report import runs_table
+    from mimics.batteries.rounds import until_status
+    from mimics.batteries.store import BatteryStore
+
+    folder = battery_folder(request.app.state.workspace, path)
+    chosen = check_metrics(metric)
+    table = runs_table(folder)
+    store = BatteryStore.open(folder)
+    try:
+        spec = store.spec()
+        cells = [c.as_dict() for c in until_status(store, spec)]
+    finally:
+        store.close()
+    algorithms = list(dict.fromkeys(table["algorithm"])) if not table.empty else []
+    if table.empty:
+        intervals, comparison, warnings = [], [], []
+    else:
+        intervals = _records(cell_intervals(table, chosen))
+        comparison = _records(paired_comparison(table, baseline, chosen))
+        warnings = identical_seed_warnings(table, randomize_hints(table))
+    rule = spec.until
+    return {"path": path, "metrics": chosen, "algorithms": algorithms,
+            "baseline": baseline or (algorithms[0] if algorithms else None),
+            "intervals": intervals, "comparison": comparison, "warnings": warnings,
+            "until": None if rule is None else {
+                "metric": rule.metric, "half_width": rule.half_width,
+                "min_seeds": rule.min_seeds, "max_seeds": rule.max_seeds, "cells": cells}}
+
+
+def _records(frame: Any) -> list[dict[str, Any]]:
+    """Rows as JSON-ready dicts: NaN and infinities as null."""
+    return json.loads(frame.to_json(orient="records"))

@@ -6,6 +6,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+import pytest
 from fastapi.testclient import TestClient
 
 from mimics.batteries.report import runs_table
@@ -117,3 +118,58 @@ def test_a_battery_between_its_database_and_its_lock_reads_as_running(
         time.sleep(0.05)
     status = client.get("/api/batteries/status", params={"path": "batteries/between"}).json()
     assert not status["running"]  # the job ended and nobody holds the lock: stopped
+
+
+STAND_STILL = "def step(robot):\n    return 0.0, 0.0\n"
+RANDOM_SPEED = '''import math
+
+
+def step(robot):
+    if "speed" not in robot.memory:
+        robot.memory["speed"] = float(robot.rng.uniform(0.3, 1.0))
+    x, y, _ = robot.pose
+    gx, gy = robot.goal
+    return robot.memory["speed"], math.atan2(gy - y, gx - x)
+'''
+
+
+def test_evidence_of_a_stopping_rule_battery(client: TestClient, workspace: Path) -> None:
+    (workspace / "algorithms" / "random_speed.py").write_text(RANDOM_SPEED)
+    (workspace / "algorithms" / "stand_still.py").write_text(STAND_STILL)
+    # path length over 4 s: none standing still (fixed start poses), 1 to 4 m at random speeds
+    until = {"metric": "path_length", "half_width": 0.05, "min_seeds": 3, "max_seeds": 6}
+    body = {"name": "rule", "algorithms": ["algorithms/stand_still.py",
+                                           "algorithms/random_speed.py"],
+            "scenarios": [{"name": "line", "params": {"robots": 1, "random_yaw": False}}],
+            "time": 4.0, "until": until}
+    assert client.post("/api/batteries", json={**body, "dry_run": True}).json() == {
+        "runs": 6, "max_runs": 12}
+    assert client.post("/api/batteries", json=body).status_code == 200
+    status = status_when_stopped(client, "batteries/rule")
+    assert status["counts"] == {"done": 9}  # stand_still: 3 seeds (nil spread); random: 6
+    found = client.get("/api/batteries/evidence", params={
+        "path": "batteries/rule", "metric": ["path_length", "success"]}).json()
+    truth = runs_table(workspace / "batteries" / "rule")
+    assert found["baseline"] == "stand_still" and found["algorithms"] == ["stand_still",
+                                                                          "random_speed"]
+    cells = {c["algorithm"]: c for c in found["until"]["cells"]}
+    assert cells["stand_still"]["seeds"] == 3 and cells["stand_still"]["state"] == "met"
+    assert cells["random_speed"]["seeds"] == 6 and cells["random_speed"]["state"] == "max seeds"
+    mine = truth[truth["algorithm"] == "random_speed"]["path_length"]
+    row = next(r for r in found["intervals"] if r["algorithm"] == "random_speed")
+    assert row["path_length"] == pytest.approx(mine.mean())
+    assert row["path_length_n"] == 6
+    pair = found["comparison"][0]  # path_length
+    assert pair["pairs"] == 3 and pair["baseline"] == "stand_still"
+    base = truth[truth["algorithm"] == "stand_still"].set_index("seed")["path_length"]
+    other = truth[truth["algorithm"] == "random_speed"].set_index("seed")["path_length"]
+    assert pair["mean_difference"] == pytest.approx((other - base).dropna().mean())
+    assert pair["p_value"] is None and "non-zero" in pair["note"]  # 3 pairs: no p-value
+    assert any("stand_still x line" in w for w in found["warnings"])
+    swapped = client.get("/api/batteries/evidence", params={
+        "path": "batteries/rule", "baseline": "random_speed", "metric": ["success"]}).json()
+    assert [r["algorithm"] for r in swapped["comparison"]] == ["stand_still"]
+    assert swapped["metrics"] == ["success"]
+    bad = client.get("/api/batteries/evidence", params={"path": "batteries/rule",
+                                                         "baseline": "nobody"})
+    assert bad.status_code == 422 and "--baseline 'nobody'" in bad.json()["detail"]

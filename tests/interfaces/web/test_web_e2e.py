@@ -236,6 +236,42 @@ def test_start_a_battery_of_four_runs_and_watch_it_finish(
     playwright_api.expect(page.get_by_label("Simulated time")).to_have_text("t = 0.00 s")
 
 
+def test_a_stopping_rule_battery_shows_its_evidence(page: Any, site: tuple[str, Path]) -> None:
+    url, root = site
+    page.goto(f"{url}/#/batteries")
+    page.get_by_label("Battery name").fill("rule")
+    algorithms = page.get_by_role("group", name="Algorithms")
+    algorithms.get_by_label("go_to_goal", exact=True).check()
+    algorithms.get_by_label("wall_aware", exact=True).check()
+    page.get_by_role("group", name="Scenarios").get_by_label("line", exact=True).check()
+    page.get_by_label("Simulated seconds per run").fill("0.5")
+    page.get_by_label("Minimum seeds").fill("3")
+    page.get_by_label("Maximum seeds").fill("4")
+    page.get_by_label("Stop when").fill("collisions:0.5")
+    page.get_by_label("Stop when").blur()
+    playwright_api.expect(page.get_by_text("6 runs in the first round, at most 8",
+                                           exact=True)).to_be_visible()
+    page.get_by_role("button", name="Start battery").click()
+    progress = page.get_by_label("Progress", exact=True)
+    playwright_api.expect(progress).to_contain_text("6 of 6 runs finished (stopped",
+                                                    timeout=90_000)
+    rule = page.get_by_role("table", name="Stopping rule")
+    playwright_api.expect(rule).to_contain_text("Until the 95% interval of collisions is "
+                                                "within ± 0.5")
+    playwright_api.expect(rule.locator("tbody tr")).to_have_count(2)
+    playwright_api.expect(rule.locator("tbody tr").first).to_contain_text("3 of 3")
+    playwright_api.expect(rule.locator("tbody tr").first).to_contain_text("met")
+    intervals = page.get_by_role("table", name="Intervals per cell")
+    playwright_api.expect(intervals).to_contain_text("95% Wilson interval")
+    playwright_api.expect(intervals.locator("tbody tr")).to_have_count(2)
+    comparison = page.get_by_role("table", name="Paired comparison")
+    playwright_api.expect(comparison).to_contain_text("against go_to_goal")
+    playwright_api.expect(comparison.locator("tbody tr").first).to_contain_text("wall_aware")
+    page.get_by_label("Baseline").select_option("wall_aware")
+    playwright_api.expect(comparison).to_contain_text("against wall_aware")
+    assert (root / "batteries" / "rule" / "battery.db").is_file()
+
+
 def test_open_a_run_and_play_it(page: Any, site: tuple[str, Path]) -> None:
     url, _ = site
     page.goto(f"{url}/#/runs")

@@ -1,6 +1,8 @@
 // The Batteries page: algorithms x scenarios x seeds x parameter values, start, live
-// progress from the battery's SQLite state, result table, resume and re-run failed runs.
+// progress from the battery's SQLite state, result table, resume and re-run failed runs;
+// the evidence: intervals per cell, the paired comparison, the stopping rule's progress.
 import { api, element, guarded, say } from "./api.js";
+import { EvidenceView } from "./evidence.js";
 
 const COLUMNS = ["id", "algorithm", "scenario", "parameters", "seed", "state", "status",
   "reached_goal", "collisions", "deadlocks", "livelocks", "escaped", "exceptions", "sim_time",
@@ -40,6 +42,10 @@ export class BatteryPage {
     this.scenarioBox = element("div", { role: "group", "aria-label": "Scenarios" });
     this.seedsInput = number("Seeds", "2");
     this.timeInput = number("Simulated seconds per run", "");
+    this.untilInput = element("input", { type: "text", placeholder: "time_to_goal:0.2",
+      "aria-label": "Stop when", onchange: () => this.count() });
+    this.minSeedsInput = number("Minimum seeds", "10");
+    this.maxSeedsInput = number("Maximum seeds", "500");
     this.runCount = element("p", { "aria-live": "polite" }, "");
     this.list = element("ul", { class: "files", "aria-label": "Batteries" });
     const side = element("div", { class: "side" },
@@ -50,6 +56,11 @@ export class BatteryPage {
         + "separated by ';', e.g. robots=2,4; time_limit=10"), this.scenarioBox,
       element("div", { class: "row" }, element("label", {}, "seeds ", this.seedsInput),
         element("label", {}, "time (s) ", this.timeInput)),
+      element("p", { class: "hint" }, "Or run seeds in rounds until the 95% interval of a "
+        + "metric's mean is narrow enough: METRIC:HALF_WIDTH (replaces seeds)"),
+      element("div", { class: "row" }, element("label", {}, "until ", this.untilInput),
+        element("label", {}, "min ", this.minSeedsInput),
+        element("label", {}, "max ", this.maxSeedsInput)),
       this.runCount,
       element("button", { type: "button", class: "primary", onclick: () => this.start() },
         "Start battery"),
@@ -67,13 +78,14 @@ export class BatteryPage {
       onclick: () => this.restart("rerun-failed") }, "Re-run failed");
     this.table = element("table", { "aria-label": "Runs of the battery" });
     this.plots = element("div", { class: "plots" });
+    this.evidence = new EvidenceView(() => this.current);
     this.root.replaceChildren(side, element("div", { class: "table-box" }, this.title,
       this.progressText, this.bar,
       element("div", { class: "row" }, this.filter,
         element("label", {}, this.onlyBad, " only misbehaving"), this.resumeButton,
         this.rerunButton,
         element("button", { type: "button", onclick: () => this.showPlots() }, "Plots")),
-      this.table, this.plots));
+      this.table, this.evidence.root, this.plots));
   }
 
   async refresh() {
@@ -104,8 +116,16 @@ export class BatteryPage {
       params: parseParams(this.scenarioBox.querySelector(`input[data-scenario="${CSS.escape(name)}"]`)
         .value) }));
     const seeds = Math.round(Number(this.seedsInput.value));
-    return { name: this.nameInput.value.trim(), algorithms: checked(this.algorithmBox),
+    const body = { name: this.nameInput.value.trim(), algorithms: checked(this.algorithmBox),
       scenarios, seeds, time: Number(this.timeInput.value) || null, dry_run: dryRun };
+    const until = this.untilInput.value.trim();
+    if (until) {
+      const [metric, width] = until.split(":").map((t) => t.trim());
+      body.until = { metric, half_width: Number(width),
+        min_seeds: Math.round(Number(this.minSeedsInput.value)),
+        max_seeds: Math.round(Number(this.maxSeedsInput.value)) };
+    }
+    return body;
   }
 
   async count() {
@@ -116,7 +136,8 @@ export class BatteryPage {
     }
     try {
       const data = await api.post("/api/batteries", body);
-      this.runCount.textContent = `${data.runs} runs`;
+      this.runCount.textContent = data.max_runs
+        ? `${data.runs} runs in the first round, at most ${data.max_runs}` : `${data.runs} runs`;
     } catch (error) {
       this.runCount.textContent = error.message;
     }
@@ -140,6 +161,8 @@ export class BatteryPage {
     this.current = path;
     this.title.textContent = path;
     this.plots.replaceChildren();
+    this.evidence.clear();
+    this.shownFinished = -1;
     window.history.replaceState(null, "", `#/batteries?path=${encodeURIComponent(path)}`);
     clearTimeout(this.timer);
     this.poll();
@@ -168,6 +191,10 @@ export class BatteryPage {
     this.rerunButton.disabled = data.running || failed === 0;
     this.rows = data.runs;
     this.showTable();
+    if (data.finished !== this.shownFinished && !data.starting) {  // new results: new evidence
+      this.shownFinished = data.finished;
+      this.evidence.load();
+    }
     if (data.running && !document.hidden) this.timer = setTimeout(() => this.poll(), 700);
     else if (data.running) this.timer = setTimeout(() => this.poll(), 3000);
   }

@@ -1,0 +1,101 @@
+"""Make each gallery example's notebook: ``python examples/gen_notebooks.py``.
+
+``examples/NAME/notebook.ipynb`` runs the example as ``gallery.py`` does (its
+scenario, robots, time and seed, from :data:`gallery.EXAMPLES`), shows the run
+in the cell, plays its replay, and says what to try; its text is the top of
+the example's README, whose last line links the notebook. ``--check`` writes
+nothing and fails (status 1) when a notebook is not what this script makes now
+(``tests/interfaces/notebook/test_notebooks.py`` runs it).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from gallery import EXAMPLES  # noqa: E402
+
+NOTEBOOK = "notebook.ipynb"
+LINK = f"[Open it as a notebook]({NOTEBOOK}): run it, replay it and change it in a cell."
+
+
+def _cell(kind: str, source: str) -> dict[str, object]:
+    cell: dict[str, object] = {"cell_type": kind, "metadata": {}, "source": source.strip("\n")}
+    if kind == "code":
+        cell.update(execution_count=None, outputs=[])
+    return cell
+
+
+def introduction(name: str) -> str:
+    """The README's title and text up to its first code block."""
+    text = (HERE / name / "README.md").read_text()
+    return text.split("```", 1)[0].strip()
+
+
+def notebook_of(name: str) -> str:
+    """Example ``name``'s notebook as written (nbformat 4, no outputs)."""
+    example = EXAMPLES[name]
+    scenario = example.scenario  # a built-in name, or a file relative to the example
+    options = "".join(f", {key}={value!r}" for key, value in example.params.items()
+                      if key == "robots")
+    params = {k: v for k, v in example.params.items() if k != "robots"}
+    if params:
+        options += f", params={params!r}"
+    cells = [
+        _cell("markdown", introduction(name)),
+        _cell("markdown", "Run it (the notebook's folder is the example's: `algorithm.py` "
+                          "is the algorithm; edit it and run the cells again). The cell "
+                          "shows the summary and the trajectories:"),
+        _cell("code", f"import mimics\n\nrun = mimics.simulate({scenario!r}, 'algorithm.py'"
+                      f"{options}, time={example.time!r}, seed={example.seed!r})\nrun"),
+        _cell("markdown", "The replay, playing in the cell:"),
+        _cell("code", "run.animate()"),
+        _cell("markdown", "What happened, by kind of event (`run.events` has one row per "
+                          "event, `run.trajectory` one per robot per step):"),
+        _cell("code", 'run.events.groupby("kind").size().to_frame("events")'),
+        _cell("markdown", f"Watch it live, with Play/Pause/Step/Stop: "
+                          f"`mimics.show({scenario!r}, 'algorithm.py'{options}, "
+                          f"time={example.time!r})`; keep the run with `run.save(\"runs/"
+                          f"{name}\")` (then `mimics report runs/{name}`)."),
+    ]
+    for number, cell in enumerate(cells):
+        cell["id"] = f"cell-{number}"
+    notebook = {
+        "cells": cells,
+        "metadata": {
+            "kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"},
+            "language_info": {"name": "python"},
+            "mimics": {"source": "examples/gallery.py", "generator": "examples/gen_notebooks.py"},
+        },
+        "nbformat": 4,
+        "nbformat_minor": 5,
+    }
+    return json.dumps(notebook, indent=1, ensure_ascii=False) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Write every example's notebook, or with ``--check`` list the stale ones (status 1)."""
+    check = "--check" in (sys.argv[1:] if argv is None else argv)
+    stale = []
+    for name in EXAMPLES:
+        path, text = HERE / name / NOTEBOOK, notebook_of(name)
+        readme = (HERE / name / "README.md").read_text()
+        if check:
+            if not path.is_file() or path.read_text() != text or LINK not in readme:
+                stale.append(str(path.relative_to(HERE.parent)))
+        else:
+            path.write_text(text)
+            if LINK not in readme:
+                (HERE / name / "README.md").write_text(readme.rstrip("\n") + f"\n\n{LINK}\n")
+    if stale:
+        print("out of date (run python examples/gen_notebooks.py):", *stale, sep="\n  ")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

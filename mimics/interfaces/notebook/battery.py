@@ -1,0 +1,301 @@
+"""BatteryView: a battery's runs, report and plots, in a notebook or a script.
+
+``mimics.run_battery(spec_or_path, workers=...)`` runs a battery with the
+battery driver (:func:`mimics.batteries.driver.run_battery`: the same worker
+processes, database and folder as ``mimics battery run``), showing its progress
+bar in the cell (Rich's Jupyter display), and returns a :class:`BatteryView`;
+``mimics.load_battery(folder)`` opens one already run (or still running).
+``.table`` is one row per run, ``.summary()`` the report's aggregate (means and
+95% intervals per algorithm x scenario), ``.intervals()`` and ``.compare()`` the
+report's per-cell intervals and paired comparison (``mimics battery compare``),
+``.warnings`` its identical-seed warnings, ``.plot(...)`` the figures of
+``mimics battery plot``, ``.run(id)`` one run as a
+:class:`~mimics.interfaces.notebook.run.RunView`.
+
+Everything taken from the battery report (:mod:`mimics.batteries.report`) goes
+through :meth:`BatteryView.report_tables`, one place.
+"""
+
+from __future__ import annotations
+
+import html
+import time
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from mimics.interfaces.notebook.html import enable_figure_display, figure_img, in_kernel
+from mimics.world.errors import MimicsError
+
+#: The figures of ``mimics battery plot``, by the name ``plot(kind)`` takes.
+PLOTS = ("outcomes", "time_to_goal", "wall_time_vs_robots")
+
+
+class BatteryView:
+    """A battery folder: its runs, report and figures (read afresh at each use).
+
+    Args:
+        folder: the battery folder (with its ``battery.db``).
+        result: what the session that ran it left (counts, time), if it ran here.
+    """
+
+    def __init__(self, folder: str | Path, result: Any = None) -> None:
+        self.folder = Path(folder)
+        self.result = result
+
+    @classmethod
+    def open(cls, folder: str | Path) -> BatteryView:
+        """A battery folder, checked.
+
+        Raises:
+            MimicsError: when ``folder`` is not a battery folder.
+        """
+        from mimics.batteries.store import BatteryStore
+
+        BatteryStore.open(folder).close()  # a one-line error for anything else
+        return cls(folder)
+
+    def __repr__(self) -> str:
+        counts = ", ".join(f"{n} {state}" for state, n in self.counts.items())
+        return f"BatteryView({str(self.folder)!r}: {counts or 'no runs'})"
+
+    # -- the battery report ----------------------------------------------------------
+
+    def report_tables(self) -> dict[str, pd.DataFrame]:
+        """The battery report's tables, by name, as ``mimics battery report`` shows them.
+
+        ``runs``: one row per run; ``failures``: the failed runs; ``aggregate``: per
+        algorithm x scenario (x parameters), runs by outcome and each count's mean
+        with its 95% interval over the done runs; ``intervals``: each metric's
+        estimate and 95% interval per cell (t for means, Wilson for proportions);
+        ``comparison``: each algorithm against the first, paired by seed.
+        """
+        from mimics.batteries.comparison import cell_intervals, paired_comparison
+        from mimics.batteries.report import aggregate, runs_table
+        from mimics.batteries.tasks import FAILED_STATES
+
+        runs = runs_table(self.folder)
+        if runs.empty:
+            return {"runs": runs, "failures": runs, "aggregate": pd.DataFrame(),
+                    "intervals": pd.DataFrame(), "comparison": pd.DataFrame()}
+        return {"runs": runs,
+                "failures": runs[runs["state"].isin(FAILED_STATES)].reset_index(drop=True),
+                "aggregate": aggregate(runs), "intervals": cell_intervals(runs),
+                "comparison": paired_comparison(runs)}
+
+    @property
+    def table(self) -> pd.DataFrame:
+        """One row per run (the columns of ``mimics battery report --csv``, and more)."""
+        return self.report_tables()["runs"]
+
+    def summary(self) -> pd.DataFrame:
+        """The report's aggregate: one row per algorithm x scenario (x parameter point)."""
+        return self.report_tables()["aggregate"]
+
+    def intervals(self, metrics: list[str] | None = None) -> pd.DataFrame:
+        """Per cell, each metric's estimate with its 95% interval and the runs it rests on
+        (the intervals table of ``mimics battery report``)."""
+        from mimics.batteries.comparison import cell_intervals
+
+        runs = self.table
+        return pd.DataFrame() if runs.empty else cell_intervals(runs, metrics)
+
+    def compare(self, baseline: str | None = None,
+                metrics: list[str] | None = None) -> pd.DataFrame:
+        """Each algorithm minus ``baseline`` (default: the battery's first), paired by
+        scenario, parameters and seed: mean difference, 95% interval, Wilcoxon p-value
+        and pairs (``mimics battery compare``).
+
+        Raises:
+            MimicsError: an unknown baseline or metric.
+        """
+        from mimics.batteries.comparison import paired_comparison
+
+        runs = self.table
+        return pd.DataFrame() if runs.empty else paired_comparison(runs, baseline, metrics)
+
+    @property
+    def warnings(self) -> list[str]:
+        """One line per cell whose seeds gave identical runs (the seed changed nothing)."""
+        from mimics.batteries.comparison import identical_seed_warnings, randomize_hints
+
+        runs = self.table
+        return [] if runs.empty else identical_seed_warnings(runs, randomize_hints(runs))
+
+    @property
+    def counts(self) -> dict[str, int]:
+        """Runs by state (done, error, timeout, crashed, pending...)."""
+        runs = self.table
+        if runs.empty:
+            return {}
+        return {str(k): int(v) for k, v in runs["state"].value_counts().items()}
+
+    def run(self, run_id: int) -> Any:
+        """Run ``run_id`` of the table (its ``id`` column) as a RunView.
+
+        Raises:
+            MimicsError: no such run, or one without a folder yet.
+        """
+        from mimics.interfaces.api import load_run
+
+        runs = self.table
+        chosen = runs[runs["id"] == run_id] if not runs.empty else runs
+        if chosen.empty:
+            raise MimicsError(f"{self.folder}: no run #{run_id} in this battery")
+        folder = Path(chosen["folder"].iloc[0])
+        if not folder.is_dir():
+            raise MimicsError(f"{self.folder}: run #{run_id} has no folder yet "
+                              f"(state {chosen['state'].iloc[0]})")
+        return load_run(folder)
+
+    # -- figures ---------------------------------------------------------------------
+
+    def plot(self, kind: str = "outcomes", *, width_px: int | None = None,
+             height_px: int | None = None, **options: Any) -> Any:
+        """A figure of ``mimics battery plot`` (a Matplotlib Figure).
+
+        Args:
+            kind: ``"outcomes"`` (robot outcomes and run statuses), ``"time_to_goal"``
+                or ``"wall_time_vs_robots"`` (the paper's Figure 2, from the runs of
+                the ``line`` scenario; ``scenario=`` names another).
+            width_px, height_px: size in pixels (each plot's own default otherwise).
+
+        Raises:
+            MimicsError: an unknown kind, or a battery with nothing to plot.
+        """
+        from mimics.interfaces import plots
+
+        if kind not in PLOTS:
+            raise MimicsError(f"plot: expected one of {', '.join(PLOTS)}, got {kind!r}")
+        size = {k: v for k, v in (("width_px", width_px), ("height_px", height_px))
+                if v is not None}
+        enable_figure_display()
+        table = plots.battery_table(self.folder)
+        return getattr(plots, f"plot_{kind}")(table, None, **size, **options)
+
+    def _repr_html_(self) -> str:
+        tables = self.report_tables()
+        runs, failures, agg = tables["runs"], tables["failures"], tables["aggregate"]
+        counts = ", ".join(f"{n} {state}" for state, n in self.counts.items()) or "no runs"
+        parts = [f'<div class="mimics-battery"><h4>{html.escape(str(self.folder))}: '
+                 f"{len(runs)} runs ({html.escape(counts)})</h4>"]
+        if not agg.empty:
+            parts.append("<p>Per algorithm x scenario: mean and 95% interval over the done "
+                         "runs</p>")
+            parts.append(agg.to_html(index=False, float_format=lambda v: f"{v:.3g}",
+                                     na_rep="-"))
+        for title, frame in (("Per cell: each metric with its 95% interval (t for means, "
+                              "Wilson for proportions)", tables["intervals"]),
+                             ("Paired by seed against the baseline: mean difference, 95% "
+                              "t interval, Wilcoxon signed-rank p", tables["comparison"])):
+            if not frame.empty:
+                parts.append(f"<p>{title}</p>")
+                parts.append(frame.to_html(index=False, float_format=lambda v: f"{v:.3g}",
+                                           na_rep="-"))
+        parts.extend(f"<p>warning: {html.escape(line)}</p>" for line in self.warnings)
+        if not failures.empty:
+            parts.append(f"<p>{len(failures)} failed run(s)</p>")
+            parts.append(failures[["id", "algorithm", "scenario", "seed", "state", "error"]]
+                         .to_html(index=False))
+        try:
+            parts.append(figure_img(self.plot("outcomes"), "outcomes"))
+        except MimicsError as exc:  # no run has finished yet
+            parts.append(f"<p>{html.escape(str(exc))}</p>")
+        parts.append("</div>")
+        return "".join(parts)
+
+
+def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None = None,
+                dask: str | None = None, progress: bool | None = None) -> BatteryView:
+    """Run a battery with the battery driver and return its view.
+
+    Args:
+        spec: a battery file, a dict in its form (``{"battery": {...}, "scenarios":
+            [...]}``), or a :class:`~mimics.batteries.spec.BatterySpec`.
+        out: the battery folder, new or empty (default: ``batteries/NAME-TIME``
+            in the current folder, NAME being the file's stem or ``battery``).
+        workers: local worker processes (default: one per core).
+        dask: a Dask scheduler address instead of local workers.
+        progress: show the progress bar (default: in a notebook cell, or on a terminal;
+            False: none).
+
+    Raises:
+        MimicsError: a bad battery, or a folder that already holds one; nothing runs.
+    """
+    from mimics.batteries.driver import run_battery as drive
+    from mimics.batteries.spec import BatterySpec, load_battery, spec_from_dict
+
+    if isinstance(spec, dict):
+        spec = spec_from_dict(spec, base=Path.cwd(), source="")
+    elif not isinstance(spec, BatterySpec):
+        if not isinstance(spec, str | Path):
+            raise MimicsError(f"run_battery: expected a battery file, a dict or a BatterySpec, "
+                              f"got {type(spec).__name__}")
+        spec = load_battery(spec)
+    if out is None:
+        stem = Path(spec.source).stem if spec.source else "battery"
+        out = Path("batteries") / f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}"
+    if (progress is None or progress) and in_kernel():
+        with CellProgress(out, total=len(spec.runs())):
+            result = drive(spec, out, workers=workers, dask=dask, progress=False)
+    else:
+        result = drive(spec, out, workers=workers, dask=dask, progress=progress)
+    return BatteryView(out, result)
+
+
+class CellProgress:
+    """A progress bar in the notebook cell (``tqdm.auto``) while a battery runs.
+
+    The bar is shown from the kernel's main thread (so that it lands in the
+    cell) and moved by a thread that reads the battery's database every
+    ``period`` seconds (:func:`mimics.batteries.status.battery_status`, safe
+    while the battery runs): runs finished out of all, and the failures.
+
+    Args:
+        folder: the battery folder being run.
+        total: runs in the battery.
+        period: seconds between two readings.
+    """
+
+    def __init__(self, folder: str | Path, total: int, period: float = 0.5) -> None:
+        import threading
+
+        from tqdm.auto import tqdm
+
+        self.folder = Path(folder)
+        self.bar = tqdm(total=total, desc="battery", unit="run", dynamic_ncols=True)
+        self.period = period
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._follow, name="mimics-battery-bar",
+                                        daemon=True)
+
+    def __enter__(self) -> CellProgress:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        self._thread.join(5.0)
+        self.update()
+        self.bar.close()
+
+    def _follow(self) -> None:
+        while not self._stop.wait(self.period):
+            self.update()
+
+    def update(self) -> None:
+        """Move the bar to the runs finished now (nothing before the database exists)."""
+        from mimics.batteries.status import battery_status
+        from mimics.batteries.tasks import FAILED_STATES
+
+        if not (self.folder / "battery.db").is_file():
+            return
+        try:
+            status = battery_status(self.folder, max_errors=0)
+        except Exception:  # a database being created or locked: the next reading will do
+            return
+        failed = sum(status.counts.get(state, 0) for state in FAILED_STATES)
+        self.bar.n = status.total - status.left
+        self.bar.set_postfix(failed=failed, refresh=False)
+        self.bar.refresh()

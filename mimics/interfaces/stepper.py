@@ -1,0 +1,195 @@
+"""Play, pause, step and stop a simulation that runs in a background thread.
+
+:class:`SimulationStepper` owns one :class:`~mimics.engine.simulation.Simulation`
+and steps it in its own thread, so that whoever holds the controls (a
+notebook widget, the workbench) stays responsive. While playing it keeps the
+simulated time at ``speed`` simulated seconds per wall second (``math.inf``:
+as fast as the machine goes), and calls ``on_frame(sim)`` from its thread at
+most ``fps`` times per wall second, once after every single step taken while
+paused, and once at the end. Stop ends the run at the next step with the
+status ``"stopped"`` (observers see ``on_end`` as for any run).
+
+>>> from mimics.records.runner import prepare
+>>> sim = prepare("line", "go_to_goal", robots=2, time=1.0, seed=1)
+>>> seen = []
+>>> stepper = SimulationStepper(sim, lambda s: seen.append(s.state.step), speed=math.inf)
+>>> stepper.step(); stepper.step(); _ = stepper.wait_paused()
+>>> seen, stepper.state
+([0, 1, 2], 'paused')
+>>> stepper.play(); stepper.wait_ended(timeout=60)
+True
+>>> sim.status, seen[-1] == sim.state.step
+('time_limit', True)
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+from mimics.world.errors import MimicsError
+
+STATES = ("paused", "playing", "ended")
+
+
+class SimulationStepper:
+    """Controls over a simulation stepping in a background thread.
+
+    Args:
+        sim: a simulation that has not run yet (it may have observers).
+        on_frame: called with the simulation when a frame is due (from the
+            stepper's thread; the simulation does not change during the call).
+        speed: simulated seconds per wall second while playing (``math.inf``: no pacing).
+        fps: frames per wall second at most while playing.
+
+    Attributes:
+        state: ``"paused"``, ``"playing"`` or ``"ended"``.
+        error: the exception that ended the thread, if any (also re-raised by
+            :meth:`wait_ended`).
+    """
+
+    def __init__(self, sim: Any, on_frame: Callable[[Any], Any], *, speed: float = 1.0,
+                 fps: float = 10.0) -> None:
+        if sim.state.step != 0 or sim.status != "running":
+            raise MimicsError("stepper: the simulation has already run; give it a new one")
+        if not fps > 0:
+            raise MimicsError(f"stepper: fps must be positive, got {fps!r}")
+        self.sim = sim
+        self.on_frame = on_frame
+        self.fps = float(fps)
+        self.speed = check_speed(speed)
+        self.state = "paused"
+        self.error: BaseException | None = None
+        self._wake = threading.Condition()
+        self._steps_asked = 0  # single steps asked while paused
+        self._stop_asked = False
+        self._closed = False
+        user_stop = sim.stop_when
+        # Stop ends the run through the engine's own criterion: status "stopped"
+        sim.stop_when = lambda s: self._stop_asked or bool(user_stop and user_stop(s))
+        self._thread = threading.Thread(target=self._loop, name="mimics-stepper", daemon=True)
+        self._thread.start()
+
+    # -- controls (any thread) ---------------------------------------------------
+
+    def play(self) -> None:
+        """Run on at ``speed``."""
+        self._set("playing")
+
+    def pause(self) -> None:
+        """Stop stepping after the current step; the last frame stays."""
+        self._set("paused")
+
+    def step(self) -> None:
+        """Pause (if playing), then advance exactly one step and draw it."""
+        with self._wake:
+            if self.state == "ended":
+                return
+            self.state = "paused"
+            self._steps_asked += 1
+            self._wake.notify_all()
+
+    def stop(self) -> None:
+        """End the run at the next step (status ``"stopped"``)."""
+        with self._wake:
+            self._stop_asked = True
+            self._wake.notify_all()
+
+    def set_speed(self, speed: float) -> None:
+        """Change the simulated seconds per wall second (``math.inf``: no pacing)."""
+        self.speed = check_speed(speed)
+        with self._wake:
+            self._wake.notify_all()
+
+    def close(self) -> None:
+        """Leave the thread (the run is left where it is, not ended)."""
+        with self._wake:
+            self._closed = True
+            self._wake.notify_all()
+        self._thread.join(5.0)
+
+    def wait_paused(self, timeout: float = 30.0) -> bool:
+        """Wait until no single step is pending; True when so."""
+        deadline = time.monotonic() + timeout
+        with self._wake:
+            while self._steps_asked and self.state != "ended":
+                if not self._wake.wait(max(0.0, deadline - time.monotonic())):
+                    return False
+        return True
+
+    def wait_ended(self, timeout: float | None = None) -> bool:
+        """Wait for the run to end; True when it has. Re-raises the thread's exception."""
+        self._thread.join(timeout)
+        if self.error is not None:
+            raise self.error
+        return self.state == "ended"
+
+    def _set(self, state: str) -> None:
+        with self._wake:
+            if self.state != "ended":
+                self.state = state
+                self._wake.notify_all()
+
+    # -- the thread -----------------------------------------------------------------
+
+    def _loop(self) -> None:
+        sim = self.sim
+        try:
+            sim.start()
+            self.on_frame(sim)
+            anchor: tuple[float, float] | None = None  # (wall, sim time) when pacing began
+            last_frame = 0.0
+            while sim.status == "running":
+                with self._wake:
+                    while (self.state == "paused" and not self._steps_asked
+                           and not self._stop_asked and not self._closed):
+                        anchor = None
+                        self._wake.wait()
+                    if self._closed:
+                        return
+                    single = self.state == "paused" and self._steps_asked > 0
+                    speed = self.speed
+                sim.step()
+                now = time.monotonic()
+                if single:
+                    self.on_frame(sim)
+                    last_frame = now
+                    with self._wake:  # after the frame: wait_paused() then sees it drawn
+                        self._steps_asked -= 1
+                        self._wake.notify_all()
+                    continue
+                if now - last_frame >= 1.0 / self.fps and sim.status == "running":
+                    self.on_frame(sim)
+                    last_frame = time.monotonic()
+                if math.isfinite(speed):
+                    if anchor is None or anchor[1] > sim.state.time:
+                        anchor = (now, sim.state.time)
+                    ahead = anchor[0] + (sim.state.time - anchor[1]) / speed - time.monotonic()
+                    if ahead > 0:
+                        with self._wake:  # a control wakes the pause early
+                            self._wake.wait(ahead)
+                        if self.speed != speed:
+                            anchor = None
+            self.on_frame(sim)
+        except BaseException as exc:  # kept for wait_ended; the thread must not die silently
+            self.error = exc
+        finally:
+            with self._wake:
+                self.state = "ended"
+                self._steps_asked = 0
+                self._wake.notify_all()
+
+
+def check_speed(speed: float) -> float:
+    """A positive speed (simulated seconds per wall second; ``math.inf`` allowed).
+
+    Raises:
+        MimicsError: naming the value.
+    """
+    if isinstance(speed, bool) or not isinstance(speed, int | float) or not speed > 0:
+        raise MimicsError(f"speed: expected a positive number of simulated seconds per "
+                          f"second (or math.inf), got {speed!r}")
+    return float(speed)
