@@ -198,7 +198,7 @@ def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
     ``params`` are the scenario's keyword parameters (``robots=60``); unknown
     ones are errors naming the parameter and the ones that exist, and so are
     NaN or infinite values and robot counts past the limit. The start state is
-    checked (:func:`mimics.world.start_state.validate_scenario`) unless
+    checked (``mimics.world.start_state.validate_scenario``) unless
     ``allow_overlap`` (or the scenario's ``settings.allow_overlap``) keeps
     robots that start touching walls or each other.
 

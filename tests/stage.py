@@ -21,3 +21,17 @@ def stage_file(name: str) -> Path:
         if os.environ.get("CI"):
             pytest.fail(f"{exc} (CI has ../shared/data beside the clone)")
         pytest.skip(str(exc))
+
+
+# The Stage files each built-in Stage scenario reads (its robots' poses, its map's bitmap)
+STAGE_SCENARIOS = {"cave": ("cave.world", "cave_filled.png"),
+                   "hospital": ("hospital.world", "hospital.png")}
+
+
+def needs_stage_scenario(name: str) -> None:
+    """Skip the test (fail it on CI) when ``name`` is a Stage scenario whose data is missing.
+
+    For tests parametrized over scenarios, some of them Stage's: call it first.
+    """
+    for file in STAGE_SCENARIOS.get(name, ()):
+        stage_file(file)

@@ -103,7 +103,8 @@ class Scan:
 class Robot:
     """One robot as its algorithm sees it; every sensor is one attribute away.
 
-    Measured (noisy) values: ``pose``, ``position``, ``velocity``,
+    ``id``: the robot's index in the scenario (0-based), as in ``comms`` rows and
+    messages. Measured (noisy) values: ``pose``, ``position``, ``velocity``,
     ``acceleration``, ``odometry``, ``scan``, ``comms``. Ground truth:
     ``true_pose``, ``true_velocity``. Also ``goal``, ``time``, ``dt``, ``map``,
     ``memory`` (a dict kept between steps), ``rng`` (seeded), ``log(msg)``,

@@ -95,9 +95,9 @@ def check_memory_recording(sim: Simulation) -> None:
 
 
 def load_run(path: str | Path) -> RunView:
-    """Open a run folder: the same object as :func:`simulate` returns.
+    """Open a run folder: the same object as ``simulate`` returns.
 
-    Its files are read when first used (:func:`mimics.records.run_folder.load_run`).
+    Its files are read when first used (``mimics.records.run_folder.load_run``).
 
     Raises:
         MimicsError: in one line naming the folder or file, when the folder is

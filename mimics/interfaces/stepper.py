@@ -48,7 +48,7 @@ class SimulationStepper:
     Attributes:
         state: ``"paused"``, ``"playing"`` or ``"ended"``.
         error: the exception that ended the thread, if any (also re-raised by
-            :meth:`wait_ended`).
+            ``wait_ended``).
     """
 
     def __init__(self, sim: Any, on_frame: Callable[[Any], Any], *, speed: float = 1.0,

@@ -62,7 +62,7 @@ from mimics.world.scenario import Scenario
 
 
 class Run:
-    """A recorded run, read lazily from its folder (use :func:`load_run`).
+    """A recorded run, read lazily from its folder (use ``load_run``).
 
     Attributes:
         path: the run folder.
@@ -163,7 +163,7 @@ class Run:
 
     @cached_property
     def scans(self) -> ScanRecord:
-        """The recorded laser scans (read once, then kept): see :mod:`mimics.records.scans`.
+        """The recorded laser scans (read once, then kept): see ``mimics.records.scans``.
 
         Raises:
             MimicsError: when the run did not record them, or the file is unreadable.

@@ -112,7 +112,7 @@ class RobotType:
 
     ``length`` is along the heading, ``width`` across it. Dynamics follow
     ``v' = (-v + kv*u_v)/tau_v`` and ``w' = (-w + kw*u_w)/tau_w``. Gains left
-    out (None) are set by the tuning rule of :mod:`mimics.world.tuning` for
+    out (None) are set by the tuning rule of ``mimics.world.tuning`` for
     this plant.
     """
 

@@ -9,18 +9,30 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from typer.main import get_command
 
+from mimics.engine.robot_view import Robot, Team
 from mimics.interfaces.cli.program import app
 
 ROOT = Path(__file__).resolve().parents[2]
+# a Sphinx role as Markdown renders it (":func:<code>x</code>") or left as typed
+SPHINX_ROLE = re.compile(r":(?:func|mod|class|meth|attr|data|exc|obj|py:\w+):(?:<code>|`)")
 REMOTE_ASSET = re.compile(r"<(?:link|script)\b[^>]*\b(?:href|src)=\"(?:https?:)?//", re.I)
 
 
-def test_site_builds_strict_offline_with_generated_cli_and_api_pages(tmp_path):
+@pytest.fixture(scope="module")
+def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The site, built once in strict mode for the tests of this file."""
+    folder = tmp_path_factory.mktemp("site")
     done = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--quiet",
-                           "--site-dir", str(tmp_path)], cwd=ROOT, capture_output=True, text=True)
+                           "--site-dir", str(folder)], cwd=ROOT, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
+    return folder
+
+
+def test_site_builds_strict_offline_with_generated_cli_and_api_pages(site):
+    tmp_path = site
 
     for page in ("tutorials/first-algorithm", "reference/cli", "reference/api", "examples",
                  "explanation/performance", "how-to/deadlocks"):
@@ -53,3 +65,60 @@ def test_site_builds_strict_offline_with_generated_cli_and_api_pages(tmp_path):
         figure = tmp_path / "images" / "examples" / f"{name}.png"
         assert figure.read_bytes() == (folder.parent / "figure.png").read_bytes(), name
         assert f"images/examples/{name}.png" in html, name
+
+
+def test_the_built_site_shows_no_raw_sphinx_roles(site):
+    """Docstrings are Markdown on the site: a Sphinx role would show as typed."""
+    found = []
+    for page in sorted(site.rglob("*.html")):
+        text = page.read_text(encoding="utf-8")
+        for match in SPHINX_ROLE.finditer(text):
+            found.append(f"{page.relative_to(site)}: {text[match.start():match.end() + 60]}")
+    assert not found, "raw Sphinx roles in the built site:\n" + "\n".join(found)
+
+
+def test_the_role_check_sees_a_role_as_the_api_page_renders_it():
+    rendered = '<p>A recorded run (use :func:<code>load_run</code>).</p>'
+    assert SPHINX_ROLE.search(rendered)
+    assert not SPHINX_ROLE.search("<p>ratio 1:2, see <code>load_run</code></p>")
+
+
+def test_examples_readme_lists_every_example_folder():
+    listed = set(re.findall(r"\[(\w+)\]\(\1/\)", (ROOT / "examples/README.md").read_text()))
+    folders = {p.name for p in (ROOT / "examples").iterdir()
+               if p.is_dir() and not p.name.startswith((".", "_"))}
+    assert folders - listed == set(), "folders of examples/ missing from examples/README.md"
+    assert listed - folders == set(), "examples/README.md lists folders that do not exist"
+
+
+def test_the_robot_page_names_every_attribute_an_algorithm_can_read():
+    page = (ROOT / "docs/reference/robot-and-team.md").read_text()
+    for cls, prefix in ((Robot, "robot."), (Team, "team.")):
+        public = {name for klass in cls.__mro__ for name in vars(klass)
+                  if not name.startswith("_")} | {
+                      name for name in getattr(cls, "__slots__", ()) if not name.startswith("_")}
+        missing = sorted(name for name in public if f"`{prefix}{name}" not in page
+                         and f", `.{name}`" not in page and f"`, `.{name}" not in page)
+        assert not missing, f"{cls.__name__}: not on robot-and-team.md: {missing}"
+
+
+SECONDS = re.compile(r"\b\d+(?:\.\d+)?(?: to \d+(?:\.\d+)?)? ?s\b")
+
+
+def test_the_compile_time_is_given_in_one_place_only():
+    """The kernels' compile time is stated on the performance page; others link to it."""
+    home = ROOT / "docs/explanation/performance.md"
+    texts = {path: path.read_text(encoding="utf-8")
+             for path in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]}
+    texts[ROOT / "mimics/interfaces/cli/first_run.py"] = (
+        ROOT / "mimics/interfaces/cli/first_run.py").read_text(encoding="utf-8")
+    figures = []
+    for path, text in texts.items():
+        for paragraph in re.split(r"\n\s*\n", text):
+            if path != home and "compil" in paragraph and "kernel" in paragraph:
+                figures += [f"{path.relative_to(ROOT)}: {m.group(0)!r} in {paragraph[:80]!r}"
+                            for m in SECONDS.finditer(paragraph)]
+    assert not figures, "compile times outside docs/explanation/performance.md:\n" + "\n".join(
+        figures)
+    assert "#the-first-runs-compile" in texts[ROOT / "README.md"]
+    assert SECONDS.search(home.read_text(encoding="utf-8").split("### The first run's compile")[1])

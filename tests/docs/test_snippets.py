@@ -144,6 +144,14 @@ def test_first_battery_tutorial_runs(tmp_path, monkeypatch, capsys):
     means = namespace["means"]
     assert means["go_to_goal"].tolist() == [4.0, 6.0]  # everyone collides driving straight
     assert means["wall_aware"].tolist() == [0.0, 0.0]
+    reached = namespace["reached"]  # the page: wall_aware brings every robot home
+    assert reached["go_to_goal"].tolist() == [0.0, 0.0]
+    assert reached["wall_aware"].tolist() == [4.0, 6.0]
+    for run in table[table.algorithm == "wall_aware"].itertuples():  # "about 38 s and 45 s"
+        folder = Path(run.folder)  # relative to the folder the battery ran from
+        goal = json.loads((folder / "summary.json").read_text())["time_to_goal"]
+        assert round(goal["mean"]) == {4: 38, 6: 45}[run.param_robots]
     assert (tmp_path / "night-plots/outcomes.png").is_file()
+    assert (tmp_path / "night-plots/time_to_goal.png").is_file()
     capsys.readouterr()
 

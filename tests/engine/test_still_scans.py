@@ -12,6 +12,7 @@ from mimics.engine.robot_index import build_robot_index
 from mimics.engine.simulation import Simulation
 from mimics.engine.still_scans import SETTLE_STEPS, StillScans
 from mimics.engine.wall_index import build_wall_index
+from tests.stage import needs_stage_scenario
 
 WALLS = build_wall_index(np.array([[-10.0, -10.0, 40.0, -10.0], [-10.0, 10.0, 40.0, 10.0]]),
                          (-11, -11, 41, 11), reach=8.0)
@@ -75,6 +76,7 @@ def run_digest(name, algorithm, seconds):
 @pytest.mark.parametrize("name, algorithm, seconds", [("hospital", "deployment_team", 2.0),
                                                       ("obstacle_room", "dispersion", 20.0)])
 def test_runs_are_the_same_with_the_lists_and_without(monkeypatch, name, algorithm, seconds):
+    needs_stage_scenario(name)
     with_lists, pinned = run_digest(name, algorithm, seconds)
     assert pinned > 0  # robots did stand still, and were scanned from their lists
     monkeypatch.setattr(still_scans.StillScans, "update", lambda *_: NO_SIGHT_LISTS)

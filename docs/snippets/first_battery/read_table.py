@@ -7,3 +7,7 @@ print(table[["algorithm", "param_robots", "seed", "state", "reached_goal", "coll
 # mean collisions per algorithm and crowd size
 means = table.groupby(["algorithm", "param_robots"])["collisions"].mean()
 print(means)
+
+# mean robots home per algorithm and crowd size
+reached = table.groupby(["algorithm", "param_robots"])["reached_goal"].mean()
+print(reached)

@@ -319,7 +319,11 @@ def rerun_failed_command(
     dask: Dask = None,
     progress: ShowProgress = None,
 ) -> None:
-    """Run again, with the same seeds, the runs that failed (error, timeout, crashed)."""
+    """Run again, with the same seeds, the runs that failed (error, timeout, crashed).
+
+    It helps runs that a machine stopped (a crash, a time-out on a busy machine); a run
+    whose algorithm raised (state error) fails again the same way until its code changes.
+    """
     from mimics.batteries.driver import rerun_failed
     from mimics.batteries.tasks import FAILED_STATES
 
@@ -358,10 +362,18 @@ def _finished(result: Any) -> None:
     if failed:
         total = sum(result.counts.values())
         states = ", ".join(f"{n} {state}" for state, n in failed.items())
+        # Running again helps only what the machine caused: a run's own exception
+        # (state error) repeats with the same seed, so it is not suggested for those.
+        again = [state for state in ("timeout", "crashed") if state in failed]
+        advice = (f"; runs that timed out or crashed may finish when run again: `mimics "
+                  f"battery rerun-failed {result.folder} "
+                  + " ".join(f"--state {state}" for state in again) + "`" if again else "")
+        if "error" in failed:
+            advice += ("; an error is the algorithm's own exception and repeats with the same "
+                       "seed: fix the code, then run the battery again")
         Console(stderr=True, highlight=False, soft_wrap=True).print(
             f"mimics: {sum(failed.values())} of {total} runs could not finish ({states}): see "
-            f"`mimics battery status {result.folder}`, run them again with `mimics battery "
-            f"rerun-failed {result.folder}`", markup=False)
+            f"`mimics battery status {result.folder}`{advice}", markup=False)
         raise typer.Exit(1)  # exit status 1: some runs could not run (`mimics --help`)
 
 

@@ -34,8 +34,9 @@ def kernels_compiled_ahead() -> Iterator[None]:
         yield
         return
     if missing != ["ray"]:
-        note("mimics: first run: compiling the simulation kernels (once, 5 to 10 s on two "
-             "cores; 13 to 30 s for an algorithm that reads the laser)")
+        # No figure here: the measured one lives in docs/explanation/performance.md alone
+        note("mimics: first run: compiling the simulation kernels (once: they are cached on "
+             "disk for the next runs)")
     aside = {part: subprocess.Popen([sys.executable, "-c",
                                      _NICE.get(part, "") + _COMPILE.format(part=part)],
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -61,6 +62,6 @@ def _await_ray(process: subprocess.Popen[bytes]) -> None:
 
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
-             "(once, about 17 s)")
+             "(once: it is cached on disk for the next runs)")
         compile_ray_helpers()  # here, while the process compiles the kernel itself
         process.wait()

@@ -212,7 +212,7 @@ def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None
 
     Args:
         spec: a battery file, a dict in its form (``{"battery": {...}, "scenarios":
-            [...]}``), or a :class:`~mimics.batteries.spec.BatterySpec`.
+            [...]}``), or a ``mimics.batteries.spec.BatterySpec``.
         out: the battery folder, new or empty (default: ``batteries/NAME-TIME``
             in the current folder, NAME being the file's stem or ``battery``).
         workers: local worker processes (default: one per core).

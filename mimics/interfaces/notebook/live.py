@@ -102,7 +102,7 @@ def show(scenario: Any, algorithm: Any, *, robots: int | None = None,
          trail: float = 5.0, beams_of: int | None = None, autoplay: bool = True,
          widget: bool | None = None) -> Any:
     """A live view of a new simulation in the cell (a
-    :class:`~mimics.interfaces.notebook.widget.LiveWidget`).
+    ``mimics.interfaces.notebook.widget.LiveWidget``).
 
     Args:
         scenario: a built-in name, a ``.py``/``.toml`` file or a Scenario.

@@ -56,8 +56,8 @@ class RunView:
     """A finished run: its records, summary, figure and replay.
 
     Args:
-        record: the run's records, in memory (:class:`MemoryRun`) or in a folder
-            (:class:`Run`).
+        record: the run's records, in memory (``MemoryRun``) or in a folder
+            (``Run``).
         result: the engine's outcome, when the run was simulated in this process.
     """
 
