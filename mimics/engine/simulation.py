@@ -27,8 +27,8 @@ from mimics.engine.controllers import Controller, UserFailure, controller_from
 from mimics.engine.dynamics import move_robots
 from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
+from mimics.engine.ranging import Scanner, WallIndex, shared_wall_index
 from mimics.engine.robot_index import RobotIndex, index_cell, index_robots
-from mimics.engine.scanner import Scanner
 from mimics.engine.sensors import (
     comms_matrix,
     measure_positioning,
@@ -39,7 +39,6 @@ from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.step_checks import check_moved
-from mimics.engine.wall_index import WallIndex, shared_wall_index
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 

@@ -23,20 +23,28 @@ from pathlib import Path
 
 import numpy as np
 
-from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
-from mimics.engine.beam_sweep import PLAN
 from mimics.engine.dynamics import move_robots
-from mimics.engine.kernel_chunks import LEAD
-from mimics.engine.kernel_threads import _finish_and_wait, _join, solo_arrays
-from mimics.engine.point_cull import no_sight_lists
-from mimics.engine.ray_kernel import RangerQuery, _cast_rows
+from mimics.engine.helper_threads.chunks import LEAD
+from mimics.engine.helper_threads.threads import _finish_and_wait, _join, solo_arrays
+from mimics.engine.ranging.beam_fan import FAN_COLUMNS, beam_fans
+from mimics.engine.ranging.beam_sweep import PLAN
+from mimics.engine.ranging.point_cull import no_sight_lists
+from mimics.engine.ranging.ray_kernel import RangerQuery, _cast_rows
+
+# the hook by which the first scan waits for a process compiling the ray part (it lives
+# with the scanner that calls it; named here for the first-run compile that sets it)
+from mimics.engine.ranging.scanner import _ray_part_elsewhere as _ray_part_elsewhere
+from mimics.engine.ranging.scanner import await_ray_part as await_ray_part
+from mimics.engine.ranging.scanner import (
+    ray_part_compiling_elsewhere as ray_part_compiling_elsewhere,
+)
+from mimics.engine.ranging.still_scans import _pin, _settle
+from mimics.engine.ranging.wall_index import _near_lists
+from mimics.engine.ranging.wall_occlusion import MARGIN, cull_hidden
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
 from mimics.engine.stall import _record_and_screen
 from mimics.engine.step_checks import _check_kernel
-from mimics.engine.still_scans import _pin, _settle
-from mimics.engine.wall_index import _near_lists
-from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
@@ -116,21 +124,6 @@ def compile_ray_part() -> None:
 COMPILERS: dict[str, Callable[[], None]] = {
     "index": compile_index_kernels, "motion": compile_motion_kernels, "ray": compile_ray_part}
 PARTS = tuple(COMPILERS)
-
-
-_ray_part_elsewhere: list[Callable[[], None]] = []
-
-
-def ray_part_compiling_elsewhere(wait: Callable[[], None]) -> None:
-    """Tell the engine that another process compiles the ray part: the first scan
-    calls ``wait`` and then loads the part from the cache, not compiling it twice."""
-    _ray_part_elsewhere.append(wait)
-
-
-def await_ray_part() -> None:
-    """Before a scan: wait for the processes compiling the ray part, if any."""
-    while _ray_part_elsewhere:
-        _ray_part_elsewhere.pop()()
 
 
 def compile_part(part: str) -> None:

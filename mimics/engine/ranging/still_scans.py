@@ -20,11 +20,11 @@ import math
 import numpy as np
 from numba import njit
 
-from mimics.engine.beam_sweep import PLAN, robot_plan, wall_plan
-from mimics.engine.point_cull import SightLists, sight_lists
+from mimics.engine.ranging.beam_sweep import PLAN, robot_plan, wall_plan
+from mimics.engine.ranging.point_cull import SightLists, sight_lists
+from mimics.engine.ranging.wall_index import WallIndex, near_cell_of
 from mimics.engine.robot_index import RobotIndex, robots_near
 from mimics.engine.spatial_index import SegmentGrid
-from mimics.engine.wall_index import WallIndex, near_cell_of
 
 SETTLE_STEPS = 5  # steps a neighbourhood stands still before its lists are made (~50 us each)
 # fewer beams than this: a scan costs too little to pay for its lists (the swarm's 8 e-puck

@@ -35,8 +35,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from mimics.engine.beam_sweep import PLAN
-from mimics.engine.wall_index import point_segment_distance
+from mimics.engine.ranging.beam_sweep import PLAN
+from mimics.engine.ranging.wall_index import point_segment_distance
 
 TAU = 2.0 * math.pi
 ANGLE_MARGIN = 1e-8  # rad by which an occluder's span clearly holds a beam it stops

@@ -1,11 +1,11 @@
 """A segment swept over the beams it spans; a robot by its sides; the fine-grid walk.
 
-The ray kernel (:mod:`mimics.engine.ranger`) sweeps the walls and robots near
+The ray kernel (:mod:`mimics.engine.ranging.ranger`) sweeps the walls and robots near
 a sensor, nearest first: each segment is tested against the beams its angular
-span covers (:mod:`mimics.engine.beam_fan`), four beams at a time without
+span covers (:mod:`mimics.engine.ranging.beam_fan`), four beams at a time without
 branches, and blocks whose farthest hit is nearer than the segment are
 skipped. Beyond the sweep's reach, a beam walks the fine walls grid cell by
-cell (Amanatides-Woo). The geometry's rules are in :mod:`mimics.engine.ranger`.
+cell (Amanatides-Woo). The geometry's rules are in :mod:`mimics.engine.ranging.ranger`.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mimics.engine.beam_fan import (
+from mimics.engine.ranging.beam_fan import (
     COLLINEAR_EPS,
     TAU,
     Layout,
@@ -25,8 +25,8 @@ from mimics.engine.beam_fan import (
     _turns,
     fast_atan2,
 )
+from mimics.engine.ranging.wall_index import point_segment_distance
 from mimics.engine.spatial_index import SegmentGrid, clip_to_slab
-from mimics.engine.wall_index import point_segment_distance
 
 NO_HIT = -2  # hit_owner of a beam that hit nothing within range
 
