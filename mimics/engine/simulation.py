@@ -23,7 +23,8 @@ from typing import Any, Literal, Protocol
 
 import numpy as np
 
-from mimics.engine.controllers import Controller, UserFailure, controller_from
+from mimics.engine.compile_clock import compile_seconds
+from mimics.engine.controllers import Controller, TeamController, UserFailure, controller_from
 from mimics.engine.dynamics import move_robots
 from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state
@@ -120,6 +121,8 @@ class Simulation:
         self._pending: dict[int, Status] = {}  # deactivations applied at the end of the step
         self._started = False
         self._wall_start = 0.0
+        self._compile_start = 0.0
+        self.compile_time = 0.0  # s of kernel compiles during the run, left out of wall_time
 
     # -- public API ---------------------------------------------------------
 
@@ -136,6 +139,7 @@ class Simulation:
             return
         self._started = True
         self._wall_start = time.perf_counter()
+        self._compile_start = compile_seconds()  # compiles from here on are not the run's time
         self._check_moved(np.flatnonzero(self.state.active))  # collisions only, at the start
         self._stalls.update(self.state)  # the windows start at time zero
         self._finish_deactivations()
@@ -158,7 +162,10 @@ class Simulation:
         ids = active.nonzero()[0]  # = flatnonzero, without its Python wrappers
         clear_messages(state.user_message, active)
         clear_messages(state.system_message, active)
+        compiled = compile_seconds()
         failures = self.controller.compute(self, ids)
+        if compile_seconds() != compiled:  # a kernel compiled in user code's call (first scan)
+            self._uncount_compile(ids, compile_seconds() - compiled)
         self.timing.add(state.user_time if ids.size == state.n else state.user_time[ids])
         failed = self._handle_failures(failures)
         moving = ids[~np.isin(ids, failed)] if failed.size else ids
@@ -187,7 +194,7 @@ class Simulation:
             ever_deadlocked=self._ever_deadlocked.copy(),
             ever_livelocked=self._ever_livelocked.copy(), events=list(self.events),
             user_timing=self.timing.summary(), parameters=dict(self.scenario.parameters),
-            error=self.error,
+            error=self.error, compile_time=self.compile_time,
         )
 
     @cached_property
@@ -362,10 +369,21 @@ class Simulation:
             self.error = f"stop_when raised {type(exc).__name__}: {exc}"
             return False
 
+    def _uncount_compile(self, ids: np.ndarray, seconds: float) -> None:
+        """Take a compile out of the user code's call times: a team's call shares it out
+        evenly (as its time), a robot's own call is the longest of the step."""
+        times = self.state.user_time
+        if isinstance(self.controller, TeamController):
+            times[ids] = np.maximum(times[ids] - seconds / max(len(ids), 1), 0.0)
+        elif ids.size:
+            slowest = ids[int(np.argmax(times[ids]))]
+            times[slowest] = max(times[slowest] - seconds, 0.0)
+
     def _check_end(self) -> bool:
         """Apply the end criteria; returns True while the run goes on."""
         state = self.state
-        self.wall_time = time.perf_counter() - self._wall_start
+        self.compile_time = compile_seconds() - self._compile_start
+        self.wall_time = time.perf_counter() - self._wall_start - self.compile_time
         if self.status == "running":
             if not np.count_nonzero(state.active):
                 self.status = "completed"

@@ -8,8 +8,11 @@ the machine's cores at once:
 - ``"index"``: the walls' walking grid, the robots' index and the stall screen;
 - ``"motion"``: the checks after the robots move (``step_checks``: collisions,
   goals and bounds) and the dynamics;
-- ``"ray"``: the ranger's ray kernel, over half of the whole compile, which
-  only a run that reads a scan needs (``WorldState.scan``).
+- ``"ray"``: the ranger's ray kernel, the largest part, which only a run that
+  reads a scan needs (``WorldState.scan``), and the walls' near lists;
+- ``"still"``: the kernels that list what robots standing still can see
+  (``still_scans``): only a speed-up, so the first run does not wait for them
+  (its robots are not pinned until they are compiled; the scans are the same).
 
 Each part calls its kernels on empty arguments typed exactly as the engine
 types them, so the signature compiled ahead is the one runs call (tested:
@@ -39,6 +42,10 @@ from mimics.engine.ranging.scanner import (
     ray_part_compiling_elsewhere as ray_part_compiling_elsewhere,
 )
 from mimics.engine.ranging.still_scans import _pin, _settle
+from mimics.engine.ranging.still_scans import forget_still_part as forget_still_part
+from mimics.engine.ranging.still_scans import (
+    still_part_compiling_elsewhere as still_part_compiling_elsewhere,
+)
 from mimics.engine.ranging.wall_index import _near_lists
 from mimics.engine.ranging.wall_occlusion import MARGIN, cull_hidden
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
@@ -49,7 +56,8 @@ from mimics.engine.step_checks import _check_kernel
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
               "motion": (_check_kernel, move_robots, _finish_and_wait, _join),
-              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin)}
+              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans),
+              "still": (_settle, _pin)}
 
 
 # Built by hand, not with build_segment_grid or empty_robot_index: those would compile the
@@ -102,11 +110,15 @@ def compile_ray_kernel() -> None:
 
 
 def compile_ray_helpers() -> None:
-    """What the ray kernel's callers need first: the walls' near lists (and their culling),
-    the beams' fans, the sight lists of robots standing still."""
+    """What the ray kernel's callers need first: the walls' near lists (and their culling)
+    and the beams' fans."""
     start, items = _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
     cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
+
+
+def compile_still_kernels() -> None:
+    """The sight lists of robots standing still (``still_scans``)."""
     none, rows, counts, flags = np.zeros(0), np.zeros((0, 2)), np.zeros(0, np.int64), \
         np.zeros(0, bool)
     _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
@@ -122,7 +134,8 @@ def compile_ray_part() -> None:
 
 
 COMPILERS: dict[str, Callable[[], None]] = {
-    "index": compile_index_kernels, "motion": compile_motion_kernels, "ray": compile_ray_part}
+    "index": compile_index_kernels, "motion": compile_motion_kernels, "ray": compile_ray_part,
+    "still": compile_still_kernels}
 PARTS = tuple(COMPILERS)
 
 

@@ -73,7 +73,7 @@ def no_sight_lists() -> SightLists:
                       np.zeros(0, dtype=np.int64))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _span(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
     """The counterclockwise span from ``a`` to ``b`` (the shorter way round) seen from the
     origin: ``low`` in ``[-pi, pi]`` and ``high >= low``; ``high`` is -inf when the
@@ -87,7 +87,7 @@ def _span(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
     return low, high + TAU if high < low else high
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _around(segments: np.ndarray, s: int, ox: float,
             oy: float) -> tuple[float, float, float, float]:
     """Wall ``s``'s ends relative to the sensor at ``(ox, oy)``."""

@@ -17,10 +17,12 @@ next robots' Python. Every row is the same, bit for bit, as in one whole trace.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 
 import numpy as np
 
+from mimics.engine.compile_clock import add_wait, compile_seconds
 from mimics.engine.ranging.point_cull import SightLists
 from mimics.engine.ranging.ranger import RangerQuery, RowsInFlight, start_beams, trace_beams
 from mimics.engine.ranging.still_scans import StillScans
@@ -39,9 +41,13 @@ def ray_part_compiling_elsewhere(wait: Callable[[], None]) -> None:
 
 
 def await_ray_part() -> None:
-    """Before a scan: wait for the processes compiling the ray part, if any."""
+    """Before a scan: wait for the processes compiling the ray part, if any (the wait
+    goes on the compile clock, not on the run's time)."""
     while _ray_part_elsewhere:
+        began, compiled = time.perf_counter(), compile_seconds()
         _ray_part_elsewhere.pop()()
+        # what this process compiled meanwhile is on the clock already
+        add_wait(max(time.perf_counter() - began - (compile_seconds() - compiled), 0.0))
 
 
 

@@ -87,6 +87,11 @@ def print_summary(summary: dict[str, Any], out: Path | None) -> None:
             ("simulated time", f"{summary['sim_time']:.2f} s"),
             ("wall time", f"{summary['wall_time']:.2f} s"),
             ("speed", f"{summary['sim_speed']:.2f} s_sim/s" if summary["sim_speed"] else "-")]
+    from mimics.engine.compile_clock import compile_seconds
+
+    if compile_seconds() >= 0.05:  # this process compiled kernels: not the run's own time
+        rows.append(("compile", f"{compile_seconds():.1f} s (first run: kernels cached for "
+                                "later runs)"))
     for name, value in rows:
         table.add_row(name, str(value))
     console.print(table)
