@@ -27,7 +27,7 @@ from mimics.interfaces.cli.output import note
 
 _COMPILE = "from mimics.engine.warm_up import compile_part; compile_part({part!r})"
 # the ray part yields the cores to the parts the run waits for: it runs at the lowest priority
-_NICE = {"ray": "import os; os.nice(19); ", "still": "import os; os.nice(19); "}
+_NICE = {"ray": "import os; os.nice(5); ", "still": "import os; os.nice(19); "}
 
 
 @contextmanager
