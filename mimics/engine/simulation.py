@@ -40,6 +40,7 @@ from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.step_checks import check_moved
+from mimics.engine.warm_up import load_step_kernels
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
@@ -116,6 +117,10 @@ class Simulation:
         self._ever_livelocked = np.zeros(self.state.n, dtype=bool)
         self._stalls = StallDetector(settings, self.state.n)
         self._start_goal_distance = self.state.goal_distance()
+        # the kernels the steps call are loaded (compiled, on a first run) now, and the
+        # rangers' walls indexed: the first step is then no slower than the next ones
+        if load_step_kernels(ranging=bool(types.beam_count.any())):
+            _ = self.walls
         self._grid: RobotIndex | None = None
         self._grid_key: tuple[int, bytes] | None = None
         self._pending: dict[int, Status] = {}  # deactivations applied at the end of the step

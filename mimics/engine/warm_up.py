@@ -139,6 +139,21 @@ COMPILERS: dict[str, Callable[[], None]] = {
 PARTS = tuple(COMPILERS)
 
 
+def load_step_kernels(ranging: bool) -> bool:
+    """Before a run's first step: load the kernels its steps call from the cache (or
+    compile them), so that the first step costs what the next ones do. With
+    ``ranging`` (some robot has a ranger) the ray kernel and its helpers too, unless
+    another process compiles them (a first run: the first scan waits for it).
+    Returns whether the ray part was loaded (the run may then index its walls)."""
+    compile_index_kernels()
+    compile_motion_kernels()
+    if not ranging or _ray_part_elsewhere:
+        return False
+    compile_ray_kernel()
+    compile_ray_helpers()
+    return True
+
+
 def compile_part(part: str) -> None:
     """Compile one part (``PARTS``): what a process of the first-run compile runs."""
     COMPILERS[part]()
