@@ -41,7 +41,7 @@ def kernels_compiled_ahead() -> Iterator[None]:
         return
     if missing != ["ray"]:
         note("mimics: first run: compiling the simulation kernels (once, 5 to 10 s on two "
-             "cores; 13 to 30 s for an algorithm that reads the laser)")
+             "cores; 10 to 15 s for an algorithm that reads the laser)")
     aside = {part: subprocess.Popen([sys.executable, "-c",
                                      _NICE.get(part, "") + _COMPILE.format(part=part)],
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -72,6 +72,6 @@ def _await_ray(process: subprocess.Popen[bytes]) -> None:
 
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
-             "(once, about 17 s)")
+             "(once, 5 to 10 s)")
         compile_ray_helpers()  # here, while the process compiles the kernel itself
         process.wait()
