@@ -35,8 +35,11 @@ class _Listener(event.Listener):  # type: ignore[misc]
         _open.depth = depth + 1
 
     def on_end(self, ev: Any) -> None:
-        _open.depth -= 1
-        if _open.depth == 0:
+        depth = getattr(_open, "depth", 0)
+        if depth == 0:  # a compile begun before this listener was registered
+            return
+        _open.depth = depth - 1
+        if depth == 1:
             add_wait(time.perf_counter() - _open.began)
 
 
