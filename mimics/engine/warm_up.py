@@ -142,16 +142,25 @@ PARTS = tuple(COMPILERS)
 def load_step_kernels(ranging: bool) -> bool:
     """Before a run's first step: load the kernels its steps call from the cache (or
     compile them), so that the first step costs what the next ones do. With
-    ``ranging`` (some robot has a ranger) the ray kernel and its helpers too, unless
-    another process compiles them (a first run: the first scan waits for it).
+    ``ranging`` (some robot has a ranger) the ray kernel and its helpers too, when
+    Numba's cache has them and no other process is compiling them (otherwise the
+    first scan compiles or waits for them, as a run may never read one).
     Returns whether the ray part was loaded (the run may then index its walls)."""
-    compile_index_kernels()
-    compile_motion_kernels()
+    if not _step_kernels_loaded:  # once per process (a battery builds thousands of runs)
+        compile_index_kernels()
+        compile_motion_kernels()
+        _step_kernels_loaded.append(True)
     if not ranging or _ray_part_elsewhere:
         return False
-    compile_ray_kernel()
-    compile_ray_helpers()
+    if not _cast_rows.signatures:  # not loaded in this process yet
+        if "ray" in missing_parts():  # not compiled: left to the first scan, if any
+            return False
+        compile_ray_kernel()
+        compile_ray_helpers()
     return True
+
+
+_step_kernels_loaded: list[bool] = []
 
 
 def compile_part(part: str) -> None:
