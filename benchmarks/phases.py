@@ -29,7 +29,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-import mimics.engine.scanner as scanner_module
+import mimics.engine.ranging.scanner as scanner_module
 import mimics.engine.simulation as simulation_module
 import mimics.engine.step_checks as step_checks_module
 from mimics.catalog import find_algorithm, load_scenario

@@ -31,8 +31,8 @@ import numpy as np
 from ab import package_at
 
 from mimics.catalog import find_algorithm, load_scenario
-from mimics.engine import ranger
-from mimics.engine.ranger import RangerQuery
+from mimics.engine.ranging import ranger
+from mimics.engine.ranging.ranger import RangerQuery
 from mimics.engine.simulation import Simulation
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -62,10 +62,14 @@ def states(names: list[str]) -> list[tuple[str, float, Simulation, RangerQuery, 
 
 
 def ranger_at(revision: str) -> ModuleType:
-    """``mimics/engine/ranger.py`` as it was at ``revision``, with the modules it imports
+    """``mimics/engine/ranging/ranger.py`` as it was at ``revision``, with the modules it imports
     as they were then too (the ray kernel itself is in ``ray_kernel.py``): the revision's
     ``mimics``, copied as a package of another name (``ab.package_at``)."""
-    return importlib.import_module(f"{package_at(revision).__name__}.engine.ranger")
+    package = package_at(revision).__name__
+    try:
+        return importlib.import_module(f"{package}.engine.ranging.ranger")
+    except ModuleNotFoundError:  # a revision from before the ranging folder
+        return importlib.import_module(f"{package}.engine.ranger")
 
 
 def timed(module: ModuleType, query: RangerQuery, sim: Simulation,

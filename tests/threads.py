@@ -4,7 +4,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from unittest import mock
 
-from mimics.engine import kernel_threads
+from mimics.engine.helper_threads import threads as kernel_threads
 
 
 @contextmanager

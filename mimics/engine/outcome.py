@@ -118,6 +118,7 @@ class RunResult:
     parameters: dict[str, Any] = field(default_factory=dict)
     error: str = ""
     trajectory_digest: str = ""  # Simulation.run_digest: poses of every step and outcomes
+    compile_time: float = 0.0  # s spent compiling kernels during the run (not in wall_time)
 
     def count(self, status: Status) -> int:
         """Robots whose final status is ``status``."""
@@ -149,6 +150,7 @@ class RunResult:
             "robots": self.robots,
             "sim_time": round(self.sim_time, 9),
             "wall_time": self.wall_time,
+            "compile_time": self.compile_time,
             "steps": self.steps,
             "sim_speed": self.sim_time / self.wall_time if self.wall_time > 0 else None,
             "reached_goal": self.reached_goal,

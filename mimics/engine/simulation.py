@@ -24,13 +24,14 @@ from typing import Any, Literal, Protocol
 
 import numpy as np
 
-from mimics.engine.controllers import Controller, UserFailure, controller_from
+from mimics.engine.compile_clock import compile_seconds
+from mimics.engine.controllers import Controller, TeamController, UserFailure, controller_from
 from mimics.engine.dynamics import move_robots
 from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.noise_streams import AlgorithmStreams, RangerNoise, StepStreams
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state, run_digest
+from mimics.engine.ranging import Scanner, WallIndex, shared_wall_index
 from mimics.engine.robot_index import RobotIndex, index_cell, index_robots
-from mimics.engine.scanner import Scanner
 from mimics.engine.sensors import (
     comms_matrix,
     measure_positioning,
@@ -41,7 +42,7 @@ from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.step_checks import check_moved
-from mimics.engine.wall_index import WallIndex, shared_wall_index
+from mimics.engine.warm_up import load_step_kernels
 from mimics.engine.watchdog import StepTimeout, Watchdog, describe_timeout
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
@@ -124,6 +125,10 @@ class Simulation:
         self._ever_livelocked = np.zeros(self.state.n, dtype=bool)
         self._stalls = StallDetector(settings, self.state.n)
         self._start_goal_distance = self.state.goal_distance()
+        # the kernels the steps call are loaded (compiled, on a first run) now, and the
+        # rangers' walls indexed: the first step is then no slower than the next ones
+        if load_step_kernels(ranging=bool(types.beam_count.any())):
+            _ = self.walls
         self._grid: RobotIndex | None = None
         self._grid_key: tuple[int, bytes] | None = None
         self._pending: dict[int, Status] = {}  # deactivations applied at the end of the step
@@ -131,6 +136,8 @@ class Simulation:
         self._wall_start = 0.0
         self._watchdog: Watchdog | None = None  # only with a wall limit (watchdog.py)
         self._pose_crc = 0  # CRC-32 of every step's poses so far (run_digest)
+        self._compile_start = 0.0
+        self.compile_time = 0.0  # s of kernel compiles during the run, left out of wall_time
 
     # -- public API ---------------------------------------------------------
 
@@ -150,6 +157,7 @@ class Simulation:
             return
         self._started = True
         self._wall_start = time.perf_counter()
+        self._compile_start = compile_seconds()  # compiles from here on are not the run's time
         self._check_moved(np.flatnonzero(self.state.active))  # collisions only, at the start
         self._stalls.update(self.state)  # the windows start at time zero
         self._finish_deactivations()
@@ -157,9 +165,7 @@ class Simulation:
         self._sense()
         if self.wall_limit is not None:  # user code that never returns is stopped
             self.controller.prepare_interrupt()
-            self._watchdog = Watchdog(self.wall_limit,
-                                      lambda: time.perf_counter() - self._wall_start,
-                                      self.controller.interrupt)
+            self._watchdog = Watchdog(self.wall_limit, self._elapsed, self.controller.interrupt)
         self._handle_failures((self._guarded(None) if self._watchdog else
                                self.controller.reset(self)) or [])
         for observer in self.observers:
@@ -178,12 +184,15 @@ class Simulation:
         ids = active.nonzero()[0]  # = flatnonzero, without its Python wrappers
         clear_messages(state.user_message, active)
         clear_messages(state.system_message, active)
+        compiled = compile_seconds()
         if self._watchdog is None:
             failures = self.controller.compute(self, ids)
         else:
             failures = self._guarded(ids)
             if failures is None:  # stopped past the wall limit: the run ends here
                 return self._check_end()
+        if compile_seconds() != compiled:  # a kernel compiled in user code's call (first scan)
+            self._uncount_compile(ids, compile_seconds() - compiled)
         self.timing.add(state.user_time if ids.size == state.n else state.user_time[ids])
         failed = self._handle_failures(failures)
         moving = ids[~np.isin(ids, failed)] if failed.size else ids
@@ -215,6 +224,7 @@ class Simulation:
             ever_livelocked=self._ever_livelocked.copy(), events=list(self.events),
             user_timing=self.timing.summary(), parameters=dict(self.scenario.parameters),
             error=self.error, trajectory_digest=self.run_digest(),
+            compile_time=self.compile_time,
         )
 
     def run_digest(self) -> str:
@@ -427,10 +437,26 @@ class Simulation:
             self.error = f"stop_when raised {type(exc).__name__}: {exc}"
             return False
 
+    def _elapsed(self) -> float:
+        """Wall seconds of the run so far, compiles (under way too) left out."""
+        return (time.perf_counter() - self._wall_start
+                - (compile_seconds() - self._compile_start))
+
+    def _uncount_compile(self, ids: np.ndarray, seconds: float) -> None:
+        """Take a compile out of the user code's call times: a team's call shares it out
+        evenly (as its time), a robot's own call is the longest of the step."""
+        times = self.state.user_time
+        if isinstance(self.controller, TeamController):
+            times[ids] = np.maximum(times[ids] - seconds / max(len(ids), 1), 0.0)
+        elif ids.size:
+            slowest = ids[int(np.argmax(times[ids]))]
+            times[slowest] = max(times[slowest] - seconds, 0.0)
+
     def _check_end(self) -> bool:
         """Apply the end criteria; returns True while the run goes on."""
         state = self.state
-        self.wall_time = time.perf_counter() - self._wall_start
+        self.compile_time = compile_seconds() - self._compile_start
+        self.wall_time = time.perf_counter() - self._wall_start - self.compile_time
         if self.status == "running":
             if not np.count_nonzero(state.active):
                 self.status = "completed"

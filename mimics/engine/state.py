@@ -15,7 +15,7 @@ import numpy as np
 
 from mimics.engine.dynamics import PidArrays, Plant
 from mimics.engine.messages import MessageColumn
-from mimics.engine.ranger import beam_fans, offset_units
+from mimics.engine.ranging.beam_fan import beam_fans, offset_units
 from mimics.world.scenario import Scenario
 
 

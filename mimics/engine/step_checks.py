@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 from mimics.engine.collision import NONE, Bodies, touching
-from mimics.engine.kernel_chunks import (
+from mimics.engine.helper_threads.chunks import (
     HELPER,
     LEAD,
     TALLIES,
@@ -28,7 +28,7 @@ from mimics.engine.kernel_chunks import (
     take,
     tally,
 )
-from mimics.engine.kernel_threads import helpers, helpers_worth, solo_arrays
+from mimics.engine.helper_threads.threads import helpers, helpers_worth, solo_arrays
 from mimics.engine.robot_index import RobotIndex
 from mimics.engine.spatial_index import SegmentGrid
 

@@ -8,8 +8,11 @@ the machine's cores at once:
 - ``"index"``: the walls' walking grid, the robots' index and the stall screen;
 - ``"motion"``: the checks after the robots move (``step_checks``: collisions,
   goals and bounds) and the dynamics;
-- ``"ray"``: the ranger's ray kernel, over half of the whole compile, which
-  only a run that reads a scan needs (``WorldState.scan``).
+- ``"ray"``: the ranger's ray kernel, the largest part, which only a run that
+  reads a scan needs (``WorldState.scan``), and the walls' near lists;
+- ``"still"``: the kernels that list what robots standing still can see
+  (``still_scans``): only a speed-up, so the first run does not wait for them
+  (its robots are not pinned until they are compiled; the scans are the same).
 
 Each part calls its kernels on empty arguments typed exactly as the engine
 types them, so the signature compiled ahead is the one runs call (tested:
@@ -23,25 +26,38 @@ from pathlib import Path
 
 import numpy as np
 
-from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans
-from mimics.engine.beam_sweep import PLAN
 from mimics.engine.dynamics import move_robots
-from mimics.engine.kernel_chunks import LEAD
-from mimics.engine.kernel_threads import _finish_and_wait, _join, solo_arrays
-from mimics.engine.point_cull import no_sight_lists
-from mimics.engine.ray_kernel import RangerQuery, _cast_rows
+from mimics.engine.helper_threads.chunks import LEAD
+from mimics.engine.helper_threads.threads import _finish_and_wait, _join, solo_arrays
+from mimics.engine.ranging.beam_fan import FAN_COLUMNS, beam_fans
+from mimics.engine.ranging.beam_sweep import PLAN
+from mimics.engine.ranging.point_cull import no_sight_lists
+from mimics.engine.ranging.ray_kernel import RangerQuery, _cast_rows
+
+# the hook by which the first scan waits for a process compiling the ray part (it lives
+# with the scanner that calls it; named here for the first-run compile that sets it)
+from mimics.engine.ranging.scanner import _ray_part_elsewhere as _ray_part_elsewhere
+from mimics.engine.ranging.scanner import await_ray_part as await_ray_part
+from mimics.engine.ranging.scanner import (
+    ray_part_compiling_elsewhere as ray_part_compiling_elsewhere,
+)
+from mimics.engine.ranging.still_scans import _pin, _settle
+from mimics.engine.ranging.still_scans import forget_still_part as forget_still_part
+from mimics.engine.ranging.still_scans import (
+    still_part_compiling_elsewhere as still_part_compiling_elsewhere,
+)
+from mimics.engine.ranging.wall_index import _near_lists
+from mimics.engine.ranging.wall_occlusion import MARGIN, cull_hidden
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
 from mimics.engine.stall import _record_and_screen
 from mimics.engine.step_checks import _check_kernel
-from mimics.engine.still_scans import _pin, _settle
-from mimics.engine.wall_index import _near_lists
-from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
               "motion": (_check_kernel, move_robots, _finish_and_wait, _join),
-              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin)}
+              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans),
+              "still": (_settle, _pin)}
 
 
 # Built by hand, not with build_segment_grid or empty_robot_index: those would compile the
@@ -94,11 +110,15 @@ def compile_ray_kernel() -> None:
 
 
 def compile_ray_helpers() -> None:
-    """What the ray kernel's callers need first: the walls' near lists (and their culling),
-    the beams' fans, the sight lists of robots standing still."""
+    """What the ray kernel's callers need first: the walls' near lists (and their culling)
+    and the beams' fans."""
     start, items = _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
     cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
+
+
+def compile_still_kernels() -> None:
+    """The sight lists of robots standing still (``still_scans``)."""
     none, rows, counts, flags = np.zeros(0), np.zeros((0, 2)), np.zeros(0, np.int64), \
         np.zeros(0, bool)
     _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
@@ -114,23 +134,33 @@ def compile_ray_part() -> None:
 
 
 COMPILERS: dict[str, Callable[[], None]] = {
-    "index": compile_index_kernels, "motion": compile_motion_kernels, "ray": compile_ray_part}
+    "index": compile_index_kernels, "motion": compile_motion_kernels, "ray": compile_ray_part,
+    "still": compile_still_kernels}
 PARTS = tuple(COMPILERS)
 
 
-_ray_part_elsewhere: list[Callable[[], None]] = []
+def load_step_kernels(ranging: bool) -> bool:
+    """Before a run's first step: load the kernels its steps call from the cache (or
+    compile them), so that the first step costs what the next ones do. With
+    ``ranging`` (some robot has a ranger) the ray kernel and its helpers too, when
+    Numba's cache has them and no other process is compiling them (otherwise the
+    first scan compiles or waits for them, as a run may never read one).
+    Returns whether the ray part was loaded (the run may then index its walls)."""
+    if not _step_kernels_loaded:  # once per process (a battery builds thousands of runs)
+        compile_index_kernels()
+        compile_motion_kernels()
+        _step_kernels_loaded.append(True)
+    if not ranging or _ray_part_elsewhere:
+        return False
+    if not _cast_rows.signatures:  # not loaded in this process yet
+        if "ray" in missing_parts():  # not compiled: left to the first scan, if any
+            return False
+        compile_ray_kernel()
+        compile_ray_helpers()
+    return True
 
 
-def ray_part_compiling_elsewhere(wait: Callable[[], None]) -> None:
-    """Tell the engine that another process compiles the ray part: the first scan
-    calls ``wait`` and then loads the part from the cache, not compiling it twice."""
-    _ray_part_elsewhere.append(wait)
-
-
-def await_ray_part() -> None:
-    """Before a scan: wait for the processes compiling the ray part, if any."""
-    while _ray_part_elsewhere:
-        _ray_part_elsewhere.pop()()
+_step_kernels_loaded: list[bool] = []
 
 
 def compile_part(part: str) -> None:

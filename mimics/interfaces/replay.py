@@ -8,7 +8,7 @@ interpolation). Frames are ``speed / fps`` simulated seconds apart, from 0 to
 the end of the run (the final state is always the last frame).
 
 Laser beams are not logged, so a replay recomputes them for the chosen robot
-at each frame with the engine's ray kernel (``mimics.engine.ranger.cast_rays``)
+at each frame with the engine's ray kernel (``mimics.engine.ranging.ranger.cast_rays``)
 against the walls and the other robots at their logged poses. Those beams are
 noise-free (the ranger noise of the run is not logged). If the kernel cannot be
 imported, beams are skipped with a one-line notice.
@@ -245,10 +245,10 @@ class BeamCaster:
     """
 
     def __init__(self, scenario: Scenario) -> None:
-        from mimics.engine.ranger import RangerQuery, cast_rays
+        from mimics.engine.ranging.ranger import RangerQuery, cast_rays
+        from mimics.engine.ranging.wall_index import build_wall_index
         from mimics.engine.robot_index import build_robot_index, index_cell
         from mimics.engine.state import TypeArrays
-        from mimics.engine.wall_index import build_wall_index
 
         self._query, self._cast, self._robot_index = RangerQuery, cast_rays, build_robot_index
         self.scenario = scenario

@@ -16,7 +16,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from mimics.engine.ranger import FAN_COLUMNS
+from mimics.engine.ranging.beam_fan import FAN_COLUMNS
 from mimics.records.layout import FLUSH_ROWS
 from mimics.world.errors import MimicsError
 from mimics.world.limits import steps_for

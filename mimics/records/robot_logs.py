@@ -184,8 +184,11 @@ def _batch_tables(folder: Path, batch: list[int], robot_count: int,
                   ) -> tuple[pa.Table, pa.Table]:
     """The trajectory and events rows of the robots in ``batch``: from the tables given,
     else read from ``folder`` (no filter when the batch is every robot of the run)."""
-    import pyarrow.compute as pc  # lazily: 60 ms to import
-    wanted = pc.field("robot").isin(batch) if len(batch) < robot_count else None
+    wanted = None  # every robot of the run (the recorder's usual case): no filter
+    if len(batch) < robot_count:
+        import pyarrow.compute as pc  # lazily: 60-100 ms to import, for a filter only
+
+        wanted = pc.field("robot").isin(batch)
     if trajectory is None:
         trajectory = read_table(folder / TRAJECTORY, folder / TRAJECTORY_PARTS,
                                 TRAJECTORY_SCHEMA, columns=_TRAJECTORY_SOURCE, filters=wanted)

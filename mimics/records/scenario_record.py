@@ -58,11 +58,12 @@ def write_scenario_record(path: Path, scenario: Scenario, run: dict[str, Any]) -
     lines = [f"name = {_string(scenario.name)}", "",
              "# one per robot, in the engine's order (robot 0 first); yaw in rad, v in m/s",
              "robots = ["]
+    has_goal = scenario.has_goal  # a property computed on each access: once, not per robot
     for i in range(scenario.robot_count):
         x, y, yaw, v = scenario.stages[i].tolist()
         fields = [f"type = {_string(names[int(scenario.type_index[i])])}", f"x = {_number(x)}",
                   f"y = {_number(y)}", f"yaw = {_number(yaw)}", f"v = {_number(v)}"]
-        if scenario.has_goal[i]:
+        if has_goal[i]:
             fields.append(f"goal = {_numbers(scenario.goals[i])}")
         lines.append("  { " + ", ".join(fields) + " },")
     lines += ["]", ""]

@@ -14,6 +14,7 @@ naming the robots and where they are; ``allow_overlap`` keeps it on purpose.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,8 +51,10 @@ def touching_walls(bodies: Bodies, segments: np.ndarray, grow: float = 0.0,
                    eps: float = TOUCH_EPS) -> tuple[np.ndarray, np.ndarray]:
     """Pairs ``(robot, segment)`` where a rectangle (grown by ``grow``) touches a segment.
 
-    Exact: each candidate segment is clipped against the rectangle in the
+    Exact: each candidate segment (its bounding box within the robot's reach, found
+    through a grid: :func:`grid_candidates`) is clipped against the rectangle in the
     rectangle's frame (Liang-Barsky); a segment inside the rectangle touches it.
+    Pairs come robot by robot, each robot's segments in order.
     """
     n, segments = len(bodies.centers), np.asarray(segments, dtype=np.float64).reshape(-1, 4)
     if n == 0 or len(segments) == 0:
@@ -60,17 +63,17 @@ def touching_walls(bodies: Bodies, segments: np.ndarray, grow: float = 0.0,
     reach = np.hypot(hx, hy)
     lo = np.minimum(segments[:, :2], segments[:, 2:])
     hi = np.maximum(segments[:, :2], segments[:, 2:])
-    robots, segs = [], []
-    chunk = max(1, 2_000_000 // len(segments))  # bounds the candidate matrix's memory
-    for start in range(0, n, chunk):
-        c = bodies.centers[start:start + chunk]
-        r = reach[start:start + chunk, None]
-        near = ((lo[None, :, 0] <= c[:, None, 0] + r) & (hi[None, :, 0] >= c[:, None, 0] - r)
-                & (lo[None, :, 1] <= c[:, None, 1] + r) & (hi[None, :, 1] >= c[:, None, 1] - r))
-        i, j = np.nonzero(near)
-        robots.append(i + start)
-        segs.append(j)
+    robots, segs = [np.zeros(0, np.int64)], [np.zeros(0, np.int64)]
+    widest = float(reach.max())
+    for j, i in grid_candidates(bodies.centers, lo - widest, hi + widest, 2 * widest):
+        c, r = bodies.centers[i], reach[i]
+        near = ((lo[j, 0] <= c[:, 0] + r) & (hi[j, 0] >= c[:, 0] - r)
+                & (lo[j, 1] <= c[:, 1] + r) & (hi[j, 1] >= c[:, 1] - r))
+        robots.append(i[near])
+        segs.append(j[near])
     i, j = np.concatenate(robots), np.concatenate(segs)
+    by_robot = np.lexsort((j, i))  # robot by robot, its walls in order
+    i, j = i[by_robot], j[by_robot]
     cos, sin = np.cos(bodies.headings[i]), np.sin(bodies.headings[i])
     rel = segments[j] - np.tile(bodies.centers[i], 2)
     x1, y1 = rel[:, 0] * cos + rel[:, 1] * sin, -rel[:, 0] * sin + rel[:, 1] * cos
@@ -91,27 +94,19 @@ def touching_walls(bodies: Bodies, segments: np.ndarray, grow: float = 0.0,
 def overlapping_robots(bodies: Bodies, eps: float = TOUCH_EPS) -> tuple[np.ndarray, np.ndarray]:
     """Pairs ``(i, j)``, ``i < j``, of robots whose rectangles touch (separating axis test).
 
-    A sweep along the axis where the robots spread most (a line of robots on
-    the y-axis is swept along y), in chunks of at most ``PAIR_CHUNK`` candidate
-    pairs, so that memory stays bounded for millions of robots.
+    Candidates come from a grid (:func:`grid_candidates`), in chunks of about
+    ``PAIR_CHUNK`` pairs, so that time grows with the robots (not their
+    square: a packed swarm of 100,000 has a few candidates per robot) and
+    memory stays bounded for millions of robots.
     """
     n = len(bodies.centers)
     if n < 2:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    reach = 2 * float(bodies.radius.max()) + eps
-    spread = np.ptp(bodies.centers, axis=0)
-    axis = int(spread[1] > spread[0])
-    order = np.argsort(bodies.centers[:, axis], kind="stable")
-    xs = bodies.centers[order, axis]
-    ends = np.searchsorted(xs, xs + reach, side="right")  # sweep: neighbours within reach
-    counts = ends - np.arange(n) - 1
-    found = []
-    cut = np.searchsorted(np.cumsum(counts), np.arange(PAIR_CHUNK, counts.sum() + PAIR_CHUNK,
-                                                       PAIR_CHUNK))
-    starts = np.unique(np.concatenate([[0], np.minimum(cut + 1, n)]))
-    for lo, hi in zip(starts, [*starts[1:], n], strict=True):
-        if lo < hi:
-            found.append(_touching_pairs(bodies, order, counts, int(lo), int(hi), eps))
+    radius = bodies.radius
+    reach = radius + float(radius.max()) + eps  # a robot touching i is this near it
+    found = [_touching_pairs(bodies, i[i < j], j[i < j], eps)
+             for i, j in grid_candidates(bodies.centers, bodies.centers - reach[:, None],
+                                         bodies.centers + reach[:, None], float(reach.max()))]
     pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.int64)
     pairs = pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))] if len(pairs) else pairs
     return pairs[:, 0], pairs[:, 1]
@@ -120,13 +115,8 @@ def overlapping_robots(bodies: Bodies, eps: float = TOUCH_EPS) -> tuple[np.ndarr
 PAIR_CHUNK = 1_000_000  # candidate pairs tested at once (a few tens of MB of temporaries)
 
 
-def _touching_pairs(bodies: Bodies, order: np.ndarray, counts: np.ndarray, lo: int, hi: int,
-                    eps: float) -> np.ndarray:
-    """Touching pairs among the candidates of sorted robots ``lo..hi-1`` (sorted pairs)."""
-    part = counts[lo:hi]
-    first = np.repeat(np.arange(lo, hi), part)
-    offsets = np.arange(part.sum()) - np.repeat(np.cumsum(part) - part, part)
-    a, b = order[first], order[first + 1 + offsets]
+def _touching_pairs(bodies: Bodies, a: np.ndarray, b: np.ndarray, eps: float) -> np.ndarray:
+    """The pairs ``(a[k], b[k])`` whose rectangles touch, each sorted (the test is symmetric)."""
     d = bodies.centers[b] - bodies.centers[a]
     close = np.hypot(d[:, 0], d[:, 1]) <= bodies.radius[a] + bodies.radius[b] + eps
     a, b, d = a[close], b[close], d[close]
@@ -140,6 +130,52 @@ def _touching_pairs(bodies: Bodies, order: np.ndarray, counts: np.ndarray, lo: i
                     + bodies.half_width[b] * np.abs(-ux * sb + uy * cb))
         separated |= np.abs(d[:, 0] * ux + d[:, 1] * uy) > extent_a + extent_b + eps
     return np.sort(np.column_stack([a, b])[~separated], axis=1)
+
+
+def grid_candidates(points: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                    cell: float) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """Pairs ``(box, point)``: every point that lies in a grid cell the box ``[lo, hi]``
+    (``(m, 2)`` corners) touches, in chunks of about ``PAIR_CHUNK`` pairs.
+
+    Points are bucketed in square cells of side ``cell`` (made coarser if the
+    points spread over more than 2**20 of them along an axis); a box covers
+    a range of cells on each of its rows, which are consecutive in the points'
+    sorted cell keys: one lookup per box and row, then the points in between.
+    Every point inside a box is a candidate of it (more may be).
+    """
+    if len(points) == 0 or len(lo) == 0:
+        return
+    origin = points.min(axis=0)
+    cell = max(cell, float(np.ptp(points, axis=0).max()) / 2**20, 1e-12)
+    last = np.floor((points.max(axis=0) - origin) / cell).astype(np.int64)
+    width = int(last[0]) + 1
+    at = np.floor((points - origin) / cell).astype(np.int64)
+    order = np.argsort(at[:, 1] * width + at[:, 0], kind="stable")
+    keys = (at[:, 1] * width + at[:, 0])[order]
+    with np.errstate(invalid="ignore"):
+        first = np.floor((lo - origin) / cell)
+        final = np.floor((hi - origin) / cell)
+    inside = np.all((final >= 0) & (first <= last), axis=1)
+    boxes = np.flatnonzero(inside)
+    first = np.maximum(first[boxes], 0).astype(np.int64)
+    final = np.minimum(final[boxes], last).astype(np.int64)
+    rows = final[:, 1] - first[:, 1] + 1
+    box = np.repeat(boxes, rows)
+    row = np.repeat(first[:, 1], rows) + np.arange(rows.sum()) - np.repeat(np.cumsum(rows) - rows,
+                                                                           rows)
+    x0, x1 = np.repeat(first[:, 0], rows), np.repeat(final[:, 0], rows)
+    start = np.searchsorted(keys, row * width + x0, "left")
+    count = np.searchsorted(keys, row * width + x1, "right") - start
+    total = np.cumsum(count)
+    cuts = np.searchsorted(total, np.arange(PAIR_CHUNK, int(total[-1]) + PAIR_CHUNK, PAIR_CHUNK)
+                           if len(total) else np.zeros(0, np.int64), "right")
+    for lo_run, hi_run in zip([0, *cuts.tolist()], [*cuts.tolist(), len(count)], strict=True):
+        part = count[lo_run:hi_run]
+        if part.sum() == 0:
+            continue
+        offsets = np.arange(part.sum()) - np.repeat(np.cumsum(part) - part, part)
+        yield (np.repeat(box[lo_run:hi_run], part),
+               order[np.repeat(start[lo_run:hi_run], part) + offsets])
 
 
 def validate_scenario(scenario: Scenario, where: str = "scenario",

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from numba import njit
 
-from mimics.engine import kernel_threads
-from mimics.engine.kernel_chunks import begin, chunk_done, end, take
-from mimics.engine.kernel_threads import LEAD, Helpers, solo_arrays
+from mimics.engine.helper_threads import threads as kernel_threads
+from mimics.engine.helper_threads.chunks import begin, chunk_done, end, take
+from mimics.engine.helper_threads.threads import LEAD, Helpers, solo_arrays
 
 CALLER, HELPER = 1, 1000  # what each adds to a chunk's count
 

@@ -11,9 +11,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import mimics.engine.scanner as scanner_module
+import mimics.engine.ranging.scanner as scanner_module
 from mimics.algorithms import go_to_goal
-from mimics.engine.ranger import RangerQuery, trace_beams
+from mimics.engine.ranging.ranger import RangerQuery, trace_beams
 from mimics.engine.simulation import Simulation
 from mimics.scenarios.line import scenario as line
 from mimics.world.robot_types import PositioningNoise

@@ -6,10 +6,10 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mimics.engine.point_cull import SightLists, sight_lists
-from mimics.engine.ranger import RangerQuery, beam_fans, offset_units, trace_beams
+from mimics.engine.ranging.point_cull import SightLists, sight_lists
+from mimics.engine.ranging.ranger import RangerQuery, beam_fans, offset_units, trace_beams
+from mimics.engine.ranging.wall_index import build_wall_index
 from mimics.engine.robot_index import build_robot_index
-from mimics.engine.wall_index import build_wall_index
 
 NO_ROBOTS = (np.zeros(0, np.int64), np.zeros((0, 2)), np.zeros(0), np.zeros(0))
 

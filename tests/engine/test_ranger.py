@@ -10,16 +10,16 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from mimics.engine.ranger import (
+from mimics.engine.ranging.ranger import (
     RangerQuery,
     beam_fans,
     cast_rays,
     offset_units,
     ray_segment_distance,
 )
+from mimics.engine.ranging.wall_index import build_wall_index
 from mimics.engine.robot_index import build_robot_index
 from mimics.engine.spatial_index import build_segment_grid
-from mimics.engine.wall_index import build_wall_index
 from tests import naive
 
 BOUNDS = (-10.0, -10.0, 10.0, 10.0)
@@ -304,7 +304,7 @@ def test_same_bits_whatever_the_number_of_threads():
 @settings(max_examples=500, deadline=None)
 @given(y=st.floats(-1e6, 1e6), x=st.floats(-1e6, 1e6))
 def test_fast_atan2_is_within_its_slack(y, x):
-    from mimics.engine.ranger import ANGLE_SLACK, fast_atan2
+    from mimics.engine.ranging.ranger import ANGLE_SLACK, fast_atan2
     assume(x != 0.0 or y != 0.0)  # no direction (the kernel never asks: it tests all beams)
     error = abs(fast_atan2(y, x) - math.atan2(y, x))
     assert min(error, 2 * math.pi - error) < ANGLE_SLACK / 10

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import mimics.engine.kernel_threads as kernel_threads
-import mimics.engine.ranger as ranger_module
-import mimics.engine.scanner as scanner_module
+import mimics.engine.helper_threads.threads as kernel_threads
+import mimics.engine.ranging.ranger as ranger_module
+import mimics.engine.ranging.scanner as scanner_module
 from mimics.catalog import load_scenario
 from mimics.engine.simulation import Simulation
 from tests.threads import thread_count
@@ -110,7 +110,7 @@ def test_the_sight_lists_are_updated_once_per_sensing(monkeypatch: pytest.Monkey
                                                       threads: int):
     """They count the steps a neighbourhood stood still: a second update in one step
     would count one step twice."""
-    from mimics.engine.still_scans import StillScans
+    from mimics.engine.ranging.still_scans import StillScans
 
     updates: list[int] = []
     update = StillScans.update

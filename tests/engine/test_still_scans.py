@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from mimics.catalog import find_algorithm, load_scenario
-from mimics.engine import still_scans
-from mimics.engine.ranger import NO_SIGHT_LISTS
+from mimics.engine.ranging import still_scans
+from mimics.engine.ranging.ranger import NO_SIGHT_LISTS
+from mimics.engine.ranging.still_scans import SETTLE_STEPS, StillScans
+from mimics.engine.ranging.wall_index import build_wall_index
 from mimics.engine.robot_index import build_robot_index
 from mimics.engine.simulation import Simulation
-from mimics.engine.still_scans import SETTLE_STEPS, StillScans
-from mimics.engine.wall_index import build_wall_index
 from tests.stage import needs_stage_scenario
 
 WALLS = build_wall_index(np.array([[-10.0, -10.0, 40.0, -10.0], [-10.0, 10.0, 40.0, 10.0]]),

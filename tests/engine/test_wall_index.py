@@ -6,9 +6,9 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mimics.engine import wall_index
-from mimics.engine.ranger import RangerQuery, cast_rays
-from mimics.engine.wall_index import (
+from mimics.engine.ranging import wall_index
+from mimics.engine.ranging.ranger import RangerQuery, cast_rays
+from mimics.engine.ranging.wall_index import (
     build_wall_index,
     near_cell_of,
     segment_box_distance,

@@ -6,8 +6,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mimics.engine.wall_index import build_wall_index
-from mimics.engine.wall_occlusion import MARGIN, hidden_by_one
+from mimics.engine.ranging.wall_index import build_wall_index
+from mimics.engine.ranging.wall_occlusion import MARGIN, hidden_by_one
 from tests import naive
 
 CELL = (0.0, 0.0, 1.0, 1.0)

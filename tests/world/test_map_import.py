@@ -233,3 +233,88 @@ def test_ros_map_errors_name_the_yaml_file(tmp_path: Path, extra: str, image: st
     broken = write(tmp_path / "broken.yaml", "image: [unclosed\n")
     with pytest.raises(MimicsError, match=r"broken\.yaml, line \d+: not valid YAML"):
         import_ros_map(broken)
+
+
+# -- the map cache -------------------------------------------------------------
+
+@pytest.fixture
+def traced(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """A fresh map cache folder, and a list that grows by one at each actual tracing."""
+    from mimics.world.map_import import raster
+
+    monkeypatch.setenv("MIMICS_CACHE_DIR", str(tmp_path / "cache"))
+    calls: list[int] = []
+    outlines = raster.outlines
+
+    def counted(*args: object, **kwargs: object) -> list[np.ndarray]:
+        calls.append(1)
+        return outlines(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(raster, "outlines", counted)
+    return calls
+
+
+def blocks_image(path: Path, width: int) -> Path:
+    image = np.full((20, 30), 255, np.uint8)
+    image[4:9, 3:3 + width] = 0
+    iio.imwrite(path, image)
+    return path
+
+
+def test_map_cache_gives_the_traced_map_without_tracing_again(tmp_path: Path,
+                                                              traced: list[int]) -> None:
+    path = blocks_image(tmp_path / "room.png", 6)
+    first = stage_bitmap(path, (3.0, 2.0))
+    again = stage_bitmap(path, (3.0, 2.0))
+    assert len(traced) == 1  # the second came from the cache
+    assert again.segments.tobytes() == first.segments.tobytes()
+    assert (again.bounds, again.name, again.source) == (first.bounds, first.name, first.source)
+    other_size = stage_bitmap(path, (6.0, 2.0))  # other options: another entry
+    assert len(traced) == 2
+    assert other_size.segments[:, 0].max() == pytest.approx(2 * first.segments[:, 0].max())
+    raster_map = import_raster(path, resolution=0.1)
+    import_raster(path, resolution=0.1)
+    assert len(traced) == 3
+    assert raster_map.bounds == (0.0, 0.0, 3.0, 2.0)
+
+
+def test_map_cache_is_invalidated_by_a_changed_file_or_importer_version(
+        tmp_path: Path, traced: list[int], monkeypatch: pytest.MonkeyPatch) -> None:
+    from mimics.world.map_import import cache
+
+    path = blocks_image(tmp_path / "room.png", 6)
+    narrow = import_raster(path)
+    blocks_image(path, 10)  # same name, other walls
+    wide = import_raster(path)
+    assert len(traced) == 2
+    assert np.ptp(wide.segments[:, 0]) > np.ptp(narrow.segments[:, 0])
+    monkeypatch.setattr(cache, "IMPORTER_VERSION", cache.IMPORTER_VERSION + 1)
+    assert import_raster(path).segments.tobytes() == wide.segments.tobytes()
+    assert len(traced) == 3
+
+
+@pytest.mark.parametrize("damage", ["truncate", "garbage", "flip a byte of the segments"])
+def test_map_cache_rebuilds_a_damaged_entry(tmp_path: Path, traced: list[int],
+                                            damage: str) -> None:
+    path = blocks_image(tmp_path / "room.png", 6)
+    first = import_raster(path)
+    (entry,) = (tmp_path / "cache" / "maps").glob("*.npz")
+    data = entry.read_bytes()
+    if damage == "truncate":
+        entry.write_bytes(data[: len(data) // 2])
+    elif damage == "garbage":
+        entry.write_bytes(b"not an archive")
+    else:  # a valid archive whose segments no longer match their digest
+        from mimics.world.map_import import cache
+
+        with np.load(entry) as old:
+            arrays = {key: old[key] for key in old.files}
+        arrays["segments"] = arrays["segments"] + 1.0
+        with entry.open("wb") as out:
+            np.savez(out, **arrays)
+        assert cache._read(entry) is None
+    rebuilt = import_raster(path)
+    assert len(traced) == 2
+    assert rebuilt.segments.tobytes() == first.segments.tobytes()
+    import_raster(path)  # the rebuilt entry was written again, whole
+    assert len(traced) == 2

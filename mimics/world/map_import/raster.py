@@ -24,9 +24,9 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from skimage.measure import approximate_polygon, find_contours
 
 from mimics.world.errors import MimicsError
+from mimics.world.map_import.cache import cached_import
 from mimics.world.maps import Map
 
 DEFAULT_RESOLUTION = 0.05  # m per pixel, the usual ROS map resolution
@@ -84,6 +84,8 @@ def outlines(occupied: np.ndarray, tolerance_px: float = 1.0) -> list[np.ndarray
 
     Points are in pixel-edge coordinates: ``(0, 0)`` is the image's top-left corner.
     """
+    from skimage.measure import approximate_polygon, find_contours  # 0.9 s: only when tracing
+
     padded = np.pad(np.asarray(occupied, dtype=np.float64), 1)
     rings = []
     for contour in find_contours(padded, 0.5):
@@ -153,9 +155,19 @@ def import_raster(path: str | Path, resolution: float = DEFAULT_RESOLUTION,
         negate: white means occupied.
 
     Returns:
-        A map whose bounds are the image's extent.
+        A map whose bounds are the image's extent (from the map cache, ``cache.py``,
+        when this image was imported with these options before).
     """
     path = Path(path)
+    options = {"resolution": resolution, "origin": tuple(origin), "tolerance": tolerance,
+               "threshold": threshold, "negate": negate}
+    return cached_import("raster", [path], options,
+                         lambda: _import_raster(path, resolution, origin, tolerance, threshold,
+                                                negate))
+
+
+def _import_raster(path: Path, resolution: float, origin: tuple[float, float],
+                   tolerance: float | None, threshold: float, negate: bool) -> Map:
     resolution = _positive(resolution, "resolution", path)
     occupied = occupied_mask(read_gray(path), threshold, negate)
     segments = segments_from_occupancy(occupied, _tolerance_px(tolerance, resolution, path),
@@ -186,8 +198,19 @@ def stage_bitmap(path: str | Path, size: tuple[float, float],
 
     Raises:
         MimicsError: unreadable image, a bad size, or no obstacle pixels.
+
+    Taken from the map cache (``cache.py``) when this bitmap was imported with
+    these options before.
     """
     path = Path(path)
+    options = {"size": tuple(size), "center": tuple(center), "tolerance": tolerance,
+               "boundary": boundary}
+    return cached_import("stage_bitmap", [path], options,
+                         lambda: _stage_bitmap(path, size, center, tolerance, boundary))
+
+
+def _stage_bitmap(path: Path, size: tuple[float, float], center: tuple[float, float],
+                  tolerance: float | None, boundary: bool) -> Map:
     width, height = (_positive(v, "size", path) for v in size)
     occupied = occupied_mask(read_gray(path))
     rows = np.flatnonzero(occupied.any(axis=1))

@@ -21,6 +21,7 @@ import numpy as np
 import yaml
 
 from mimics.world.errors import MimicsError, read_input_text
+from mimics.world.map_import.cache import cached_import
 from mimics.world.map_import.raster import occupied_mask, read_gray, segments_from_occupancy
 from mimics.world.maps import Map
 
@@ -80,6 +81,16 @@ def import_ros_map(path: str | Path, tolerance: float | None = None) -> Map:
     negate = data.get("negate", 0)
     if negate not in (0, 1):
         raise MimicsError(f"{path}: negate must be 0 or 1, got {negate!r}")
+    options = {"tolerance": tolerance, "resolution": resolution, "origin": tuple(origin),
+               "occupied_thresh": occupied_thresh, "negate": negate}
+    return cached_import("ros", [path, image_path], options,
+                         lambda: _trace(path, image_path, resolution, tuple(origin),
+                                        occupied_thresh, bool(negate), tolerance))
+
+
+def _trace(path: Path, image_path: Path, resolution: float, origin: tuple[float, ...],
+           occupied_thresh: float, negate: bool, tolerance: float | None) -> Map:
+    """The walls of the image a map_server file names (its keys already checked)."""
     gray = read_gray(image_path)
     occupied = occupied_mask(gray, occupied_thresh, bool(negate))
     tol_px = 1.0 if tolerance is None else float(tolerance) / resolution

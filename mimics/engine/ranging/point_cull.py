@@ -35,8 +35,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from mimics.engine.beam_sweep import PLAN
-from mimics.engine.wall_index import point_segment_distance
+from mimics.engine.ranging.beam_sweep import PLAN
+from mimics.engine.ranging.wall_index import point_segment_distance
 
 TAU = 2.0 * math.pi
 ANGLE_MARGIN = 1e-8  # rad by which an occluder's span clearly holds a beam it stops
@@ -73,7 +73,7 @@ def no_sight_lists() -> SightLists:
                       np.zeros(0, dtype=np.int64))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _span(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
     """The counterclockwise span from ``a`` to ``b`` (the shorter way round) seen from the
     origin: ``low`` in ``[-pi, pi]`` and ``high >= low``; ``high`` is -inf when the
@@ -87,7 +87,7 @@ def _span(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
     return low, high + TAU if high < low else high
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _around(segments: np.ndarray, s: int, ox: float,
             oy: float) -> tuple[float, float, float, float]:
     """Wall ``s``'s ends relative to the sensor at ``(ox, oy)``."""

@@ -43,7 +43,7 @@ The geometry (see :func:`ray_segment_distance`):
   before any robot, and robot 2 before robot 5).
 
 >>> import numpy as np
->>> from mimics.engine.wall_index import build_wall_index
+>>> from mimics.engine.ranging.wall_index import build_wall_index
 >>> walls = build_wall_index(np.array([[3.0, -1.0, 3.0, 1.0]]), (-5, -5, 5, 5), reach=8.0)
 >>> query = RangerQuery(np.zeros((1, 2)), np.zeros(1), np.array([[0.0, np.pi]]),
 ...                     np.array([8.0]), np.array([-1]))
@@ -56,19 +56,20 @@ from __future__ import annotations
 
 import numpy as np
 
+from mimics.engine.helper_threads.chunks import LEAD
+from mimics.engine.helper_threads.threads import Flight, helpers, helpers_worth, solo_arrays
+
 # "X as X": names callers import from here (the module was one before it was split)
-from mimics.engine.beam_fan import ANGLE_SLACK as ANGLE_SLACK
-from mimics.engine.beam_fan import FAN_COLUMNS, beam_fans, offset_units
-from mimics.engine.beam_fan import fast_atan2 as fast_atan2
-from mimics.engine.beam_sweep import ray_segment_distance as ray_segment_distance
-from mimics.engine.kernel_chunks import LEAD
-from mimics.engine.kernel_threads import Flight, helpers, helpers_worth, solo_arrays
-from mimics.engine.point_cull import SightLists, no_sight_lists
-from mimics.engine.ray_kernel import CHUNK_ROBOTS, _cast_rows
-from mimics.engine.ray_kernel import RangerQuery as RangerQuery
+from mimics.engine.ranging.beam_fan import ANGLE_SLACK as ANGLE_SLACK
+from mimics.engine.ranging.beam_fan import FAN_COLUMNS, beam_fans, offset_units
+from mimics.engine.ranging.beam_fan import fast_atan2 as fast_atan2
+from mimics.engine.ranging.beam_sweep import ray_segment_distance as ray_segment_distance
+from mimics.engine.ranging.point_cull import SightLists, no_sight_lists
+from mimics.engine.ranging.ray_kernel import CHUNK_ROBOTS, _cast_rows
+from mimics.engine.ranging.ray_kernel import RangerQuery as RangerQuery
+from mimics.engine.ranging.wall_index import WallIndex, coerce_wall_index
 from mimics.engine.robot_index import RobotIndex, coerce_robot_index
 from mimics.engine.spatial_index import coerce_array
-from mimics.engine.wall_index import WallIndex, coerce_wall_index
 
 # beams per thread below which a scan runs on the calling thread alone: a spinning
 # helper joins within microseconds, a sleeping one within 40 to 70 us (kernel_threads)

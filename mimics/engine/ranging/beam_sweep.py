@@ -1,11 +1,11 @@
 """A segment swept over the beams it spans; a robot by its sides; the fine-grid walk.
 
-The ray kernel (:mod:`mimics.engine.ranger`) sweeps the walls and robots near
+The ray kernel (:mod:`mimics.engine.ranging.ranger`) sweeps the walls and robots near
 a sensor, nearest first: each segment is tested against the beams its angular
-span covers (:mod:`mimics.engine.beam_fan`), four beams at a time without
+span covers (:mod:`mimics.engine.ranging.beam_fan`), four beams at a time without
 branches, and blocks whose farthest hit is nearer than the segment are
 skipped. Beyond the sweep's reach, a beam walks the fine walls grid cell by
-cell (Amanatides-Woo). The geometry's rules are in :mod:`mimics.engine.ranger`.
+cell (Amanatides-Woo). The geometry's rules are in :mod:`mimics.engine.ranging.ranger`.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mimics.engine.beam_fan import (
+from mimics.engine.ranging.beam_fan import (
     COLLINEAR_EPS,
     TAU,
     Layout,
@@ -25,8 +25,8 @@ from mimics.engine.beam_fan import (
     _turns,
     fast_atan2,
 )
+from mimics.engine.ranging.wall_index import point_segment_distance
 from mimics.engine.spatial_index import SegmentGrid, clip_to_slab
-from mimics.engine.wall_index import point_segment_distance
 
 NO_HIT = -2  # hit_owner of a beam that hit nothing within range
 
@@ -93,7 +93,7 @@ def ray_segment_distance(ox: float, oy: float, dx: float, dy: float, x1: float, 
     return max(near, 0.0)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _cell_exit(grid_start: float, index: int, cell: float, origin: float,
                delta: float) -> float:
     """Ray parameter where it leaves cell ``index`` of one grid axis (inf if parallel)."""
@@ -156,7 +156,7 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
     return best_t, best_o
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _consider(ox: float, oy: float, work: np.ndarray, j: int, x1: float, y1: float,
               x2: float, y2: float, o: int, limit: float, best_o: np.ndarray) -> None:
     """Let segment ``(x1, y1, x2, y2)`` of owner ``o`` improve beam ``j``'s hit."""
@@ -166,13 +166,13 @@ def _consider(ox: float, oy: float, work: np.ndarray, j: int, x1: float, y1: flo
         best_o[j] = o
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _below(distance: float) -> float:
     """A distance shrunk past rounding: beams hitting nearer than it surely skip a segment."""
     return distance - 1e-9 * (1.0 + distance)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
                  o: int, limit: float, work: np.ndarray, best_o: np.ndarray) -> float:
     """Let one segment improve the ``BLOCK`` beams from ``start``; their farthest hit after.
@@ -213,7 +213,7 @@ def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: flo
     return far
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: float, x2: float,
                  y2: float, o: int, nearest: float, limit: float, work: np.ndarray,
                  best_o: np.ndarray) -> None:
@@ -235,7 +235,7 @@ PLAN = 4
 DISTANCE, LOW, SPAN, EVERY = 0, 1, 2, 3
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _span_of(ax: float, ay: float, bx: float, by: float) -> tuple[bool, float, float]:
     """The beams a segment from ``(ax, ay)`` to ``(bx, by)`` (relative to the sensor) may
     meet: every beam (True) when the sensor sits on its line (a span near 0 or pi), else
@@ -254,7 +254,7 @@ def _span_of(ax: float, ay: float, bx: float, by: float) -> tuple[bool, float, f
     return False, low, span
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def wall_plan(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
               row: np.ndarray) -> None:
     """Fill ``row`` (``PLAN`` entries) with what a scan from ``(ox, oy)`` needs of the wall
@@ -292,7 +292,7 @@ def _sweep_kept_span(every: bool, low: float, span: float, ox: float, oy: float,
 # inlined into both sweeps above, two entry points of one call each: a call more per
 # segment cost the Cave's unpinned scans 15%, and _sweep_segment inlined into the ray
 # kernel instead of this cost them 15 to 70% (register pressure in _scan_row)
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sweep_span(every: bool, low: float, span: float, ox: float, oy: float, x1: float,
                 y1: float, x2: float, y2: float, o: int, nearest: float, limit: float,
                 layout: Layout, work: np.ndarray, best_o: np.ndarray) -> None:
@@ -310,7 +310,7 @@ def _sweep_span(every: bool, low: float, span: float, ox: float, oy: float, x1: 
             _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, work, best_o)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _robot_span(cx: float, cy: float, radius: float) -> tuple[bool, float, float]:
     """The beams a robot whose circle (``radius``) is centred at ``(cx, cy)`` from the
     sensor may meet: True when the sensor is inside its circle (each side is swept on
@@ -323,7 +323,7 @@ def _robot_span(cx: float, cy: float, radius: float) -> tuple[bool, float, float
     return False, fast_atan2(cy, cx) - half, 2.0 * half
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def robot_plan(cx: float, cy: float, radius: float, row: np.ndarray) -> None:
     """Fill ``row`` (``PLAN`` entries) with what a scan needs of a robot seen at ``(cx,
     cy)`` from the sensor whatever the headings: its distance bound (as the scan's own),
@@ -334,7 +334,7 @@ def robot_plan(cx: float, cy: float, radius: float, row: np.ndarray) -> None:
 
 
 # inlined: called for every robot in view, its call would cost more than a hidden check
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray, r: int,
                  gap: float, radius: float, limit: float, layout: Layout, work: np.ndarray,
                  best_o: np.ndarray) -> None:
@@ -349,7 +349,7 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
                       best_o)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sweep_robot_span(inside: bool, start: float, width: float, ox: float, oy: float,
                       corners: np.ndarray, r: int, gap: float, limit: float, layout: Layout,
                       work: np.ndarray, best_o: np.ndarray) -> None:
@@ -382,7 +382,7 @@ def _sweep_robot_span(inside: bool, start: float, width: float, ox: float, oy: f
                         corners[r, e + 1, 0], corners[r, e + 1, 1], r, limit, work, best_o)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _facing_sides(ox: float, oy: float, corners: np.ndarray, r: int) -> int:
     """Bit ``e`` set: robot ``r``'s side ``e`` faces the sensor (or nearly: on its line).
 

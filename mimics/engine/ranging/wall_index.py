@@ -33,6 +33,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.ranging.wall_occlusion import MARGIN, cull_hidden
 from mimics.engine.spatial_index import (
     Bounds,
     SegmentGrid,
@@ -44,7 +45,6 @@ from mimics.engine.spatial_index import (
     covering_box,
     grid_frame,
 )
-from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 
 MAX_NEAR_ITEMS = 8_000_000  # budget for the near lists (64 MB of int64)
 CELLS_PER_REACH = 8  # near cells are about reach / 8: candidates exceed the disc by ~30%

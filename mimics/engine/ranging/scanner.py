@@ -22,15 +22,32 @@ from collections.abc import Callable
 
 import numpy as np
 
+from mimics.engine.compile_clock import waiting
 from mimics.engine.noise_streams import RangerNoise
-from mimics.engine.point_cull import SightLists
-from mimics.engine.ranger import RangerQuery, RowsInFlight, start_beams, trace_beams
+from mimics.engine.ranging.point_cull import SightLists
+from mimics.engine.ranging.ranger import RangerQuery, RowsInFlight, start_beams, trace_beams
+from mimics.engine.ranging.still_scans import StillScans
+from mimics.engine.ranging.wall_index import WallIndex
 from mimics.engine.robot_index import RobotIndex
 from mimics.engine.sensors import add_ranger_noise
 from mimics.engine.state import TypeArrays, WorldState
-from mimics.engine.still_scans import StillScans
-from mimics.engine.wall_index import WallIndex
-from mimics.engine.warm_up import await_ray_part
+
+_ray_part_elsewhere: list[Callable[[], None]] = []
+
+
+def ray_part_compiling_elsewhere(wait: Callable[[], None]) -> None:
+    """Tell the scanner that another process compiles the ray part: the first scan
+    calls ``wait`` and then loads the part from the cache, not compiling it twice."""
+    _ray_part_elsewhere.append(wait)
+
+
+def await_ray_part() -> None:
+    """Before a scan: wait for the processes compiling the ray part, if any (the wait
+    goes on the compile clock, not on the run's time)."""
+    while _ray_part_elsewhere:
+        with waiting():  # a compile of this process meanwhile counts once
+            _ray_part_elsewhere.pop()()
+
 
 
 class Scanner:

@@ -44,13 +44,13 @@ PAD = 1e-9  # relative padding of a cell's box, for the rounding of the sensor's
 AX, AY, BX, BY, NX, NY = range(6)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _corner(box: np.ndarray, k: int) -> tuple[float, float]:
     """Corner ``k`` (counterclockwise from the lowest) of the box ``(x0, y0, x1, y1)``."""
     return box[0] if k == 0 or k == 3 else box[2], box[1] if k < 2 else box[3]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _crosses(px: float, py: float, qx: float, qy: float, occluders: np.ndarray,
              o: int) -> bool:
     """Whether occluder ``o``'s shortened ends lie clearly on either side of the line
@@ -91,14 +91,14 @@ def _occluder(segments: np.ndarray, s: int, box: np.ndarray, margin: float,
     occluders[NX, o], occluders[NY, o] = nx, ny
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _beyond(occluders: np.ndarray, o: int, margin: float, qx: float, qy: float) -> bool:
     """Whether ``q`` lies at least ``margin`` beyond occluder ``o``'s line, away from the box."""
     return (occluders[NX, o] * (qx - occluders[AX, o])
             + occluders[NY, o] * (qy - occluders[AY, o])) >= margin
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sight_lines_cross(occluders: np.ndarray, o: int, box: np.ndarray, qx1: float,
                        qy1: float, qx2: float, qy2: float) -> bool:
     """Whether occluder ``o`` crosses the sight lines from the box's corners to both ends."""

@@ -16,15 +16,41 @@ bit for bit, with the lists or without them.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 from numba import njit
 
-from mimics.engine.beam_sweep import PLAN, robot_plan, wall_plan
-from mimics.engine.point_cull import SightLists, sight_lists
+from mimics.engine.ranging.beam_sweep import PLAN, robot_plan, wall_plan
+from mimics.engine.ranging.point_cull import SightLists, sight_lists
+from mimics.engine.ranging.wall_index import WallIndex, near_cell_of
 from mimics.engine.robot_index import RobotIndex, robots_near
 from mimics.engine.spatial_index import SegmentGrid
-from mimics.engine.wall_index import WallIndex, near_cell_of
+
+# Hooks by which a process compiling _settle and _pin (the CLI's first run) says whether
+# it is done: until then no robot is pinned (its scans are the same bits without lists),
+# so the first run does not wait for the still-scan kernels.
+_still_part_elsewhere: list[Callable[[], bool]] = []
+
+
+def still_part_compiling_elsewhere(done: Callable[[], bool]) -> None:
+    """Tell the engine that another process compiles the still scans' kernels: robots
+    are pinned only once ``done()`` says the compile is over (the kernels then load
+    from Numba's cache)."""
+    _still_part_elsewhere.append(done)
+
+
+def still_part_ready() -> bool:
+    """Whether the still scans' kernels may be called (compiled here if need be)."""
+    while _still_part_elsewhere and _still_part_elsewhere[0]():
+        _still_part_elsewhere.pop(0)
+    return not _still_part_elsewhere
+
+
+def forget_still_part() -> None:
+    """Drop the hooks (the compiling process was stopped: a later call compiles here)."""
+    _still_part_elsewhere.clear()
+
 
 SETTLE_STEPS = 5  # steps a neighbourhood stands still before its lists are made (~50 us each)
 # fewer beams than this: a scan costs too little to pay for its lists (the swarm's 8 e-puck
@@ -32,7 +58,7 @@ SETTLE_STEPS = 5  # steps a neighbourhood stands still before its lists are made
 MIN_BEAMS = 32
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _cell(x: float, y: float, index: RobotIndex) -> tuple[int, int]:
     """The index grid's cell of ``(x, y)``, clamped to the grid."""
     ix = min(max(math.floor((x - index.origin[0]) / index.cell), 0.0), index.shape[0] - 1.0)
@@ -101,6 +127,18 @@ def _settle(centers: np.ndarray, before: np.ndarray, solid_before: np.ndarray,
 
 
 @njit(cache=True)
+def _copy_rows(items: np.ndarray, plan: np.ndarray, start: int, to_items: np.ndarray,
+               to_plan: np.ndarray, at: int, count: int) -> None:
+    """``to_items[at:at + count] = items[start:start + count]``, and the same rows of the
+    plans, as loops: a slice assignment compiles its shape-mismatch error's formatting,
+    seconds of a first run's compile for a message that cannot occur here."""
+    for row in range(count):
+        to_items[at + row] = items[start + row]
+        for column in range(to_plan.shape[1]):
+            to_plan[at + row, column] = plan[start + row, column]
+
+
+@njit(cache=True)
 def _reserve(items: np.ndarray, plan: np.ndarray, used: int,
              more: int) -> tuple[np.ndarray, np.ndarray]:
     """``items`` and ``plan`` with room for ``more`` after ``used`` (copies, twice as long,
@@ -109,8 +147,7 @@ def _reserve(items: np.ndarray, plan: np.ndarray, used: int,
         return items, plan
     size = max(2 * items.shape[0], used + more)
     grown, grown_plan = np.empty(size, dtype=np.int64), np.empty((size, PLAN))
-    grown[:used] = items[:used]
-    grown_plan[:used] = plan[:used]
+    _copy_rows(items, plan, 0, grown, grown_plan, 0, used)
     return grown, grown_plan
 
 
@@ -131,8 +168,7 @@ def _compact(pinned: np.ndarray, spans: np.ndarray, items: np.ndarray, plan: np.
         if pinned[i]:
             for k in (0, 2):
                 length = spans[i, k + 1] - spans[i, k]
-                kept[count:count + length] = items[spans[i, k]:spans[i, k + 1]]
-                kept_plan[count:count + length] = plan[spans[i, k]:spans[i, k + 1]]
+                _copy_rows(items, plan, spans[i, k], kept, kept_plan, count, length)
                 spans[i, k], spans[i, k + 1] = count, count + length
                 count += length
     return kept, kept_plan, count
@@ -163,7 +199,8 @@ def _pin(centers: np.ndarray, still: np.ndarray, pinned: np.ndarray, max_range: 
         items, plan = _reserve(items, plan, used, walls.shape[0] + seen.shape[0])
         for k, listed in ((0, walls), (2, seen)):
             spans[i, k], spans[i, k + 1] = used, used + listed.shape[0]
-            items[used:used + listed.shape[0]] = listed
+            for row in range(listed.shape[0]):
+                items[used + row] = listed[row]
             used += listed.shape[0]
         for row in range(spans[i, 0], spans[i, 1]):  # the scans' own numbers, kept
             s = items[row]
@@ -204,7 +241,7 @@ class StillScans:
         """The lists for the scans of this step (call once per step, before they are
         traced). ``centers``: ``(n, 2)`` C-contiguous, every robot's."""
         pinned, spans, items, plan = self.lists
-        if not self._pinnable:
+        if not self._pinnable or (_still_part_elsewhere and not still_part_ready()):
             return self.lists
         if _settle(centers, self._before, self._solid_before, self._still, pinned,
                    self._max_range, tuple(robots)):

@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 from numba import get_num_threads, njit
 
-from mimics.engine.kernel_chunks import (
+from mimics.engine.helper_threads.chunks import (
     BACK,
     BEGUN,
     CALLS,

@@ -14,8 +14,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from mimics.engine.beam_fan import _beyond_edges, _outside_view
-from mimics.engine.beam_sweep import (
+from mimics.engine.helper_threads.chunks import begin, chunk_done, end, take
+from mimics.engine.ranging.beam_fan import _beyond_edges, _outside_view
+from mimics.engine.ranging.beam_sweep import (
     BLOCK,
     DISTANCE,
     DX,
@@ -34,11 +35,10 @@ from mimics.engine.beam_sweep import (
     _sweep_segment,
     _trace,
 )
-from mimics.engine.kernel_chunks import begin, chunk_done, end, take
-from mimics.engine.point_cull import SightLists
+from mimics.engine.ranging.point_cull import SightLists
+from mimics.engine.ranging.wall_index import near_cell_of, point_segment_distance
 from mimics.engine.robot_index import RobotIndex, robots_near
 from mimics.engine.spatial_index import SegmentGrid
-from mimics.engine.wall_index import near_cell_of, point_segment_distance
 
 RINGS = 16  # distance classes in which walls and robots are swept, nearest first
 # robots per chunk, the unit the threads take in turn (4 measured the same as 10)

@@ -37,7 +37,7 @@ Layout = tuple[float, float, float, float, float]
 Cone = tuple[float, float, float, float, float]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def fast_atan2(y: float, x: float) -> float:
     """``atan2(y, x)`` within 1.15e-5 rad, much faster than libm's.
 
@@ -62,14 +62,14 @@ def fast_atan2(y: float, x: float) -> float:
     return -r if y < 0.0 else r
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _relative(angle: float, layout: Layout) -> float:
     """``angle`` less the first beam's, in ``[0, 2 pi)`` (up to rounding)."""
     rel = angle - layout[0]
     return rel - TAU * math.floor(rel * (1.0 / TAU))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
     """Beams whose angle less the first beam's lies in ``[rel, rel + span]``, with margin.
 
@@ -85,7 +85,7 @@ def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
     return first, last
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _turns(rel: float, span: float, layout: Layout) -> tuple[bool, bool]:
     """Whether ``[rel, rel + span]`` may also overlap the beams one turn back, one turn on.
 
@@ -98,7 +98,7 @@ def _turns(rel: float, span: float, layout: Layout) -> tuple[bool, bool]:
             rel + TAU <= (count + margin) * spacing)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _turn(k: int, back: bool) -> float:
     """The ``k``-th shift to try: 0, then -2 pi if ``back``, then +2 pi."""
     return 0.0 if k == 0 else (-TAU if back and k == 1 else TAU)
@@ -158,7 +158,7 @@ def _field_of_view(offsets: np.ndarray) -> Cone:
             1.0 if width < math.pi - 1e-6 else 2.0)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _beyond_edges(px: float, py: float, clearance: float, cone: Cone) -> int:
     """Bits 0 and 1: ``p`` lies more than ``clearance`` beyond edge 0, 1.
 
@@ -173,7 +173,7 @@ def _beyond_edges(px: float, py: float, clearance: float, cone: Cone) -> int:
     return bits
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _outside_view(a: int, b: int, kind: float) -> bool:
     """Whether a convex set whose extreme points have edge bits ``a`` and ``b`` is unseen."""
     common = a & b
