@@ -17,12 +17,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from mimics.engine.simulation import Policy, Simulation
-from mimics.interfaces.notebook.run import RunView
-from mimics.records.memory import MemoryRecorder, MemoryRun
+from mimics.engine.simulation import Policy
+from mimics.interfaces.notebook.run import RunView, record_run
 from mimics.records.run_folder import load_run as load_run_folder
-from mimics.records.runner import prepare, run_to_folder
-from mimics.world.errors import MimicsError
+from mimics.records.runner import prepare
 from mimics.world.scenario import Scenario
 
 if TYPE_CHECKING:
@@ -62,36 +60,7 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
     sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed, policy=policy,
                   wall_limit=wall_limit, params=params, observers=observers,
                   allow_overlap=allow_overlap)
-    if out is None:
-        if record_scans:
-            raise MimicsError("record_scans: give out=FOLDER too (the scans go in the run folder)")
-        check_memory_recording(sim)
-        recorder = MemoryRecorder()
-        sim.observers.append(recorder)
-        result = sim.run()
-        sim.observers.remove(recorder)
-        return RunView(MemoryRun(recorder, result), result)
-    result = run_to_folder(sim, out, record_scans=record_scans)
-    return RunView(load_run_folder(out), result)
-
-
-def check_memory_recording(sim: Simulation) -> None:
-    """Refuse a run whose records would not fit in memory (every row is kept until the end).
-
-    Raises:
-        MimicsError: one line with the figures, suggesting ``out=FOLDER``.
-    """
-    from mimics.records import resources
-
-    whole = 2**62  # the rows are never flushed: the buffer is the whole run
-    estimate = resources.run_memory(sim.scenario, flush_rows=whole, time=sim.time_limit)
-    available = resources.available_memory()
-    if available is not None and estimate.total > available:
-        raise MimicsError(
-            f"scenario {sim.scenario.name!r}: recording this run in memory needs about "
-            f"{resources.size_text(estimate.total)}, more than the "
-            f"{resources.size_text(available)} available: give out=FOLDER (the run is then "
-            "written as it goes) or a shorter time")
+    return record_run(sim, out, record_scans=record_scans)
 
 
 def load_run(path: str | Path) -> RunView:

@@ -30,6 +30,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from mimics.interfaces.cli.battery_args import Folder, table_console
 from mimics.interfaces.cli.output import fail as _fail
 from mimics.world.errors import MimicsError
 
@@ -42,15 +43,6 @@ Dask = Annotated[str | None, typer.Option(
     help="Run on a Dask cluster: the scheduler's address (tcp://host:8786).")]
 ShowProgress = Annotated[bool | None, typer.Option(
     "--progress/--no-progress", help="Progress bar [default: when on a terminal].")]
-Folder = Annotated[Path, typer.Argument(help="A battery folder (the --out of `battery run`).")]
-
-
-def _out() -> Console:
-    """Standard output; wide tables when it is a file or a pipe, not a terminal."""
-    console = Console(highlight=False)
-    return console if console.is_terminal else Console(highlight=False, width=220)
-
-
 def _interrupted(folder: Path) -> typer.Exit:
     Console(stderr=True, highlight=False).print(
         f"interrupted: finished runs are kept; go on with `mimics battery resume {folder}`",
@@ -129,7 +121,7 @@ def new(
         raise _fail(f"{type(exc).__name__}: {exc}") from None
     remember_battery(output)
     runs = len(spec.runs())
-    _out().print(f"saved {output}: {runs} runs ({len(spec.algorithms)} algorithm(s) x "
+    table_console().print(f"saved {output}: {runs} runs ({len(spec.algorithms)} algorithm(s) x "
                  f"{len(spec.scenarios)} scenario(s) x {len(spec.seeds)} seed(s) with sweeps); "
                  f"run it with `mimics battery run {output} --out batteries/{output.stem}`",
                  markup=False)
@@ -150,7 +142,7 @@ def _pick(kind: str) -> list[str]:
     table.add_column("description")
     for k, (name, description) in enumerate(entries, start=1):
         table.add_row(str(k), name, description)
-    _out().print(table)
+    table_console().print(table)
     answer = typer.prompt(f"{kind.capitalize()}s: numbers, names or paths, comma-separated")
     chosen = []
     for item in (a.strip() for a in answer.split(",")):
@@ -347,14 +339,14 @@ def _announce(folder: Path, runs: int, workers: int | None, dask: str | None,
 
 
 def _finished(result: Any) -> None:
-    _out().print(result.line(), markup=False)
+    table_console().print(result.line(), markup=False)
     from mimics.interfaces.cli.battery_report import print_warnings
 
     print_warnings(result.folder)
     if result.adopted:
-        _out().print(f"({result.adopted} run(s) had finished just before the battery stopped: "
-                     "kept)", markup=False)
-    _out().print(f"table: `mimics battery report {result.folder}`", markup=False)
+        table_console().print(f"({result.adopted} run(s) had finished just before the battery "
+                              "stopped: kept)", markup=False)
+    table_console().print(f"table: `mimics battery report {result.folder}`", markup=False)
     from mimics.batteries.tasks import FAILED_STATES
 
     failed = {state: result.counts.get(state, 0) for state in FAILED_STATES
@@ -389,7 +381,7 @@ def status(folder: Folder) -> None:
         snapshot = battery_status(folder)
     except MimicsError as exc:
         raise _fail(str(exc)) from None
-    console = _out()
+    console = table_console()
     table = Table(title=f"battery {folder}", show_header=False)
     table.add_column(style="bold")
     table.add_column(justify="right")

@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mimics.interfaces.cli.battery import Folder, _out
+from mimics.interfaces.cli.battery_args import Folder, table_console
 from mimics.interfaces.cli.output import fail as _fail
 from mimics.world.errors import MimicsError
 
@@ -48,12 +48,12 @@ def report_command(
     try:
         chosen = check_metrics(metric)
         table = runs_table(folder)
-        print_report(table, _out(), only_misbehaving=misbehaving, runs=runs, baseline=baseline,
-                     metrics=chosen)
+        print_report(table, table_console(), only_misbehaving=misbehaving, runs=runs,
+                     baseline=baseline, metrics=chosen)
         for path, fmt in ((csv, "csv"), (parquet, "parquet")):
             if path is not None:
                 export_table(table, path, fmt)
-                _out().print(f"wrote {path}", markup=False)
+                table_console().print(f"wrote {path}", markup=False)
         if grade is not None:
             _print_marks(table, grade, marks_csv or Path(folder) / "marks.csv")
     except MimicsError as exc:
@@ -70,12 +70,12 @@ def _print_marks(table: Any, grading_file: Path, out: Path) -> None:
         rich_table.add_column(str(column), justify="right" if column == "mark" else "left")
     for row in frame.itertuples(index=False):
         rich_table.add_row(*(str(value) for value in row))
-    _out().print(rich_table)
+    table_console().print(rich_table)
     try:
         frame.to_csv(out, index=False)
     except OSError as exc:
         raise MimicsError(f"--marks {out}: cannot write it ({exc.strerror})") from None
-    _out().print(f"wrote {out}", markup=False)
+    table_console().print(f"wrote {out}", markup=False)
 
 
 def compare_command(
@@ -97,7 +97,7 @@ def compare_command(
         if table.empty:
             raise MimicsError(f"{folder}: the battery has no runs")
         comparison = paired_comparison(table, baseline, chosen)
-        console = _out()
+        console = table_console()
         console.print(intervals_rich(cell_intervals(table, chosen), chosen))
         if comparison.empty:
             console.print("one algorithm only: nothing to compare", markup=False)

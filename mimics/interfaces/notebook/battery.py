@@ -137,7 +137,8 @@ class BatteryView:
         Raises:
             MimicsError: no such run, or one without a folder yet.
         """
-        from mimics.interfaces.api import load_run
+        from mimics.interfaces.notebook.run import RunView
+        from mimics.records.run_folder import load_run
 
         runs = self.table
         chosen = runs[runs["id"] == run_id] if not runs.empty else runs
@@ -147,7 +148,7 @@ class BatteryView:
         if not folder.is_dir():
             raise MimicsError(f"{self.folder}: run #{run_id} has no folder yet "
                               f"(state {chosen['state'].iloc[0]})")
-        return load_run(folder)
+        return RunView(load_run(folder))
 
     # -- figures ---------------------------------------------------------------------
 

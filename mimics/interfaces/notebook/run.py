@@ -27,7 +27,7 @@ from __future__ import annotations
 import html
 import shutil
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pandas as pd
 
@@ -37,8 +37,12 @@ from mimics.interfaces.notebook.html import enable_figure_display, figure_img, r
 from mimics.records.memory import MemoryRun, save_run
 from mimics.records.recorder import RobotLogs, prepare_run_folder
 from mimics.records.run_folder import Run
+from mimics.records.run_folder import load_run as load_run_folder
 from mimics.records.summary import summary_rows
 from mimics.world.errors import MimicsError
+
+if TYPE_CHECKING:
+    from mimics.engine.simulation import Simulation
 
 
 class Summary(dict[str, Any]):
@@ -194,3 +198,45 @@ class RunView:
 
 def _escape(text: str) -> str:
     return html.escape(text)
+
+
+def record_run(sim: Simulation, out: str | Path | None = None, *,
+               record_scans: bool = False) -> RunView:
+    """Run a prepared simulation, recorded in memory (``out`` None) or in its run folder.
+
+    Raises:
+        MimicsError: ``record_scans`` without ``out``, or a run too big to keep in memory.
+    """
+    from mimics.records.memory import MemoryRecorder
+    from mimics.records.runner import run_to_folder
+
+    if out is None:
+        if record_scans:
+            raise MimicsError("record_scans: give out=FOLDER too (the scans go in the run folder)")
+        check_memory_recording(sim)
+        recorder = MemoryRecorder()
+        sim.observers.append(recorder)
+        result = sim.run()
+        sim.observers.remove(recorder)
+        return RunView(MemoryRun(recorder, result), result)
+    result = run_to_folder(sim, out, record_scans=record_scans)
+    return RunView(load_run_folder(out), result)
+
+
+def check_memory_recording(sim: Simulation) -> None:
+    """Refuse a run whose records would not fit in memory (every row is kept until the end).
+
+    Raises:
+        MimicsError: one line with the figures, suggesting ``out=FOLDER``.
+    """
+    from mimics.records import resources
+
+    whole = 2**62  # the rows are never flushed: the buffer is the whole run
+    estimate = resources.run_memory(sim.scenario, flush_rows=whole, time=sim.time_limit)
+    available = resources.available_memory()
+    if available is not None and estimate.total > available:
+        raise MimicsError(
+            f"scenario {sim.scenario.name!r}: recording this run in memory needs about "
+            f"{resources.size_text(estimate.total)}, more than the "
+            f"{resources.size_text(available)} available: give out=FOLDER (the run is then "
+            "written as it goes) or a shorter time")

@@ -3,7 +3,7 @@
 The page side is ``widget.js`` beside this file: it shows the frames (PNG
 bytes) and sends the buttons' commands; this side steps the simulation with a
 :class:`~mimics.interfaces.stepper.SimulationStepper`, records it in memory
-and draws the frames with a :class:`~mimics.interfaces.notebook.live.FrameDrawer`.
+and draws the frames with a :class:`~mimics.interfaces.notebook.frames.FrameDrawer`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import Any
 import anywidget
 import traitlets
 
-from mimics.interfaces.notebook.live import FrameDrawer
+from mimics.interfaces.notebook.frames import FrameDrawer
 from mimics.interfaces.stepper import SimulationStepper
 from mimics.records.memory import MemoryRecorder, MemoryRun
 from mimics.world.errors import MimicsError
