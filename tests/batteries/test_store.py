@@ -244,7 +244,20 @@ def test_execute_reads_the_trajectory_digest_of_summary_json(
     assert first.startswith("t:") and first == again  # same poses, same outcome
     poses["value"] = "bb22"
     assert digest(1, "three") != first  # other poses (same outcome): another run
-    monkeypatch.setattr(runner, "run_to_folder", original)
+
+    def without_digest(sim: object, folder: Path, **options: object) -> object:
+        # a summary.json of a run recorded before runs had digests
+        result = original(sim, folder, **options)
+        path = Path(folder) / "summary.json"
+        summary = json.loads(path.read_text())
+        del summary["trajectory_digest"]
+        path.write_text(json.dumps(summary))
+        return result
+
+    monkeypatch.setattr(runner, "run_to_folder", without_digest)
     assert digest(4, "four").startswith("o:")  # no trajectory digest: the outcome alone
+    monkeypatch.setattr(runner, "run_to_folder", original)
+    # the engine's own digest: the same seed gives the same run, another seed another
+    assert digest(5, "five") == digest(5, "five-again") != digest(6, "six")
     summary = json.loads((tmp_path / "one" / "summary.json").read_text())
     assert summary["trajectory_digest"] == "aa11"

@@ -11,6 +11,6 @@ def test_a_team_error_names_the_step_and_the_code() -> None:
     result = mimics.simulate("line", str(ALGORITHMS / "team_fails.c"), robots=3)
     assert result.error == ("NativeError in the team algorithm at t=0.2 s: mimics_team_step "
                             "returned 7 at step 2")
-    event = next(e for e in result.events if e.kind == "exception")
+    event = next(e for e in result.result.events if e.kind == "exception")
     assert event.traceback == "mimics.native.adapter.NativeError: mimics_team_step returned 7 at " \
                               "step 2\n"
