@@ -29,13 +29,33 @@ from mimics.interfaces.ros.inbox import Inbox
 WARNING_INTERVAL = 1.0  # seconds of wall time between two warnings about one robot
 
 
+class WarningThrottle:
+    """At most one warning per robot per :data:`WARNING_INTERVAL`, counting the ones held back."""
+
+    def __init__(self) -> None:
+        self._warned: dict[int, tuple[float, int]] = {}  # robot: (when last warned, count since)
+
+    def __call__(self, robot: int, problem: str, now: float) -> str | None:
+        """The warning to log about a bad message at wall time ``now``, or None if too soon."""
+        last, count = self._warned.get(robot, (float("-inf"), 0))
+        count += 1
+        if now - last < WARNING_INTERVAL:
+            self._warned[robot] = (last, count)
+            return None
+        self._warned[robot] = (now, 0)
+        if count == 1:
+            return f"robot {robot}: {problem}"
+        return (f"robot {robot}: {problem} ({count} bad messages for this robot in the "
+                f"last {now - last:.1f} s)")
+
+
 class CommandSubscriber:
     """Subscribes to both command topics of every robot."""
 
     def __init__(self, robots: int, inbox: Inbox, dt: float) -> None:
         self.inbox = inbox
         self.dt = dt
-        self._warned: dict[int, tuple[float, int]] = {}  # robot: (when last warned, count since)
+        self.warnings = WarningThrottle()
         self.cmd = [rospy.Subscriber(f"/{robot_namespace(i)}/cmd", Float64MultiArray,
                                      self._on_cmd, callback_args=i, tcp_nodelay=True)
                     for i in range(robots)]
@@ -53,24 +73,12 @@ class CommandSubscriber:
         try:
             command = convert(*args)
         except BadCommand as exc:
-            warning = self.throttled_warning(robot, str(exc), time.monotonic())
+            warning = self.warnings(robot, str(exc), time.monotonic())
             if warning is not None:
                 rospy.logwarn(warning)
             self.inbox.reject(robot, str(exc))
             return
         self.inbox.deliver(robot, command)
-
-    def throttled_warning(self, robot: int, problem: str, now: float) -> str | None:
-        """The warning to log about a bad message at wall time ``now``, or None if too soon."""
-        last, count = self._warned.get(robot, (float("-inf"), 0))
-        count += 1
-        if now - last < WARNING_INTERVAL:
-            self._warned[robot] = (last, count)
-            return None
-        self._warned[robot] = (now, 0)
-        more = f" ({count} bad messages for this robot in the last {now - last:.1f} s)" \
-            if count > 1 else ""
-        return f"robot {robot}: {problem}{more}"
 
     def publishers_connected(self, robot: int) -> int:
         """How many publishers of the robot's two command topics have finished their handshake.

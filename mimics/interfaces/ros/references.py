@@ -61,6 +61,7 @@ class RosReferences:
         self.publishers = publishers
         self.held = [(0.0, float(heading)) for heading in initial_headings]
         self._stopped = [False] * len(self.held)  # realtime: the watchdog holds the robot
+        self._gone = [False] * len(self.held)  # realtime: its node's going has been noted
         self._clipped: dict[int, tuple[float, int]] = {}  # robot: (time of last note, count)
 
     def step(self, robot: Any) -> tuple[float, float]:
@@ -73,10 +74,10 @@ class RosReferences:
                                   exc.robots) from None
         for note in notes:
             robot.log(note)
+        if self.watchdog is not None and not self.inbox.lockstep and self._silent(robot):
+            return self.held[robot.id]  # the stale command is not used again
         if command is not None and command is not HOLD:
             self.held[robot.id] = self._references(command, robot)
-        if self.watchdog is not None and not self.inbox.lockstep:
-            return self._watched(robot)
         return self.held[robot.id]
 
     def _timeout_message(self, waiting: tuple[int, ...], seconds: float) -> str:
@@ -86,25 +87,28 @@ class RosReferences:
                 f"{len(waiting)} robot{plural}: {robot_ranges(waiting)} (on /robot_i/cmd or "
                 "/robot_i/cmd_vel): has the controller node stopped?")
 
-    def _watched(self, robot: Any) -> tuple[float, float]:
-        """Realtime: the held reference, or a stop when the robot's commands have ceased."""
+    def _silent(self, robot: Any) -> bool:
+        """Realtime: whether the robot's commands have ceased; it is then stopped (once)."""
         i = robot.id
         silence = self.inbox.silence(i)
-        if silence <= self.watchdog:
+        if silence <= self.watchdog or math.isinf(silence):  # inf: no command yet, standing
             if self._stopped[i]:
-                self._stopped[i] = False
+                self._stopped[i] = self._gone[i] = False
                 robot.log("commands again: the watchdog releases the robot")
-            return self.held[i]
-        if math.isinf(silence):
-            return self.held[i]  # no command yet: the robot has stood still all along
+            return False
+        gone = self.publishers is not None and self.publishers(i) == 0
+        gone_note = (f"its node has gone (nothing publishes /{robot_namespace(i)}/cmd or "
+                     "cmd_vel)")
         if not self._stopped[i]:
             self._stopped[i] = True
-            gone = self.publishers is not None and self.publishers(i) == 0
-            cause = (f"its node has gone (nothing publishes /{robot_namespace(i)}/cmd or "
-                     "cmd_vel)" if gone else f"no command for {silence:.2f} s")
+            self._gone[i] = gone
+            cause = gone_note if gone else f"no command for {silence:.2f} s"
             robot.log(f"watchdog: {cause}; stopping the robot (watchdog {self.watchdog:g} s)")
             self.held[i] = (0.0, float(robot.heading))
-        return self.held[i]
+        elif gone and not self._gone[i]:  # its publisher's connection closed since
+            self._gone[i] = True
+            robot.log(f"watchdog: {gone_note}")
+        return True
 
     def _references(self, command: Command, robot: Any) -> tuple[float, float]:
         kind = robot.type

@@ -1,0 +1,104 @@
+"""The bridge fails safe, against a real ``rosmaster``: a dead node, a late scan
+subscriber, a silent node in realtime, commands beyond the robot's limits."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from tests.interfaces.ros.helpers import NODES, SYSTEM_PYTHON, with_node
+
+FAILSAFE = str(NODES / "failsafe_node.py")
+
+
+def summary(folder: Path) -> dict:
+    return json.loads((folder / "summary.json").read_text())
+
+
+def notes(folder: Path, robot: int) -> pd.DataFrame:
+    events = pd.read_parquet(folder / "events.parquet")
+    return events[(events["kind"] == "user_message") & (events["robot"] == robot)]
+
+
+def test_a_dead_node_ends_a_20_robot_lockstep_run_within_one_time_out(ros_env, tmp_path):
+    folder, timeout = tmp_path / "run", 2.0
+    node = [SYSTEM_PYTHON, FAILSAFE, "--mode", "die", "--robots", "20", "--at", "1.0"]
+    bridge, output = with_node(ros_env, node, "line", "--robots", "20", "--timeout",
+                               str(timeout), "--out", str(folder), "--robot-logs", "off")
+    ended = time.time()
+    assert bridge.returncode == 1, bridge.stderr + output
+    died = float(output.split("died ", 1)[1].split()[0])
+    # one deadline for the step, not one per robot (20 x 2 s); the second covers
+    # writing the run folder and leaving ROS
+    assert ended - died <= timeout + 1.0, (ended - died, bridge.stderr)
+    last = bridge.stderr.strip().splitlines()[-1]
+    assert "no command for t=1 s within 2 s (--timeout) from 20 robots: 0-19 " in last, last
+    assert summary(folder)["status"] == "error"
+
+
+def test_a_late_scan_subscriber_still_gets_step_0s_scan(ros_env, tmp_path):
+    folder = tmp_path / "run"
+    node = [SYSTEM_PYTHON, FAILSAFE, "--mode", "late-scan", "--at", "0.3"]
+    bridge, output = with_node(ros_env, node, "line", "--robots", "1", "--time", "1",
+                               "--timeout", "5", "--out", str(folder), "--robot-logs", "off")
+    assert bridge.returncode == 0, bridge.stderr + output
+    assert summary(folder)["status"] == "time_limit"
+    stamps = [float(line.split()[1]) for line in output.splitlines()
+              if line.startswith("scan ")]
+    # every step's scan, from step 0 on, once each (the node answers only with a scan)
+    assert stamps == pytest.approx([step / 10 for step in range(len(stamps))])
+    assert stamps[0] == 0.0 and len(stamps) >= 10
+
+
+def test_realtime_watchdog_stops_a_robot_whose_node_died(ros_env, tmp_path):
+    folder, watchdog = tmp_path / "run", 0.2
+    node = [SYSTEM_PYTHON, FAILSAFE, "--mode", "die", "--robots", "2", "--at", "1.0"]
+    bridge, output = with_node(ros_env, node, "line", "--robots", "2", "--realtime",
+                               "--time", "2.5", "--watchdog", str(watchdog), "--out",
+                               str(folder), "--robot-logs", "off")
+    assert bridge.returncode == 0, bridge.stderr + output
+    assert summary(folder)["ros"]["watchdog"] == watchdog
+    table = pd.read_parquet(folder / "trajectory.parquet")
+    robot = table[table["robot"] == 0].set_index("time")
+    assert robot.loc[0.5:0.9, "v_ref"].eq(0.3).all()  # driven while the node lived
+    stopped = robot[(robot.index >= 1.0) & (robot["v_ref"] == 0.0)]
+    # the node's last command answered t = 0.9 s; the watchdog stops the robot
+    # within 0.2 s of wall time after it, i.e. at the first steps past 1.1 s
+    # (one step of 0.1 s and one of slack for the loaded machine's pace)
+    assert stopped.index.min() <= 0.9 + watchdog + 0.2 + 1e-9, stopped.index.min()
+    assert (robot.loc[stopped.index.min():, "v_ref"] == 0.0).all()
+    said = notes(folder, 0)["detail"].tolist()
+    # stopped, and the node's end reported (at the stop, or once rospy sees it go)
+    assert any(text.startswith("watchdog: ") and "stopping the robot (watchdog 0.2 s)" in text
+               for text in said), said
+    assert any("its node has gone (nothing publishes /robot_0/cmd or cmd_vel)" in text
+               for text in said), said
+
+
+def test_huge_commands_are_clipped_to_the_robots_limits_and_recorded(ros_env, tmp_path):
+    from mimics.catalog import load_scenario
+
+    kind = load_scenario("line", robots=2).types[0]
+    folder = tmp_path / "run"
+    node = [SYSTEM_PYTHON, FAILSAFE, "--mode", "huge"]
+    bridge, output = with_node(ros_env, node, "line", "--robots", "2", "--time", "2.5",
+                               "--out", str(folder), "--robot-logs", "off")
+    assert bridge.returncode == 0, bridge.stderr + output
+    table = pd.read_parquet(folder / "trajectory.parquet")
+    answered = table[table["step"] >= 1]
+    assert (answered["v_ref"] == kind.kv).all()  # both robots: the top speed
+    assert (answered[answered["robot"] == 1]["heading_ref"] == 0.5).all()
+    twist = notes(folder, 0)
+    # once per simulated second, with the count of clipped commands since the last note
+    assert twist["step"].tolist() == [1, 11, 21]
+    assert twist["detail"].iloc[0] == (
+        f"cmd_vel asked linear.x=1e+30 m/s, angular.z=-1e+30 rad/s; applied {kind.kv:g} m/s, "
+        f"{-kind.kw:g} rad/s (the robot's limits)")
+    assert twist["detail"].iloc[1].endswith("(10 clipped commands since the last note)")
+    reference = notes(folder, 1)["detail"].iloc[0]
+    assert reference == (f"cmd asked speed_ref=1e+300 m/s; applied {kind.kv:g} m/s "
+                         f"(top speed {kind.kv:g} m/s)")
