@@ -4,6 +4,8 @@ subscriber, a silent node in realtime, commands beyond the robot's limits."""
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -11,6 +13,7 @@ import pandas as pd
 import pytest
 
 from tests.interfaces.ros.helpers import NODES, SYSTEM_PYTHON, with_node
+from tests.system_packages import require
 
 FAILSAFE = str(NODES / "failsafe_node.py")
 
@@ -102,3 +105,40 @@ def test_huge_commands_are_clipped_to_the_robots_limits_and_recorded(ros_env, tm
     reference = notes(folder, 1)["detail"].iloc[0]
     assert reference == (f"cmd asked speed_ref=1e+300 m/s; applied {kind.kv:g} m/s "
                          f"(top speed {kind.kv:g} m/s)")
+
+
+def test_mimics_run_ros_timeout_is_one_deadline_and_its_message_cites_it(tmp_path):
+    """``ros:`` algorithms under ``mimics run``: their own master, ``--ros-timeout``."""
+    require("ros")
+    done = subprocess.run(
+        [sys.executable, "-m", "mimics", "run", "line",
+         f"ros:{FAILSAFE} --mode die --robots {{robots}} --at 1.0", "--robots", "3",
+         "--ros-timeout", "1", "--out", str(tmp_path / "run"), "--robot-logs", "off"],
+        capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert ("no command for t=1 s within 1 s (--ros-timeout) from 3 robots: 0-2 "
+            in done.stdout + done.stderr), done.stdout + done.stderr
+    assert summary(tmp_path / "run")["status"] == "error"
+    # the option belongs to ros: algorithms only
+    other = subprocess.run([sys.executable, "-m", "mimics", "run", "line", "go_to_goal",
+                            "--ros-timeout", "1", "--out", str(tmp_path / "other")],
+                           capture_output=True, text=True, timeout=120, check=False)
+    assert other.returncode == 2
+    assert other.stderr.strip() == ("mimics: error: --ros-timeout: only for ros: algorithms "
+                                    "(ros:PROGRAM [ARGS...])")
+    assert not (tmp_path / "other").exists()
+
+
+def test_bad_command_warnings_are_throttled_per_robot_with_a_count():
+    require("ros")
+    from mimics.interfaces.ros.system_ros import require_ros
+
+    require_ros()
+    from mimics.interfaces.ros.commands import WarningThrottle
+
+    warn = WarningThrottle()
+    assert warn(0, "cmd_vel: bad", 100.0) == "robot 0: cmd_vel: bad"
+    assert warn(1, "cmd: bad", 100.1) == "robot 1: cmd: bad"  # each robot its own second
+    assert [warn(0, "cmd_vel: bad", 100.0 + k / 10) for k in range(1, 10)] == [None] * 9
+    assert warn(0, "cmd_vel: bad", 101.0) == (
+        "robot 0: cmd_vel: bad (10 bad messages for this robot in the last 1.0 s)")

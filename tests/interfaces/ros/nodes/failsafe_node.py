@@ -4,8 +4,9 @@
   odometry stamped at ``--at`` seconds or later it prints ``died WALLTIME``
   (``time.time()``) and exits at once (``os._exit``: as a crash, no goodbye).
 * ``late-scan``: robot 0 only. Subscribes to ``odom`` and, ``--at`` wall
-  seconds after that subscription connects (mimics is up), to ``scan``; answers step k only once it has both step k's
-  odometry and scan. Prints ``scan STAMP`` for every scan received.
+  seconds after that subscription connects (mimics is up), to ``scan``;
+  answers step k only once it has both step k's odometry and scan.
+  Prints ``scan STAMP`` for every scan received.
 * ``huge``: robot 0 gets ``cmd_vel`` linear.x = 1e30, angular.z = -1e30;
   robot 1 gets ``cmd`` [1e300, 0.5, stamp].
 
