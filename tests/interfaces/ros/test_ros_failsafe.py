@@ -44,17 +44,24 @@ def test_a_dead_node_ends_a_20_robot_lockstep_run_within_one_time_out(ros_env, t
 
 
 def test_a_late_scan_subscriber_still_gets_step_0s_scan(ros_env, tmp_path):
+    """Also ``mimics ros --record-scans``: the recorded scans are the ones the node got."""
     folder = tmp_path / "run"
     node = [SYSTEM_PYTHON, FAILSAFE, "--mode", "late-scan", "--at", "0.3"]
-    bridge, output = with_node(ros_env, node, "line", "--robots", "1", "--time", "1",
-                               "--timeout", "5", "--out", str(folder), "--robot-logs", "off")
+    # a room: the ranger sees walls, so the scans have hits to compare
+    bridge, output = with_node(ros_env, node, "obstacle_room", "--robots", "1", "--time", "1",
+                               "--timeout", "5", "--out", str(folder), "--robot-logs", "off",
+                               "--record-scans")
     assert bridge.returncode == 0, bridge.stderr + output
     assert summary(folder)["status"] == "time_limit"
-    stamps = [float(line.split()[1]) for line in output.splitlines()
-              if line.startswith("scan ")]
+    received = [line.split()[1:] for line in output.splitlines() if line.startswith("scan ")]
+    stamps = [float(stamp) for stamp, _ in received]
     # every step's scan, from step 0 on, once each (the node answers only with a scan)
     assert stamps == pytest.approx([step / 10 for step in range(len(stamps))])
     assert stamps[0] == 0.0 and len(stamps) >= 10
+    recorded = pd.read_parquet(folder / "scans.parquet").set_index("step")
+    assert recorded.index.tolist() == list(range(11))
+    for step, (_, hits) in enumerate(received[:11]):
+        assert int(hits) == int(recorded.loc[step, "hits"].sum()) > 0
 
 
 def test_realtime_watchdog_stops_a_robot_whose_node_died(ros_env, tmp_path):

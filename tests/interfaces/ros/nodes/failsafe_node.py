@@ -6,7 +6,7 @@
 * ``late-scan``: robot 0 only. Subscribes to ``odom`` and, ``--at`` wall
   seconds after that subscription connects (mimics is up), to ``scan``;
   answers step k only once it has both step k's odometry and scan.
-  Prints ``scan STAMP`` for every scan received.
+  Prints ``scan STAMP HITS`` for every scan received (HITS: finite ranges).
 * ``huge``: robot 0 gets ``cmd_vel`` linear.x = 1e30, angular.z = -1e30;
   robot 1 gets ``cmd`` [1e300, 0.5, stamp].
 
@@ -64,7 +64,8 @@ def late_scan_mode(args):
             answer()
 
     def on_scan(message):
-        print(f"scan {message.header.stamp.to_sec()!r}", flush=True)
+        hits = sum(1 for value in message.ranges if value != float("inf"))
+        print(f"scan {message.header.stamp.to_sec()!r} {hits}", flush=True)
         with lock:
             scans.add(message.header.stamp.to_nsec())
             answer()
