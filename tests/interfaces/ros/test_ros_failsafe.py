@@ -35,9 +35,11 @@ def test_a_dead_node_ends_a_20_robot_lockstep_run_within_one_time_out(ros_env, t
     ended = time.time()
     assert bridge.returncode == 1, bridge.stderr + output
     died = float(output.split("died ", 1)[1].split()[0])
-    # one deadline for the step, not one per robot (20 x 2 s); the second covers
-    # writing the run folder and leaving ROS
-    assert ended - died <= timeout + 1.0, (ended - died, bridge.stderr)
+    run_ended = (folder / "summary.json").stat().st_mtime  # the run's record, written last
+    # one deadline for the step, not one per robot (20 x 2 s = 40 s): the run
+    # ends within the time-out plus a second, the process (leaving ROS) soon after
+    assert run_ended - died <= timeout + 1.0, (run_ended - died, bridge.stderr)
+    assert ended - died <= timeout + 5.0, (ended - died, bridge.stderr)
     last = bridge.stderr.strip().splitlines()[-1]
     assert "no command for t=1 s within 2 s (--timeout) from 20 robots: 0-19 " in last, last
     assert summary(folder)["status"] == "error"

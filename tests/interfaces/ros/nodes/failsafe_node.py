@@ -37,8 +37,11 @@ def die_mode(args):
     publishers = [rospy.Publisher(f"/robot_{i}/cmd_vel", Twist, queue_size=10,
                                   tcp_nodelay=True) for i in range(args.robots)]
 
+    dying = threading.Lock()  # robots' callbacks run on their own threads: one dies
+
     def on_odom(message, robot):
         if message.header.stamp.to_sec() >= args.at - 1e-9:
+            dying.acquire()  # the other threads wait here until the process is gone
             print(f"died {time.time()!r}", flush=True)
             os._exit(1)
         publishers[robot].publish(twist(SPEED, RATE))
