@@ -1,13 +1,15 @@
 """The speed of a lockstep ROS run: the rospy example driving the line's robots.
 
-    python benchmarks/ros_lockstep.py [--robots 5] [--repeats 3]
+    python benchmarks/ros_lockstep.py [--robots 4 20 100] [--repeats 3]
 
-Starts a ``rosmaster`` on a free port, then, ``--repeats`` times, the example
-node ``examples/ros/go_to_goal_node.py`` (with the system's Python) beside
-``mimics ros line --robots N --lockstep``. Each run is timed by its own
-summary (wall time of the simulation, not of the process start), so the
-figures are s_sim/s and robot-steps/s of the simulation with its ROS round
-trips. Prints each run and the medians. Needs ROS 1 (see docs/how-to/ros.md).
+Starts a ``rosmaster`` on a free port, then, for each robot count, ``--repeats``
+times, the example node ``examples/ros/go_to_goal_node.py`` (with the
+system's Python) beside ``mimics ros line --robots N --lockstep`` (the counts
+alternate run by run, so a change of the machine's load touches them all).
+Each run is timed by its own summary (wall time of the simulation, not of the
+process start), so the figures are s_sim/s and robot-steps/s of the
+simulation with its ROS round trips. Prints each run, then a table of the
+medians per robot count. Needs ROS 1 (see docs/how-to/ros.md).
 """
 
 from __future__ import annotations
@@ -37,8 +39,10 @@ def one_run(env: dict[str, str], robots: int, folder: Path) -> dict:
     node = subprocess.Popen(["/usr/bin/python3", str(EXAMPLE), "--robots", str(robots)],
                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
+        # a long connection time-out: 100 robots' subscriptions take a while on a busy machine
         subprocess.run([sys.executable, "-m", "mimics", "ros", "line", "--robots", str(robots),
-                        "--lockstep", "--out", str(folder), "--robot-logs", "off"],
+                        "--lockstep", "--out", str(folder), "--robot-logs", "off",
+                        "--timeout", "60"],
                        env=env, check=True, stdout=subprocess.DEVNULL)
     finally:
         node.send_signal(signal.SIGINT)
@@ -49,7 +53,7 @@ def one_run(env: dict[str, str], robots: int, folder: Path) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--robots", type=int, default=5)
+    parser.add_argument("--robots", type=int, nargs="+", default=[4, 20, 100])
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
     port = free_port()
@@ -58,20 +62,27 @@ def main() -> None:
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         time.sleep(1.0)
-        speeds, rates = [], []
+        speeds: dict[int, list[float]] = {n: [] for n in args.robots}
+        rates: dict[int, list[float]] = {n: [] for n in args.robots}
         with tempfile.TemporaryDirectory() as root:
             for k in range(args.repeats):
-                summary = one_run(env, args.robots, Path(root) / f"run{k}")
-                speed = summary["sim_time"] / summary["wall_time"]
-                rate = summary["steps"] * args.robots / summary["wall_time"]
-                speeds.append(speed)
-                rates.append(rate)
-                print(f"run {k}: {summary['reached_goal']}/{args.robots} reached, "
-                      f"{summary['sim_time']:.1f} s_sim in {summary['wall_time']:.2f} s: "
-                      f"{speed:.1f} s_sim/s, {rate:.0f} robot-steps/s", flush=True)
-        print(f"median: {statistics.median(speeds):.1f} s_sim/s, "
-              f"{statistics.median(rates):.0f} robot-steps/s "
-              f"({args.robots} robots, lockstep)")
+                for robots in args.robots:
+                    summary = one_run(env, robots, Path(root) / f"run{robots}-{k}")
+                    speed = summary["sim_time"] / summary["wall_time"]
+                    rate = summary["steps"] * robots / summary["wall_time"]
+                    speeds[robots].append(speed)
+                    rates[robots].append(rate)
+                    print(f"{robots} robots, run {k}: {summary['reached_goal']}/{robots} "
+                          f"reached, {summary['sim_time']:.1f} s_sim in "
+                          f"{summary['wall_time']:.2f} s: {speed:.1f} s_sim/s, "
+                          f"{rate:.0f} robot-steps/s", flush=True)
+        print(f"\nlockstep, medians of {args.repeats} (min to max):")
+        print("| robots | s_sim/s | robot-steps/s |")
+        print("|---|---|---|")
+        for robots in args.robots:
+            low, high = min(speeds[robots]), max(speeds[robots])
+            print(f"| {robots} | {statistics.median(speeds[robots]):.1f} ({low:.1f} to "
+                  f"{high:.1f}) | {statistics.median(rates[robots]):,.0f} |")
     finally:
         master.terminate()
         master.wait(10)

@@ -31,7 +31,10 @@ def ros_command(
                                              )] = None,
     timeout: Annotated[float, typer.Option(
         help="Seconds to wait for the controller nodes to connect and, in lockstep, for "
-             "each step's commands.")] = 10.0,
+             "all of each step's commands (one deadline per step).")] = 10.0,
+    watchdog: Annotated[float, typer.Option(
+        help="Realtime: stop a robot whose commands stop for this many seconds (as "
+             "stage_ros' base_watchdog_timeout).")] = 0.2,
     map_resolution: Annotated[float, typer.Option(help="Metres per cell of /map.")] = 0.05,
     robot_logs: Annotated[str, typer.Option(help="Per-robot text logs: auto, on or off.")]
     = "auto",
@@ -40,6 +43,8 @@ def ros_command(
     = None,
     view: Annotated[str, typer.Option(help="Live view: step, 1s, 10s or off.")] = "off",
     video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
+    record_scans: Annotated[bool, typer.Option("--record-scans", help="Also record the laser "
+                                               "scans (scans.parquet, 1 mm steps).")] = False,
 ) -> None:
     """Run a simulation as a ROS node: robots are driven by commands received from ROS.
 
@@ -66,6 +71,8 @@ def ros_command(
         raise fail(f"--time: expected a positive number of simulated seconds, got {time}")
     if not timeout > 0:
         raise fail(f"--timeout: expected a positive number of seconds, got {timeout}")
+    if not watchdog > 0:
+        raise fail(f"--watchdog: expected a positive number of seconds, got {watchdog}")
     if not map_resolution > 0:
         raise fail(f"--map-resolution: expected a positive number of metres, "
                    f"got {map_resolution}")
@@ -94,11 +101,12 @@ def ros_command(
     folder = out or Path("runs") / f"{Path(scenario).stem}-ros-s{seed}"
     try:
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
-                                map_resolution=map_resolution)
+                                map_resolution=map_resolution, watchdog=watchdog)
         with kernels_compiled_ahead():
             result = run_ros(scenario, folder, options=options, params=params, time=time,
                              seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
-                             observers=(live,) if live is not None else ())
+                             observers=(live,) if live is not None else (),
+                             record_scans=record_scans)
     except MimicsError as exc:
         raise fail(str(exc)) from None
     print_summary(result.summary(), folder)

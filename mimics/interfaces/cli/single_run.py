@@ -50,6 +50,9 @@ def run(
     allow_overlap: Annotated[bool, typer.Option(
         help="Keep robots that start touching a wall or each other, or outside the map "
              "(reported, then run).")] = False,
+    ros_timeout: Annotated[float | None, typer.Option(
+        help="ros: algorithms: seconds to wait for the node to connect and, each step, for "
+             "all its commands [default: 10]")] = None,
 ) -> None:
     """Run one simulation, print its summary and write its run folder.
 
@@ -63,7 +66,8 @@ def run(
         raise typer.Exit(run_in_child(dict(
             scenario=scenario, algorithm=algorithm, robots=robots, time=time, seed=seed,
             out=out, policy=policy, param=param, wall_limit=wall_limit, robot_logs=robot_logs,
-            view=view, video=video, record_scans=record_scans, allow_overlap=allow_overlap)))
+            view=view, video=video, record_scans=record_scans, allow_overlap=allow_overlap,
+            ros_timeout=ros_timeout)))
     from mimics.records.runner import prepare, run_to_folder
 
     if policy not in ("abort", "deactivate"):
@@ -74,6 +78,16 @@ def run(
         raise fail(f"--time: expected a positive number of simulated seconds, got {time}")
     if robot_logs not in ("auto", "on", "off"):
         raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
+    if ros_timeout is not None and not ros_timeout > 0:
+        raise fail(f"--ros-timeout: expected a positive number of seconds, got {ros_timeout}")
+    if algorithm.startswith("ros:"):
+        from mimics.interfaces.ros.node_algorithm import DEFAULTS
+
+        DEFAULTS.timeout_option = "--ros-timeout"
+        if ros_timeout is not None:
+            DEFAULTS.timeout = ros_timeout
+    elif ros_timeout is not None:
+        raise fail("--ros-timeout: only for ros: algorithms (ros:PROGRAM [ARGS...])")
     from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
 
     if video is not None:

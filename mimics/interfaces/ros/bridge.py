@@ -10,8 +10,15 @@ criteria are those of ``mimics run``.
 Per step ``k`` (time ``t_k``), lockstep: the inbox is told to expect step
 ``k``'s commands, then ``/clock``, every active robot's ``odom`` and ``scan``
 and ``/tf`` are published stamped ``t_k``; the next step waits for every
-active robot's command. Realtime: the same publications, then a sleep until
-wall time ``start + t_k + dt``; the next step uses the latest commands.
+active robot's command, all within one deadline (``timeout`` seconds from
+the step's publication). Realtime: the same publications, then a sleep until
+wall time ``start + t_k + dt``; the next step uses the latest commands, and
+a robot whose commands stop for ``watchdog`` seconds is stopped.
+
+``odom`` and ``scan`` are latched: a node that subscribes late (to the scan
+0.3 s after the odometry, say) still receives the current step's message
+on connecting, and in lockstep the run waits for its command, so no step's
+scan is lost, whatever the timing.
 """
 
 from __future__ import annotations
@@ -43,18 +50,27 @@ class BridgeOptions:
     Attributes:
         lockstep: wait each step for every active robot's command (else realtime).
         timeout: seconds to wait for the controller's nodes to connect and,
-            in lockstep, for each step's command.
+            in lockstep, for all of each step's commands (one deadline per step).
         map_resolution: metres per cell of ``/map``.
+        watchdog: realtime: seconds without a command after which a robot
+            is stopped (stage_ros' ``base_watchdog_timeout``).
+        timeout_option: the option setting ``timeout`` in the running
+            command, cited by time-out messages (None: no such option).
     """
 
     lockstep: bool = True
     timeout: float = 10.0
     map_resolution: float = 0.05
+    watchdog: float = 0.2
+    timeout_option: str | None = "--timeout"
 
     def __post_init__(self) -> None:
         if not self.timeout > 0:
             raise MimicsError(f"timeout: expected a positive number of seconds, "
                               f"got {self.timeout!r}")
+        if not self.watchdog > 0:
+            raise MimicsError(f"watchdog: expected a positive number of seconds, "
+                              f"got {self.watchdog!r}")
 
 
 class RosBridge:
@@ -104,9 +120,11 @@ class RosBridge:
                 return
             if wall.monotonic() > deadline:
                 i = waiting[0]
+                option = self.options.timeout_option
+                hint = f" ({option} sets it)" if option else ""
                 raise MimicsError(
                     f"no controller node for robot {i} within "
-                    f"{self.options.timeout:g} s (nothing subscribes to /robot_{i}/odom or "
+                    f"{self.options.timeout:g} s{hint} (nothing subscribes to /robot_{i}/odom or "
                     f"publishes on /robot_{i}/cmd or /robot_{i}/cmd_vel; "
                     f"{len(waiting)} robots waiting)")
             wall.sleep(0.02)
@@ -162,7 +180,8 @@ def join_ros() -> None:
 
 def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
             params: dict[str, Any] | None = None, time: float | None = None, seed: int = 0,
-            robot_logs: RobotLogs = "auto", observers: tuple[Any, ...] = ()) -> RunResult:
+            robot_logs: RobotLogs = "auto", observers: tuple[Any, ...] = (),
+            record_scans: bool = False) -> RunResult:
     """Run ``scenario`` as a ROS node driven by ROS controllers; record it into ``folder``.
 
     Args:
@@ -174,6 +193,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
         seed: the run's seed.
         robot_logs: per-robot text logs, as for ``mimics run``.
         observers: more observers of the run (a live view, say), as for ``prepare``.
+        record_scans: also record the laser scans, as ``mimics run --record-scans``.
 
     Raises:
         MimicsError: when ROS is not installed, no master answers, a scenario
@@ -196,18 +216,21 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     # 2.0 s with one).
     numba.set_num_threads(1)
     built = load_scenario(scenario, run_seed=seed, **(params or {}))
-    inbox = Inbox(built.robot_count, options.lockstep)
-    references = RosReferences(inbox, built.stages[:, 2], options.timeout)
+    inbox = Inbox(built.robot_count, options.lockstep, options.timeout)
+    references = RosReferences(inbox, built.stages[:, 2], options.timeout,
+                               options.timeout_option, options.watchdog)
     sim = prepare(built, references.controller(), time=time, seed=seed, observers=observers)
     join_ros()
     bridge = RosBridge(sim, inbox, options)
+    references.publishers = bridge.commands.publishers_connected
     try:
         bridge.wait_for_nodes(np.flatnonzero(sim.state.active))
         sim.observers.append(bridge)
-        return run_to_folder(sim, folder, robot_logs=robot_logs,
+        return run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans,
                              extra={"ros": {"mode": "lockstep" if options.lockstep
                                             else "realtime",
                                             "timeout": options.timeout,
+                                            "watchdog": options.watchdog,
                                             "map_resolution": options.map_resolution}})
     finally:
         bridge.close()

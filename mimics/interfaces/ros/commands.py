@@ -4,11 +4,14 @@
 heading_ref]`` or ``[speed_ref, heading_ref, stamp]`` (see
 :func:`~mimics.interfaces.ros.conversion.command_from_array`); ``cmd_vel`` is
 ``geometry_msgs/Twist`` (``linear.x``, ``angular.z``). A message that cannot be
-used is logged as a warning and reported to the robot's log by the inbox.
+used is reported to the robot's log by the inbox and logged as a ROS
+warning, at most once per robot per second (with the count of the messages
+since), so a node that floods bad messages does not flood the terminal.
 """
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import rospy
@@ -23,6 +26,28 @@ from mimics.interfaces.ros.conversion import (
 )
 from mimics.interfaces.ros.inbox import Inbox
 
+WARNING_INTERVAL = 1.0  # seconds of wall time between two warnings about one robot
+
+
+class WarningThrottle:
+    """At most one warning per robot per :data:`WARNING_INTERVAL`, counting the ones held back."""
+
+    def __init__(self) -> None:
+        self._warned: dict[int, tuple[float, int]] = {}  # robot: (when last warned, count since)
+
+    def __call__(self, robot: int, problem: str, now: float) -> str | None:
+        """The warning to log about a bad message at wall time ``now``, or None if too soon."""
+        last, count = self._warned.get(robot, (float("-inf"), 0))
+        count += 1
+        if now - last < WARNING_INTERVAL:
+            self._warned[robot] = (last, count)
+            return None
+        self._warned[robot] = (now, 0)
+        if count == 1:
+            return f"robot {robot}: {problem}"
+        return (f"robot {robot}: {problem} ({count} bad messages for this robot in the "
+                f"last {now - last:.1f} s)")
+
 
 class CommandSubscriber:
     """Subscribes to both command topics of every robot."""
@@ -30,6 +55,7 @@ class CommandSubscriber:
     def __init__(self, robots: int, inbox: Inbox, dt: float) -> None:
         self.inbox = inbox
         self.dt = dt
+        self.warnings = WarningThrottle()
         self.cmd = [rospy.Subscriber(f"/{robot_namespace(i)}/cmd", Float64MultiArray,
                                      self._on_cmd, callback_args=i, tcp_nodelay=True)
                     for i in range(robots)]
@@ -47,7 +73,9 @@ class CommandSubscriber:
         try:
             command = convert(*args)
         except BadCommand as exc:
-            rospy.logwarn("robot %d: %s", robot, exc)
+            warning = self.warnings(robot, str(exc), time.monotonic())
+            if warning is not None:
+                rospy.logwarn(warning)
             self.inbox.reject(robot, str(exc))
             return
         self.inbox.deliver(robot, command)

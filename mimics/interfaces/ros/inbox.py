@@ -7,10 +7,15 @@ command per active robot and step. Two ways to match them:
   bridge calls :meth:`Inbox.expect`; the first command that arrives for a
   robot after that answers step ``k`` (a stamped ``cmd`` must carry step
   ``k``'s stamp, else it is dropped as stale). :meth:`Inbox.take` waits for
-  that answer with a time-out. The answer depends only on what the
-  controller computed from step ``k``'s observations, never on timing, so a
-  run is as deterministic as the controller.
-* **realtime**: :meth:`Inbox.take` returns the latest command received.
+  that answer until the step's deadline: one deadline for the whole step,
+  set by :meth:`Inbox.expect`, so a node that dies costs one time-out, not
+  one per robot, and the time-out names every robot still waiting. The
+  answer depends only on what the controller computed from step ``k``'s
+  observations, never on timing, so a run is as deterministic as the
+  controller.
+* **realtime**: :meth:`Inbox.take` returns the latest command received;
+  :meth:`Inbox.silence` says how long ago (wall time) the last one came,
+  for the command watchdog.
 
 A malformed message is never used: in lockstep it answers the step with
 "hold the last reference", in realtime it is dropped; either way its
@@ -46,7 +51,14 @@ HOLD = Command("reference", float("nan"), float("nan"))  # "keep the last refere
 
 
 class LockstepTimeout(RuntimeError):
-    """No command for a robot's step arrived within the time-out."""
+    """No command for a robot's step arrived within the time-out.
+
+    ``robots`` are all the robots still waiting when the step's deadline passed.
+    """
+
+    def __init__(self, message: str, robots: tuple[int, ...] = ()) -> None:
+        super().__init__(message)
+        self.robots = robots
 
 
 class Inbox:
@@ -57,8 +69,11 @@ class Inbox:
         lockstep: match one command to each step (see the module's docstring).
     """
 
-    def __init__(self, robots: int, lockstep: bool) -> None:
+    def __init__(self, robots: int, lockstep: bool, timeout: float = 10.0) -> None:
         self.lockstep = lockstep
+        self.timeout = timeout
+        self._deadline = float("inf")  # lockstep: when the awaited step's time-out ends
+        self._received = [float("-inf")] * robots  # wall time of each robot's last command
         self._ready = threading.Condition()
         self._awaited = [-1] * robots  # lockstep: the step each robot must answer, -1: none
         self._answer: list[Command | None] = [None] * robots
@@ -66,8 +81,13 @@ class Inbox:
         self._notes: list[list[str]] = [[] for _ in range(robots)]
 
     def expect(self, step: int, robots: Iterable[int]) -> None:
-        """Lockstep: from now on, the next command of each of ``robots`` answers ``step``."""
+        """Lockstep: from now on, the next command of each of ``robots`` answers ``step``.
+
+        Starts the step's deadline: every answer must come within
+        ``timeout`` seconds from now.
+        """
         with self._ready:
+            self._deadline = time.monotonic() + self.timeout
             for robot in robots:
                 self._awaited[robot] = step
                 self._answer[robot] = None
@@ -77,6 +97,7 @@ class Inbox:
         with self._ready:
             if not 0 <= robot < len(self._latest):
                 return
+            self._received[robot] = time.monotonic()
             if not self.lockstep:
                 self._latest[robot] = command
                 return
@@ -99,33 +120,49 @@ class Inbox:
         with self._ready:
             if not 0 <= robot < len(self._latest):
                 return
+            self._received[robot] = time.monotonic()  # the node is alive, if confused
             self._notes[robot].append(f"{problem}; holding the last reference")
             if self.lockstep and self._awaited[robot] >= 0 and self._answer[robot] is None:
                 self._answer[robot] = HOLD
                 self._ready.notify_all()
 
-    def take(self, robot: int, step: int, timeout: float) -> tuple[Command | None, list[str]]:
+    def take(self, robot: int, step: int) -> tuple[Command | None, list[str]]:
         """The command for ``robot`` at ``step`` (None: none yet) and the notes since last time.
 
         Raises:
-            LockstepTimeout: in lockstep, when no answer came within ``timeout`` seconds.
+            LockstepTimeout: in lockstep, when the step's deadline passed
+                without an answer; it names every robot still waiting.
         """
         with self._ready:
             if self.lockstep:
-                deadline = time.monotonic() + timeout
                 while self._answer[robot] is None or self._awaited[robot] != step:
-                    left = deadline - time.monotonic()
+                    left = self._deadline - time.monotonic()
                     if left <= 0:
-                        raise LockstepTimeout(robot)
+                        waiting = tuple(i for i, awaited in enumerate(self._awaited)
+                                        if awaited == step and self._answer[i] is None)
+                        raise LockstepTimeout(f"robot {robot}", waiting or (robot,))
                     self._ready.wait(left)
                 command = self._answer[robot]
                 self._awaited[robot] = -1  # later commands until the next expect are surplus
             else:
                 command = self._latest[robot]
-            notes, self._notes[robot] = self._notes[robot], []
+            notes, self._notes[robot] = _merged(self._notes[robot]), []
         return command, notes
+
+    def silence(self, robot: int) -> float:
+        """Wall seconds since the robot's last message (``inf``: none yet)."""
+        with self._ready:
+            return time.monotonic() - self._received[robot]
 
     def stop(self) -> None:
         """Nothing is awaited any more (the run has ended)."""
         with self._ready:
             self._awaited = [-1] * len(self._awaited)
+
+
+def _merged(notes: list[str]) -> list[str]:
+    """The notes in order, a note repeated since the last step written once with its count."""
+    counts: dict[str, int] = {}
+    for note in notes:
+        counts[note] = counts.get(note, 0) + 1
+    return [note if count == 1 else f"{note} ({count} times)" for note, count in counts.items()]

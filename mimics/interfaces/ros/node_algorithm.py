@@ -169,6 +169,22 @@ def _close_current() -> None:
 multiprocessing.util.Finalize(None, _close_current, exitpriority=200)
 
 
+@dataclass
+class NodeDefaults:
+    """The bridge settings of ``ros:`` runs in this process.
+
+    ``mimics run --ros-timeout`` sets ``timeout`` and ``timeout_option``;
+    elsewhere (a battery, the Python API) the defaults hold and time-out
+    messages cite no option.
+    """
+
+    timeout: float = 10.0
+    timeout_option: str | None = None
+
+
+DEFAULTS = NodeDefaults()
+
+
 class NodeController(Controller):
     """The engine's controller of a ``ros:`` algorithm: references from a node it starts."""
 
@@ -181,7 +197,8 @@ class NodeController(Controller):
         from mimics.interfaces.ros.bridge import BridgeOptions, RosBridge, join_ros
         from mimics.interfaces.ros.private_master import private_master
 
-        options = BridgeOptions()  # lockstep: a run as deterministic as the node
+        # lockstep: a run as deterministic as the node
+        options = BridgeOptions(timeout=DEFAULTS.timeout, timeout_option=DEFAULTS.timeout_option)
         _close_current()  # a run that ended without on_end (it raised) leaves its node
         private_master()
         join_ros()  # rospy importable from here on
@@ -189,10 +206,12 @@ class NodeController(Controller):
         from mimics.interfaces.ros.references import RosReferences
 
         state = sim.state
-        inbox = Inbox(state.n, lockstep=True)
-        references = RosReferences(inbox, sim.scenario.stages[:, 2], options.timeout)
+        inbox = Inbox(state.n, lockstep=True, timeout=options.timeout)
+        references = RosReferences(inbox, sim.scenario.stages[:, 2], options.timeout,
+                                   options.timeout_option)
         self._references = references.controller()
         bridge = RosBridge(sim, inbox, options)
+        references.publishers = bridge.commands.publishers_connected
         run = _NodeRun(bridge, self.command.argv(state.n, sim.seed), state.n, sim.seed)
         try:
             bridge.wait_for_nodes(np.flatnonzero(state.active), check=run.check_node)

@@ -19,7 +19,8 @@ class OdometryPublisher:
 
     def __init__(self, robots: int) -> None:
         self.publishers = [rospy.Publisher(f"/{robot_namespace(i)}/odom", Odometry,
-                                           queue_size=10, tcp_nodelay=True)
+                                           queue_size=10, tcp_nodelay=True,
+                                           latch=True)
                            for i in range(robots)]
 
     def publish(self, sim: Simulation, ids: np.ndarray) -> None:

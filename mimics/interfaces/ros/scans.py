@@ -20,7 +20,8 @@ class ScanPublisher:
     def __init__(self, beam_count: np.ndarray) -> None:
         self.beam_count = beam_count
         self.publishers = {i: rospy.Publisher(f"/{robot_namespace(i)}/scan", LaserScan,
-                                              queue_size=10, tcp_nodelay=True)
+                                              queue_size=10, tcp_nodelay=True,
+                                              latch=True)
                            for i in np.flatnonzero(beam_count > 0).tolist()}
 
     def publish(self, sim: Simulation, ids: np.ndarray) -> None:

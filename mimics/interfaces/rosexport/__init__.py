@@ -47,10 +47,16 @@ def export_run(folder: str | Path, *, mcap: str | Path | None = None,
     Raises:
         MimicsError: in one line, when ``folder`` is not a run, scans are
             required but were not recorded, no output is given, the
-            resolution is not positive or an output cannot be written.
+            resolution is not positive or an output cannot be written
+            (its folder must exist: none is created).
     """
     from mimics.interfaces.rosexport.source import Trajectory
-    from mimics.interfaces.rosexport.writer import DEFAULT_RESOLUTION, write_bag, write_mcap
+    from mimics.interfaces.rosexport.writer import (
+        DEFAULT_RESOLUTION,
+        check_target,
+        write_bag,
+        write_mcap,
+    )
     from mimics.records.run_folder import load_run
     from mimics.world.occupancy import check_resolution
 
@@ -58,6 +64,9 @@ def export_run(folder: str | Path, *, mcap: str | Path | None = None,
         raise MimicsError("export: nothing to write (give --mcap FILE and/or --bag FILE)")
     resolution = DEFAULT_RESOLUTION if resolution is None else resolution
     check_resolution(resolution)
+    for target in (mcap, bag):  # before reading the run: nothing is done for a bad path
+        if target is not None:
+            check_target(Path(target))
     run = load_run(folder)
     if scans and not run.has_scans:
         raise MimicsError(f"{run.path}: --scans asked for, but this run recorded no laser scans "

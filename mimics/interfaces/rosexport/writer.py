@@ -116,14 +116,27 @@ def _write_messages(writer: Any, stream: Iterable[Stamped], messages: Messages,
         counts.messages[stamped.topic] += 1
 
 
+def check_target(target: Path) -> None:
+    """Refuse an output that is a folder, or whose folder does not exist (none is created:
+    a typing mistake in the path should not leave new folders behind).
+
+    Raises:
+        MimicsError: in one line naming the path.
+    """
+    if target.is_dir():
+        raise MimicsError(f"{target}: is a directory (expected a file name to write)")
+    folder = target.parent
+    if not folder.is_dir():
+        what = "is not a folder" if folder.exists() else "does not exist"
+        raise MimicsError(f"{target}: the folder {str(folder)!r} {what} (create it first)")
+
+
 @contextmanager
 def _temporary_folder(target: Path) -> Iterator[Path]:
     """A fresh folder beside ``target`` (same file system: the rename is atomic), removed
     on exit; a one-line error when ``target`` cannot be written there."""
-    if target.is_dir():
-        raise MimicsError(f"{target}: is a directory (expected a file name to write)")
+    check_target(target)
     try:
-        target.parent.mkdir(parents=True, exist_ok=True)
         folder = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
     except OSError as exc:
         raise MimicsError(f"{target}: cannot write here ({exc.strerror or exc})") from None

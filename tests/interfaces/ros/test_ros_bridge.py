@@ -144,8 +144,10 @@ def test_malformed_messages_hold_the_reference_twist_turns_and_silence_times_out
     # silence: the lockstep time-out ends the run, with one clear line and status 1
     assert bridge.returncode == 1, bridge.stderr + output
     last = bridge.stderr.strip().splitlines()[-1]
-    assert last.startswith("mimics: error: LockstepTimeout in robot 0 at t=2 s: no command on "
-                           "/robot_0/cmd or /robot_0/cmd_vel for t=2 s within 1 s"), last
+    # one deadline for the step: both robots are named, and the option that sets it
+    assert last.startswith("mimics: error: LockstepTimeout in robot 0 at t=2 s: no command for "
+                           "t=2 s within 1 s (--timeout) from 2 robots: 0, 1 (on "
+                           "/robot_i/cmd or /robot_i/cmd_vel)"), last
     outcome = summary(folder)
     assert outcome["status"] == "error" and "LockstepTimeout" in outcome["error"]
     table = pd.read_parquet(folder / "trajectory.parquet")

@@ -25,7 +25,7 @@ rospy.init_node("mimics", disable_signals=True)
 from mimics.interfaces.ros.commands import CommandSubscriber
 from mimics.interfaces.ros.inbox import Inbox
 
-inbox = Inbox(1, lockstep=True)
+inbox = Inbox(1, lockstep=True, timeout=10)
 commands = CommandSubscriber(1, inbox, 0.1)
 
 # the publisher: a TCPROS port that accepts and waits, and the XML-RPC API pointing at it
@@ -59,7 +59,7 @@ inbox.expect(0, [0])
 buffer = io.BytesIO()
 Float64MultiArray(data=[0.5, 1.25, 0.0]).serialize(buffer)
 peer.sendall(framed(buffer.getvalue()))
-command, notes = inbox.take(0, 0, 10)
+command, notes = inbox.take(0, 0)
 print("command", command.kind, command.first, command.second, command.step)
 """
 

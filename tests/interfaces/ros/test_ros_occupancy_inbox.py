@@ -74,24 +74,48 @@ def test_lockstep_takes_the_first_command_after_expect():
     inbox.deliver(0, Command("reference", 0.5, 0.1))
     inbox.deliver(0, Command("reference", 0.7, 0.2))  # a second one for the same step
     inbox.deliver(1, Command("twist", 0.3, -0.2, step=4))
-    assert inbox.take(0, 4, timeout=1.0) == (
+    assert inbox.take(0, 4) == (
         Command("reference", 0.5, 0.1),
         ["dropped a second command for step 4 (lockstep takes the first)"])
-    assert inbox.take(1, 4, timeout=1.0) == (Command("twist", 0.3, -0.2, step=4), [])
+    assert inbox.take(1, 4) == (Command("twist", 0.3, -0.2, step=4), [])
 
 
 def test_lockstep_drops_stale_stamps_then_times_out():
-    inbox = Inbox(1, lockstep=True)
+    inbox = Inbox(1, lockstep=True, timeout=0.1)
     inbox.expect(7, [0])
     inbox.deliver(0, Command("reference", 0.5, 0.1, step=6))
     start = time.monotonic()
     with pytest.raises(LockstepTimeout):
-        inbox.take(0, 7, timeout=0.1)
+        inbox.take(0, 7)
     assert time.monotonic() - start >= 0.1
     inbox.deliver(0, Command("reference", 0.4, 0.0, step=7))
-    command, notes = inbox.take(0, 7, timeout=1.0)
+    command, notes = inbox.take(0, 7)
     assert command == Command("reference", 0.4, 0.0, step=7)
     assert notes == ["dropped a cmd stamped for step 6 while waiting for step 7"]
+
+
+def test_one_deadline_for_the_whole_step_naming_every_robot_still_waiting():
+    inbox = Inbox(4, lockstep=True, timeout=0.1)
+    inbox.expect(3, [0, 1, 2, 3])
+    inbox.deliver(2, Command("reference", 0.5, 0.1))
+    with pytest.raises(LockstepTimeout) as first:
+        inbox.take(0, 3)
+    assert first.value.robots == (0, 1, 3)
+    # the step's deadline has passed for everyone: robot 1 does not get a time-out of its own
+    inbox._ready.wait = None  # any wait would now fail loudly (TypeError)
+    with pytest.raises(LockstepTimeout) as second:
+        inbox.take(1, 3)
+    assert second.value.robots == (0, 1, 3)
+    assert inbox.take(2, 3)[0] == Command("reference", 0.5, 0.1)
+
+
+def test_the_notes_of_one_step_merge_repeats_with_a_count():
+    inbox = Inbox(1, lockstep=False)
+    for _ in range(3):
+        inbox.reject(0, "cmd_vel: bad")
+    inbox.reject(0, "cmd: other")
+    assert inbox.take(0, 0)[1] == ["cmd_vel: bad; holding the last reference (3 times)",
+                                   "cmd: other; holding the last reference"]
 
 
 def test_lockstep_waits_for_a_command_from_another_thread():
@@ -99,7 +123,7 @@ def test_lockstep_waits_for_a_command_from_another_thread():
     inbox.expect(0, [0])
     sender = threading.Timer(0.05, inbox.deliver, (0, Command("reference", 0.2, 0.3)))
     sender.start()
-    assert inbox.take(0, 0, timeout=5.0)[0] == Command("reference", 0.2, 0.3)
+    assert inbox.take(0, 0)[0] == Command("reference", 0.2, 0.3)
     sender.join()
 
 
@@ -108,18 +132,18 @@ def test_a_malformed_message_answers_the_step_with_hold():
     inbox.expect(2, [0])
     inbox.reject(0, "cmd: speed_ref must be a finite number, got nan")
     inbox.deliver(0, Command("reference", 0.5, 0.1))  # too late: the step is answered
-    command, notes = inbox.take(0, 2, timeout=1.0)
+    command, notes = inbox.take(0, 2)
     assert command is HOLD
     assert notes[0] == "cmd: speed_ref must be a finite number, got nan; holding the last reference"
 
 
 def test_realtime_gives_the_latest_command_and_keeps_it():
     inbox = Inbox(2, lockstep=False)
-    assert inbox.take(0, 0, timeout=0.0) == (None, [])
+    assert inbox.take(0, 0) == (None, [])
     inbox.deliver(0, Command("reference", 0.1, 0.0))
     inbox.deliver(0, Command("reference", 0.2, 0.0))
     inbox.reject(0, "cmd: expected data = ..., got 1 values")
-    command, notes = inbox.take(0, 5, timeout=0.0)
+    command, notes = inbox.take(0, 5)
     assert command == Command("reference", 0.2, 0.0)
     assert notes == ["cmd: expected data = ..., got 1 values; holding the last reference"]
-    assert inbox.take(0, 6, timeout=0.0) == (Command("reference", 0.2, 0.0), [])
+    assert inbox.take(0, 6) == (Command("reference", 0.2, 0.0), [])

@@ -72,8 +72,16 @@ def test_export_errors_are_one_line_with_status_2(plain_run: Path, tmp_path: Pat
     assert "nothing to write" in error_line(capsys, ["export", str(plain_run)])
     blocker = tmp_path / "a_file"
     blocker.write_text("")
-    assert "cannot write here" in error_line(capsys, ["export", str(plain_run), "--bag",
-                                                      str(blocker / "run.bag")])
+    assert f"the folder {str(blocker)!r} is not a folder" in error_line(
+        capsys, ["export", str(plain_run), "--bag", str(blocker / "run.bag")])
+    # a folder that does not exist is refused, not created
+    missing = tmp_path / "no" / "such"
+    for option in ("--bag", "--mcap"):
+        target = missing / f"run.{option[2:]}"
+        assert error_line(capsys, ["export", str(plain_run), option, str(target)]) == (
+            f"mimics: error: {target}: the folder {str(missing)!r} does not exist "
+            "(create it first)")
+    assert not (tmp_path / "no").exists()
     assert "is a directory" in error_line(capsys, ["export", str(plain_run), "--mcap",
                                                    str(tmp_path)])
     assert "resolution" in error_line(capsys, ["export", str(plain_run), "--mcap", out,
