@@ -29,6 +29,7 @@ from mimics.engine.dynamics import move_robots
 from mimics.engine.kernel_chunks import LEAD
 from mimics.engine.kernel_threads import _finish_and_wait, _join, solo_arrays
 from mimics.engine.point_cull import no_sight_lists
+from mimics.engine.ranger_noise import _add_noise
 from mimics.engine.ray_kernel import RangerQuery, _cast_rows
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
@@ -41,7 +42,7 @@ from mimics.engine.wall_occlusion import MARGIN, cull_hidden
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
               "motion": (_check_kernel, move_robots, _finish_and_wait, _join),
-              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin)}
+              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _settle, _pin, _add_noise)}
 
 
 # Built by hand, not with build_segment_grid or empty_robot_index: those would compile the
@@ -95,7 +96,8 @@ def compile_ray_kernel() -> None:
 
 def compile_ray_helpers() -> None:
     """What the ray kernel's callers need first: the walls' near lists (and their culling),
-    the beams' fans, the sight lists of robots standing still."""
+    the beams' fans, the sight lists of robots standing still; and the ranger's noise
+    (every built-in type's default)."""
     start, items = _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
     cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
@@ -104,6 +106,7 @@ def compile_ray_helpers() -> None:
     _settle(rows, rows.copy(), flags, counts, flags.copy(), none, tuple(_empty_robots()))
     _pin(rows, counts, flags, none, none, tuple(_empty_grid()), tuple(_empty_robots()),
          np.zeros((0, 4), np.int64), counts, np.zeros((0, PLAN)), 0)
+    _add_noise(np.zeros((0, 1)), np.zeros((0, 1), np.int64), none, none, counts, np.uint64(0))
 
 
 def compile_ray_part() -> None:
