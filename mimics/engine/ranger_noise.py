@@ -117,18 +117,20 @@ def _add_noise(ranges: np.ndarray, hit_owner: np.ndarray, max_range: np.ndarray,
             ranges[row, beam] = min(max(ranges[row, beam] + spread * z, 0.0), top)
 
 
+_WORD = (1 << 64) - 1
+
+
+def _mix_int(z: int) -> int:
+    """:func:`_mix` on a Python integer (no NumPy scalars: their overflow guard costs
+    microseconds a call, more than the Cave's whole kernel saves)."""
+    z = ((z ^ (z >> 30)) * int(MIX1)) & _WORD
+    z = ((z ^ (z >> 27)) * int(MIX2)) & _WORD
+    return z ^ (z >> 31)
+
+
 def step_state(key: int, step: int) -> np.uint64:
     """The ranger's generator state of step ``step`` (``key``: the stream's first word)."""
-    with np.errstate(over="ignore"):
-        return _mix_py(np.uint64(key) + np.uint64(step + 1) * GOLDEN)
-
-
-def _mix_py(z: np.uint64) -> np.uint64:
-    """:func:`_mix` on a NumPy scalar, without compiling anything."""
-    with np.errstate(over="ignore"):
-        z = (z ^ (z >> np.uint64(30))) * MIX1
-        z = (z ^ (z >> np.uint64(27))) * MIX2
-        return np.uint64(z ^ (z >> np.uint64(31)))
+    return np.uint64(_mix_int((key + (int(step) + 1) * int(GOLDEN)) & _WORD))
 
 
 def add_ranger_noise(ranges: np.ndarray, hit_owner: np.ndarray, max_range: np.ndarray,
