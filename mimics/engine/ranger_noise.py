@@ -8,14 +8,17 @@ A hit's reading becomes ``clip(r + sigma * z, 0, range)``.
 
 The draw ``z`` is a pure function of its key, so it does not depend on which
 robots scan, which steps were read, other sensors or robots added after
-``i`` (common random numbers, docs/explanation/determinism.md). Each beam's
-generator is SplitMix64 (Steele et al. 2014) started at
+``i`` (common random numbers, docs/explanation/determinism.md). The beam's
+first word is
 
-    beam_state = mix(mix(mix(key + (k + 1) G) + (i + 1) G) + (b + 1) G)
+    w0 = mix(mix(mix(key + (k + 1) G) + (i + 1) G) + (b + 1) G)
 
 (``key``: the first word of ``stream_seed(seed, "ranger")``, ``G`` the
-golden-ratio increment, ``mix`` SplitMix64's finaliser, all modulo 2**64);
-its ``j``-th word is ``mix(beam_state + (j + 1) G)``. ``z`` comes from those
+golden-ratio increment, ``mix`` SplitMix64's finaliser (Steele et al. 2014),
+all modulo 2**64); the rare draw that needs more words takes them from a
+SplitMix64 generator started at ``w0``: ``mix(w0 + j G)``, j = 1, 2...
+(started at the mixed word, not at the sum, so that they are not the next
+beam's). ``z`` comes from those
 words by the 256-layer ziggurat (Marsaglia and Tsang 2000, NumPy's layout): one
 word and a table look-up for 99% of the beams, more words only in a wedge or
 the tail. That costs a few nanoseconds a beam, against NumPy's ``standard_normal``
@@ -76,11 +79,12 @@ def _unit(word: np.uint64) -> float:  # pragma: no cover - compiled
 
 @njit(cache=True, inline="always")
 def _normal(state: np.uint64) -> float:  # pragma: no cover - compiled
-    """The standard normal of the SplitMix64 generator at ``state`` (the ziggurat; its
-    tables are compiled in as constants: no arrays passed, no reference counts a call)."""
+    """The standard normal of the beam whose first word is ``mix(state)`` (the ziggurat;
+    its tables are compiled in as constants: no arrays passed, no reference counts a
+    call)."""
+    word = _mix(state)
+    state = word  # the further words: a generator started at the first
     while True:
-        state += GOLDEN
-        word = _mix(state)
         layer = np.int64(word & np.uint64(0xFF))
         negative = (word >> np.uint64(8)) & np.uint64(1)
         bits = np.int64((word >> np.uint64(9)) & np.uint64(0xFFFFFFFFFFFFF))
@@ -99,6 +103,8 @@ def _normal(state: np.uint64) -> float:  # pragma: no cover - compiled
         level = HEIGHT[layer] + _unit(_mix(state)) * (HEIGHT[layer - 1] - HEIGHT[layer])
         if level < math.exp(-0.5 * x * x):
             return -x if negative else x
+        state += GOLDEN
+        word = _mix(state)
 
 
 @njit(cache=True)
@@ -113,7 +119,7 @@ def _add_noise(ranges: np.ndarray, hit_owner: np.ndarray, max_range: np.ndarray,
         for beam in range(ranges.shape[1]):
             if hit_owner[row, beam] == NO_RETURN:
                 continue
-            z = _normal(_mix(robot_state + np.uint64(beam + 1) * GOLDEN))
+            z = _normal(robot_state + np.uint64(beam + 1) * GOLDEN)
             ranges[row, beam] = min(max(ranges[row, beam] + spread * z, 0.0), top)
 
 

@@ -6,7 +6,9 @@ ziggurat's equal-area layers in closed form, and a pure-Python rendering of
 the ranger's counter-based generator (ranger_noise.py's docstring).
 """
 
+import itertools
 import math
+from collections.abc import Iterator
 from dataclasses import replace
 
 import numpy as np
@@ -117,18 +119,23 @@ def reference_normal(seed: int, step: int, robot: int, beam: int) -> float:
 
 
 def reference_draw(seed: int, step: int, robot: int, beam: int) -> tuple[float, str]:
-    """The documented generator in plain Python integers: SplitMix64 started at the
-    hash of ``(key, step, robot, beam)``, its words through the 256-layer ziggurat; also
-    which part of the ziggurat gave the draw."""
+    """The documented generator in plain Python integers: the first word a hash of
+    ``(key, step, robot, beam)``, further words SplitMix64 started at it, through the
+    256-layer ziggurat; also which part of the ziggurat gave the draw."""
     key = int(stream_seed(seed, "ranger").generate_state(1, np.uint64)[0])
     state = _mix((key + (step + 1) * _GOLDEN) & _WORD)
     state = _mix((state + (robot + 1) * _GOLDEN) & _WORD)
-    state = _mix((state + (beam + 1) * _GOLDEN) & _WORD)
+    first = _mix((state + (beam + 1) * _GOLDEN) & _WORD)
+
+    def beam_words() -> Iterator[int]:
+        yield first  # w0, then mix(w0 + j G) for j = 1, 2...
+        for j in itertools.count(1):
+            yield _mix((first + j * _GOLDEN) & _WORD)
+
+    words = beam_words()
 
     def word() -> int:
-        nonlocal state
-        state = (state + _GOLDEN) & _WORD
-        return _mix(state)
+        return next(words)
 
     def unit() -> float:
         return (word() >> 11) / 2.0 ** 53
