@@ -2,6 +2,7 @@
 against noise off.
 
     python benchmarks/noise_streams.py [--time 10] [--repeats 3] [--quick] [--no-logging]
+    python benchmarks/noise_streams.py --per-step [--repeats 15]
 
 Each set-up (Cave, Hospital x noise off, "draws", on) runs in a fresh process,
 in alternating order over ``--rounds`` rounds (forward, then backward...),
@@ -16,18 +17,27 @@ streams' cost; "on"'s also holds what the noise makes the robots do. Prints
 s_sim/s, robot-steps/s and the overhead per step against noise off, and merges
 the rows into
 benchmarks/results.json under ``noise_streams``.
+
+``--per-step`` measures in one process instead, on the states of a running team
+(noise on, Stage's poses): the median time of a step (its scans read) and the
+median time of adding that step's ranger noise to its scan
+(:class:`~mimics.engine.noise_streams.RangerNoise`), and their ratio; rows
+under ``noise_streams_per_step``.
 """
 
 from __future__ import annotations
 
 import statistics
+import time
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
 from common import (
     base_spec,
     benchmark_parser,
     default_build,
+    load_algorithm,
     meta,
     parse_or_serve_child,
     row_from,
@@ -57,12 +67,61 @@ def build(spec: dict[str, Any]) -> Any:
     return replace(scenario, types=types)
 
 
+PER_STEP_WARM = {"cave": 30, "hospital": 3}  # steps run before measuring: the team spread
+
+
+def per_step(args: Any) -> None:
+    """Median wall time of a step and of its ranger noise, noise on, in this process."""
+    from mimics.engine.noise_streams import RangerNoise
+    from mimics.engine.simulation import Simulation
+
+    repeats = max(args.repeats, 5)
+    print(f"ranger noise per step, team deployment, noise on, medians of {repeats}")
+    rows = []
+    for scenario, label in SCENARIOS.items():
+        scene = default_build({"scenario": scenario, "params": {"fixed": True, "noise": "on"}})
+        sim = Simulation(scene, load_algorithm("deployment_team"), seed=1, time_limit=1e6)
+        sim.start()
+        for _ in range(PER_STEP_WARM[scenario]):
+            sim.step()
+        steps = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            sim.step()
+            steps.append(time.perf_counter() - start)
+        scan, owners = sim.state.scan.copy(), sim.state.scan_hit.copy()
+        noise, ids = RangerNoise(1), np.arange(sim.state.n)
+        max_range, sigma = sim.types.max_range, sim.types.sigma_range
+        noise.add(scan.copy(), owners, max_range, sigma, 0, ids)  # compiled or loaded
+        costs = []
+        for k in range(repeats):
+            ranges = scan.copy()
+            start = time.perf_counter()
+            noise.add(ranges, owners, max_range, sigma, k, ids)
+            costs.append(time.perf_counter() - start)
+        step, cost = statistics.median(steps), statistics.median(costs)
+        hits = float(np.mean(owners[~np.isnan(scan)] != -2))
+        rows.append({"benchmark": "noise_streams_per_step", "form": f"{scenario} per step",
+                     "label": label, "step_ms": 1e3 * step, "ranger_noise_ms": 1e3 * cost,
+                     "share_of_step": cost / step, "beams_hit": hits,
+                     "target_met": cost / step < TARGET})
+        print(f"  {scenario:>9} ({label}): step {1e3 * step:7.2f} ms, ranger noise "
+              f"{1e3 * cost:6.3f} ms = {100 * cost / step:4.1f}% of a step "
+              f"({100 * hits:.0f}% of beams hit; target < {100 * TARGET:g}%)", flush=True)
+    save_section("noise_streams_per_step", {"meta": meta(args), "rows": rows}, args.results)
+
+
 def main() -> None:
     parser = benchmark_parser(__doc__, time=10.0, quick_time=0.5)
     parser.add_argument("--rounds", type=int, default=2,
                         help="alternating rounds of on/off processes (default 2)")
+    parser.add_argument("--per-step", action="store_true",
+                        help="time a step and its ranger noise in this process instead")
     args = parse_or_serve_child(parser, build)
     if args is None:
+        return
+    if args.per_step:
+        per_step(args)
         return
     print(f"noise streams, team deployment, {args.time:g} s simulated per run, median of "
           f"{args.repeats} after {args.warmup} warm-up, {args.rounds} alternating rounds, "

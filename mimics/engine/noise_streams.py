@@ -14,6 +14,11 @@ after it; nor on any other sensor, nor on the algorithm's own draws
 scenario and seed thus meet the same noise on every sensor reading they take
 (common random numbers); see docs/explanation/determinism.md.
 
+The ranger, with far more draws a step than the other sensors (the Hospital's
+360,000 beams), is counter-based instead (:class:`RangerNoise`): each beam's
+draw is keyed by ``(seed, "ranger", step, robot, beam)`` and only beams that
+hit something draw at all.
+
 >>> streams = StepStreams(3, "position")
 >>> first = streams.at(5).standard_normal(4)
 >>> _ = streams.at(2).standard_normal(100)   # another step read in between...
@@ -25,6 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mimics.engine.ranger_noise import add_ranger_noise
 from mimics.world.streams import stream, stream_seed
 
 NOISE_PURPOSES = ("ranger", "position", "velocity", "acceleration", "odometry")
@@ -47,35 +53,18 @@ class StepStreams:
 
 
 class RangerNoise:
-    """The rangers' standard normal draws of a step, one row per robot by index.
+    """The rangers' noise of a run: beam ``b`` of robot ``i`` at step ``k`` is a pure function
+    of ``(seed, "ranger", k, i, b)`` (counter-based, :mod:`mimics.engine.ranger_noise`), so
+    it depends on no other robot, beam, step or sensor; beams with no return get none."""
 
-    Robots of one beam count (the usual case) draw a ``(rows, beams)`` block;
-    mixed teams draw each robot's own beam count in turn, so that a robot's
-    draws do not depend on the widest type of the team.
-    """
+    def __init__(self, seed: int) -> None:
+        self.key = int(stream_seed(seed, "ranger").generate_state(1, np.uint64)[0])
 
-    def __init__(self, seed: int, beam_count: np.ndarray, width: int) -> None:
-        self._streams = StepStreams(seed, "ranger")
-        counts = np.asarray(beam_count, dtype=np.int64)
-        self._width = width
-        self._same = bool(counts.size and counts.min() == counts.max() == width)
-        self._ends = np.cumsum(counts)
-        self._index = np.zeros((0, width), dtype=np.int64)
-        if not self._same:  # a mixed team: where each robot's draws lie in the step's
-            starts = self._ends - counts
-            # padded slots (past a robot's beams) read any draw: their ranges are NaN
-            last = max(int(self._ends[-1]) - 1, 0) if counts.size else 0
-            self._index = np.minimum(starts[:, None] + np.arange(width), last)
-
-    def draws(self, step: int, ids: np.ndarray | None) -> np.ndarray:
-        """Step ``step``'s draws for robots ``ids`` (None: every robot), ``(rows, width)``."""
-        rng = self._streams.at(step)
-        rows = len(self._ends) if ids is None else int(ids[-1]) + 1  # ids are increasing
-        if self._same:
-            block = rng.standard_normal((rows, self._width))
-            return block if ids is None else block[ids]
-        flat = rng.standard_normal(int(self._ends[rows - 1]))
-        return flat[self._index[:rows] if ids is None else self._index[ids]]
+    def add(self, ranges: np.ndarray, hit_owner: np.ndarray, max_range: np.ndarray,
+            sigma: np.ndarray, step: int, robots: np.ndarray) -> None:
+        """Add step ``step``'s noise in place to the beams that hit of ``ranges`` (row ``r``:
+        robot ``robots[r]``, noise ``sigma[r]``), clipped to ``[0, max_range]``."""
+        add_ranger_noise(ranges, hit_owner, max_range, sigma, robots, self.key, step)
 
 
 class AlgorithmStreams:

@@ -1,4 +1,4 @@
-"""Noisy sensors: positioning, odometry, the ranger's noise, and communication.
+"""Noisy sensors: positioning, odometry and communication (the ranger's noise: ranger_noise.py).
 
 Every draw comes from the sensor's own stream of the run's seed, step by step
 and row by row by robot index (:mod:`mimics.engine.noise_streams`), so the same
@@ -46,19 +46,6 @@ def measure_positioning(state: WorldState, types: TypeArrays,
                                                 state.acceleration, types.sigma_acceleration)
     else:
         state.measured_acceleration[:] = state.acceleration
-
-
-def add_ranger_noise(ranges: np.ndarray, max_range: np.ndarray, sigma: np.ndarray,
-                     noise: np.ndarray) -> None:
-    """Add Gaussian noise to each beam of ``ranges`` in place, clipped to ``[0, range]``
-    (NaN slots stay NaN): ``clip(ranges + noise * sigma, 0, range)``, the same bits as
-    that expression, without its temporaries; ``noise`` (standard normal draws of the
-    same shape, :class:`~mimics.engine.noise_streams.RangerNoise`) is overwritten. The
-    caller draws only when some ``sigma`` is positive (``TypeArrays.noisy``)."""
-    noise *= sigma[:, None]
-    ranges += noise
-    np.maximum(ranges, 0.0, out=ranges)  # np.clip's own order, without its wrapper
-    np.minimum(ranges, max_range[:, None], out=ranges)
 
 
 def odometry_is_exact(state: WorldState, types: TypeArrays) -> bool:

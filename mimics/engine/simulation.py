@@ -114,8 +114,7 @@ class Simulation:
         # fixed for the run: computed once, not at every step
         self._robot_radius = np.hypot(types.half_length, types.half_width)
         self._scanner = Scanner(self.state, types,
-                                RangerNoise(self.seed, types.beam_count,
-                                            types.beam_offsets.shape[1]),
+                                RangerNoise(self.seed),
                                 lambda: self.walls, self._robot_index)
         self.status = "running"
         self.error = ""

@@ -29,6 +29,7 @@ import numpy as np
 from mimics.engine.dynamics import move_robots
 from mimics.engine.helper_threads.chunks import LEAD
 from mimics.engine.helper_threads.threads import _finish_and_wait, _join, solo_arrays
+from mimics.engine.ranger_noise import _add_noise
 from mimics.engine.ranging.beam_fan import FAN_COLUMNS, beam_fans
 from mimics.engine.ranging.beam_sweep import PLAN
 from mimics.engine.ranging.point_cull import no_sight_lists
@@ -56,7 +57,7 @@ from mimics.engine.step_checks import _check_kernel
 # a kernel of each part whose index file in Numba's cache tells the part was compiled
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
               "motion": (_check_kernel, move_robots, _finish_and_wait, _join),
-              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans),
+              "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _add_noise),
               "still": (_settle, _pin)}
 
 
@@ -110,11 +111,13 @@ def compile_ray_kernel() -> None:
 
 
 def compile_ray_helpers() -> None:
-    """What the ray kernel's callers need first: the walls' near lists (and their culling)
-    and the beams' fans."""
+    """What the ray kernel's callers need first: the walls' near lists (and their culling),
+    the beams' fans; and the ranger's noise (every built-in type's default)."""
     start, items = _near_lists(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, 1.0)
     cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
+    none, counts = np.zeros(0), np.zeros(0, np.int64)
+    _add_noise(np.zeros((0, 1)), np.zeros((0, 1), np.int64), none, none, counts, np.uint64(0))
 
 
 def compile_still_kernels() -> None:

@@ -1,19 +1,26 @@
 """The sensors' noise streams: independence, common random numbers, determinism.
 
 Truth: the same runs without noise (the noise is the difference), the same
-runs with a robot, a sensor or a read added, and SciPy's normality test.
+runs with a robot, a sensor or a read added, SciPy's normality test, the
+ziggurat's equal-area layers in closed form, and a pure-Python rendering of
+the ranger's counter-based generator (ranger_noise.py's docstring).
 """
 
+import itertools
+import math
+from collections.abc import Iterator
 from dataclasses import replace
 
 import numpy as np
 from scipy import stats
 
 from mimics.engine.noise_streams import RangerNoise
+from mimics.engine.ranger_noise import LAYER_AREA, NO_RETURN, TAIL, ziggurat_tables
 from mimics.engine.simulation import Simulation
 from mimics.world.maps import Map
 from mimics.world.robot_types import PIONEER_2DX, PositioningNoise, RangerSpec, RobotType
 from mimics.world.scenario import Scenario
+from mimics.world.streams import stream_seed
 
 SIGMA = 0.02
 EYE = RobotType("eye", width=0.2, length=0.2, kv=0.5, kw=1.0, tau_v=0.5, tau_w=0.2,
@@ -64,16 +71,177 @@ def test_a_scans_noise_does_not_depend_on_which_earlier_scans_were_read() -> Non
     assert not np.array_equal(every[7], every[6])  # each step has noise of its own
 
 
+def draws(seed: int, step: int, robots: list[int], width: int,
+          no_return: tuple[int, int] | None = None) -> np.ndarray:
+    """The standard normals of ``robots``' beams (unit sigma, far from either clip), NaN
+    where a beam has no return."""
+    ranges = np.full((len(robots), width), 50.0)
+    owners = np.full(ranges.shape, -1, dtype=np.int64)
+    if no_return is not None:
+        owners[no_return] = NO_RETURN
+    RangerNoise(seed).add(ranges, owners, np.full(len(robots), 100.0), np.ones(len(robots)),
+                          step, np.array(robots))
+    ranges[owners == NO_RETURN] = np.nan
+    return ranges - 50.0
+
+
 def test_a_robot_that_stops_scanning_leaves_the_others_noise_unchanged() -> None:
-    noise = RangerNoise(3, np.array([5, 5, 5, 5]), 5)
-    everyone = noise.draws(12, None)
-    assert np.array_equal(noise.draws(12, np.array([1, 3])), everyone[[1, 3]])
-    mixed = RangerNoise(3, np.array([5, 8, 5]), 8)  # robot 1 of a wider type
-    rows = mixed.draws(2, None)
-    assert np.array_equal(mixed.draws(2, np.array([2])), rows[[2]])
-    # robot 0's draws are those of a team of robot 0 alone
-    alone = RangerNoise(3, np.array([5]), 5).draws(2, None)
-    assert np.array_equal(rows[0, :5], alone[0])
+    everyone = draws(3, 12, [0, 1, 2, 3], 5)
+    assert np.array_equal(draws(3, 12, [1, 3], 5), everyone[[1, 3]])
+    # a wider type in the team changes nobody's first beams; robot 0 alone draws the same
+    wide = draws(3, 12, [0, 1, 2, 3], 8)
+    assert np.array_equal(wide[:, :5], everyone)
+    assert np.array_equal(draws(3, 12, [0], 5)[0], everyone[0])
+    # a beam without return draws nothing, and shifts no other beam's draw
+    holed = draws(3, 12, [0, 1, 2, 3], 5, no_return=(2, 1))
+    assert np.isnan(holed[2, 1]) and np.isnan(holed).sum() == 1
+    assert np.array_equal(np.nan_to_num(holed, nan=everyone[2, 1]), everyone)
+    assert not np.array_equal(draws(3, 13, [0], 5), everyone[:1])  # another step
+    assert not np.array_equal(draws(4, 12, [0], 5), everyone[:1])  # another seed
+
+
+_WORD = 2 ** 64 - 1
+_GOLDEN = 0x9E3779B97F4A7C15
+
+
+def _mix(z: int) -> int:
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _WORD
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & _WORD
+    return z ^ (z >> 31)
+
+
+INNER, WIDTH, HEIGHT = (table.tolist() for table in ziggurat_tables())
+
+
+def reference_normal(seed: int, step: int, robot: int, beam: int) -> float:
+    """The documented generator's draw (:func:`reference_draw`)."""
+    return reference_draw(seed, step, robot, beam)[0]
+
+
+def reference_draw(seed: int, step: int, robot: int, beam: int) -> tuple[float, str]:
+    """The documented generator in plain Python integers: the first word a hash of
+    ``(key, step, robot, beam)``, further words SplitMix64 started at it, through the
+    256-layer ziggurat; also which part of the ziggurat gave the draw."""
+    key = int(stream_seed(seed, "ranger").generate_state(1, np.uint64)[0])
+    state = _mix((key + (step + 1) * _GOLDEN) & _WORD)
+    state = _mix((state + (robot + 1) * _GOLDEN) & _WORD)
+    first = _mix((state + (beam + 1) * _GOLDEN) & _WORD)
+
+    def beam_words() -> Iterator[int]:
+        yield first  # w0, then mix(w0 + j G) for j = 1, 2...
+        for j in itertools.count(1):
+            yield _mix((first + j * _GOLDEN) & _WORD)
+
+    words = beam_words()
+
+    def word() -> int:
+        return next(words)
+
+    def unit() -> float:
+        return (word() >> 11) / 2.0 ** 53
+
+    while True:
+        first = word()
+        layer, negative, bits = first & 0xFF, (first >> 8) & 1, (first >> 9) & (2 ** 52 - 1)
+        x = bits * WIDTH[layer]
+        if bits < INNER[layer]:
+            return (-x if negative else x), "rectangle"
+        if layer == 0:
+            while True:
+                xx = -math.log1p(-unit()) / TAIL
+                yy = -math.log1p(-unit())
+                if yy + yy > xx * xx:
+                    return (-(TAIL + xx) if negative else TAIL + xx), "tail"
+        low, high = HEIGHT[layer], HEIGHT[layer - 1]
+        if low + unit() * (high - low) < math.exp(-0.5 * x * x):
+            return (-x if negative else x), "wedge"
+
+
+def test_the_kernels_draws_are_the_documented_generators() -> None:
+    """Bit for bit against the pure-Python rendering, on beams that take every part of the
+    ziggurat: its rectangles, wedges and (about one draw in 4,000) its tail."""
+    parts = set()
+    rows = ((0, 0, 0, 20000), (7, 3, 5, 64), (123456789, 10 ** 6, 1999, 64))
+    for seed, step, robot, beams in rows:
+        ranges = np.full((1, beams), 4.0)
+        owners = np.full((1, beams), -1, dtype=np.int64)
+        RangerNoise(seed).add(ranges, owners, np.array([8.0]), np.array([0.25]), step,
+                              np.array([robot]))
+        # the first 1,000 beams, and those past the tail's start (only the tail goes there)
+        checked = sorted(set(range(min(beams, 1000))) | set(np.flatnonzero(
+            np.abs(ranges[0] - 4.0) > 0.25 * TAIL).tolist()))
+        for beam in checked:
+            z, part = reference_draw(seed, step, robot, beam)
+            assert ranges[0, beam] == min(max(4.0 + 0.25 * z, 0.0), 8.0), (seed, beam, part)
+            parts.add(part)
+    assert parts == {"rectangle", "wedge", "tail"}
+
+
+def test_the_noise_is_the_clipped_sum_and_spares_pads_no_returns_and_noise_free_rows() -> None:
+    """``clip(r + sigma z, 0, range)`` with the reference's ``z``, to the bit: readings pushed
+    past either bound are clipped to it; NaN pads and no-return beams keep their value, as
+    does a robot of a noise-free type (sigma 0)."""
+    ranges = np.random.default_rng(7).uniform(0.0, 2.0, (5, 9))
+    ranges[0, :3] = 0.0  # at the lower bound: half the noise pushes below it
+    ranges[1, 6:] = np.nan  # a robot with fewer beams: its pads have no return
+    ranges[2, :] = 1.0  # hits at its range
+    ranges[4, ::2] = 3.0  # no return
+    owners = np.full(ranges.shape, -1, dtype=np.int64)
+    owners[1, 6:] = owners[4, ::2] = NO_RETURN
+    max_range, sigma = np.array([2.0, 2.0, 1.0, 2.0, 3.0]), np.array([0.5, 0.1, 0.3, 0.0, 0.05])
+    robots, before = [4, 0, 9, 2, 7], ranges.copy()
+    RangerNoise(5).add(ranges, owners, max_range, sigma, 6, np.array(robots))
+    expected = before.copy()
+    for row, robot in enumerate(robots):
+        for beam in range(9):
+            if owners[row, beam] != NO_RETURN and sigma[row] > 0:
+                noisy = before[row, beam] + sigma[row] * reference_normal(5, 6, robot, beam)
+                expected[row, beam] = min(max(noisy, 0.0), max_range[row])
+    assert ranges.tobytes() == expected.tobytes()
+    assert (ranges[0, :3] == 0.0).any() and (ranges[2] == 1.0).any() and (ranges[2] < 1.0).any()
+    assert np.isnan(ranges[1, 6:]).all() and (ranges[4, ::2] == 3.0).all()
+
+
+def test_the_ziggurats_layers_have_equal_areas() -> None:
+    """Closed form: every layer holds LAYER_AREA under exp(-x**2 / 2), the base its
+    rectangle plus the tail's integral sqrt(pi / 2) erfc(r / sqrt 2)."""
+    inner, width, height = ziggurat_tables()
+    edges = width * 2.0 ** 52
+    edges[0] = TAIL
+    base = TAIL * math.exp(-TAIL ** 2 / 2) + math.sqrt(math.pi / 2) * math.erfc(TAIL / math.sqrt(2))
+    assert abs(base / LAYER_AREA - 1) < 1e-6
+    for layer in range(1, 256):
+        top = 1.0 if layer == 1 else math.exp(-edges[layer - 1] ** 2 / 2)
+        area = edges[layer] * (top - math.exp(-edges[layer] ** 2 / 2))
+        assert abs(area / LAYER_AREA - 1) < 1e-6, layer
+        assert height[layer] == math.exp(-edges[layer] ** 2 / 2)
+    assert inner[1] == 0 and all(inner[i] < 2 ** 52 for i in range(256))
+
+
+def test_the_counter_based_draws_are_standard_normal() -> None:
+    """300,000 draws (a Hospital step) against N(0, 1): KS, mean, spread and the mass
+    beyond the ziggurat's tail start."""
+    z = draws(11, 5, list(range(2000)), 150).ravel()
+    assert stats.kstest(z, "norm").pvalue > 1e-3
+    assert abs(z.mean()) < 4 / math.sqrt(z.size) and abs(z.std() - 1) < 0.005
+    tail = np.mean(np.abs(z) > TAIL)
+    expected = 2 * stats.norm.sf(TAIL)
+    assert abs(tail - expected) < 4 * math.sqrt(expected / z.size)
+
+
+def test_a_beam_with_no_return_reads_exactly_the_range_with_noise_on() -> None:
+    """A robot in the open with its datasheet noise: every beam reads its maximum range to
+    the bit, and its hit mask says no return, at every step."""
+    rows = [[0.0, 0.0, 0.0, 0.0, np.nan, np.nan]]
+    far = Map(np.array([[40.0, -1.0, 40.0, 1.0]]), (-50.0, -50.0, 50.0, 50.0))
+    scenario = Scenario.from_matrix(rows, far, PIONEER_2DX).with_settings(noise="on")
+    sim = Simulation(scenario, lambda robot: (0.0, 0.0), seed=3, time_limit=1.0)
+    sim.start()
+    assert "sigma_range" in sim.types.noisy
+    for _ in range(5):
+        assert (sim.state.scan == PIONEER_2DX.ranger.range).all()
+        assert (sim.state.scan_hit == NO_RETURN).all()
+        sim.step()
 
 
 def test_adding_a_sensor_leaves_the_other_sensors_noise_unchanged() -> None:

@@ -4,8 +4,8 @@ Sensing only notes which robots scan and when; the rays are cast at the first
 read of ``state.scan`` or ``state.scan_hit`` after it, from that same state
 (nothing moves before the algorithm and the observers have read). A step whose
 readers read no scan casts no ray, as Stage updates no sensor that has no
-subscriber. The ranger's noise has a stretch of its stream per step and a row per
-robot (:class:`~mimics.engine.noise_streams.RangerNoise`), so a scan's noise does
+subscriber. The ranger's noise is keyed by step, robot and beam
+(:class:`~mimics.engine.noise_streams.RangerNoise`), so a scan's noise does
 not depend on which earlier scans were read, nor on which other robots scan.
 
 A robot's own read (``robot.scan``, per-robot algorithms) asks for its row
@@ -29,7 +29,6 @@ from mimics.engine.ranging.ranger import RangerQuery, RowsInFlight, start_beams,
 from mimics.engine.ranging.still_scans import StillScans
 from mimics.engine.ranging.wall_index import WallIndex
 from mimics.engine.robot_index import RobotIndex
-from mimics.engine.sensors import add_ranger_noise
 from mimics.engine.state import TypeArrays, WorldState
 
 _ray_part_elsewhere: list[Callable[[], None]] = []
@@ -162,7 +161,7 @@ class Scanner:
         else:
             ranges, hits = trace_beams(query, walls, robots, sight=sight)
         if "sigma_range" in types.noisy:  # known once per run: no test per step
-            add_ranger_noise(ranges, query.max_range, types.sigma_range[rows],
-                             self._noise.draws(state.step, None if everyone else ids))
+            self._noise.add(ranges, hit if everyone else hits, query.max_range,
+                            types.sigma_range[rows], state.step, ids)
         if not everyone:
             scan[rows], hit[rows] = ranges, hits
