@@ -25,7 +25,9 @@ async function send(method, url, body, raw = false) {
           : data.detail.map((d) => `${(d.loc || []).slice(1).join(".")}: ${d.msg}`).join("; ");
       }
     } catch (_) { /* not JSON: keep the status line */ }
-    throw new Error(detail);
+    const error = new Error(detail);
+    error.status = response.status;
+    throw error;
   }
   return raw ? response.arrayBuffer() : response.json();
 }
@@ -46,6 +48,35 @@ export async function guarded(action) {
     say(error.message, true);
     return undefined;
   }
+}
+
+// Save a file with PUT: over the file this editor opened or last saved it is replaced at once;
+// over another existing file (in the page's list, else the server's 409) the user is asked.
+// Returns the server's answer, or undefined when not saved (the reason is in the message line).
+export async function saveFile(url, body, ownPath, knownFiles = []) {
+  const ask = () => {
+    if (window.confirm(`${body.path} exists already. Replace it?`)) return true;
+    say(`not saved: ${body.path} exists already (choose another file name)`, true);
+    return false;
+  };
+  const own = body.path === ownPath;
+  if (!own && knownFiles.includes(body.path)) {
+    if (!ask()) return undefined;
+    return guarded(() => api.put(url, { ...body, overwrite: true }));
+  }
+  try {
+    return await api.put(url, { ...body, overwrite: own });
+  } catch (error) {
+    if (error.status !== 409) { say(error.message, true); return undefined; }
+    if (!ask()) return undefined;
+    return guarded(() => api.put(url, { ...body, overwrite: true }));
+  }
+}
+
+// Before edits are replaced (opening another file, a new map): true when there are none
+// unsaved, or the user agrees to drop them.
+export function mayDiscard(editor, what) {
+  return !editor.dirty || window.confirm(`Unsaved edits to ${what} will be lost. Continue?`);
 }
 
 // Poll a background job until it ends; onProgress(job) after each poll.

@@ -1,5 +1,5 @@
 // The Maps page: list/open/create maps, draw and edit walls, import, save.
-import { api, element, fileList, guarded, say } from "./api.js";
+import { api, element, fileList, guarded, mayDiscard, saveFile, say } from "./api.js";
 import { WorldView } from "./view.js";
 
 const TOOLS = ["Select", "Segment", "Polyline", "Rectangle"];
@@ -17,6 +17,8 @@ export class MapEditor {
     this.selected = -1;
     this.undoStack = [];
     this.redoStack = [];
+    this.dirty = false; // edits not saved yet (asked about before they are dropped)
+    this.ownPath = null; // the workspace file opened or last saved: saved over without asking
     this.build();
   }
 
@@ -93,14 +95,17 @@ export class MapEditor {
   async refresh() {
     const data = await guarded(() => api.get("/api/maps"));
     if (!data) return;
-    fileList(this.fileListNode, data.files.map((f) => f.path), (p) => this.open(p));
+    this.files = data.files.map((f) => f.path);
+    fileList(this.fileListNode, this.files, (p) => this.open(p));
     fileList(this.builtinNode, data.builtin, (p) => this.open(p));
   }
 
   async open(path) {
+    if (!mayDiscard(this, "this map")) return;
     const data = await guarded(() => api.get("/api/maps/file", { path }));
     if (!data) return;
     this.load(data);
+    this.ownPath = path.startsWith("maps/") ? path : null;
     const stem = path.startsWith("stage:") ? path.slice(6) : path.split("/").pop()
       .replace(/\.[^.]+$/, "");
     this.pathInput.value = path.startsWith("maps/") && /\.(txt|map|segments|toml|json)$/
@@ -119,16 +124,19 @@ export class MapEditor {
     this.selected = -1;
     this.points = [];
     this.view.fit(this.bounds);
+    this.dirty = false;
     this.showInfo();
   }
 
   newMap() {
+    if (!mayDiscard(this, "this map")) return;
     const bounds = this.boundInputs.map((input) => Number(input.value));
     if (!(bounds[0] < bounds[2] && bounds[1] < bounds[3])) {
       say("bounds: expected xmin < xmax and ymin < ymax", true);
       return;
     }
     this.load({ segments: [], bounds, name: "map" });
+    this.ownPath = null;
     this.pathInput.value = "maps/map.txt";
     say("new map: draw its walls");
   }
@@ -137,6 +145,7 @@ export class MapEditor {
     const bounds = this.boundInputs.map((input) => Number(input.value));
     if (bounds[0] < bounds[2] && bounds[1] < bounds[3]) {
       this.bounds = bounds;
+      this.dirty = true;
       this.view.bounds = bounds;
       this.view.invalidate();
     }
@@ -158,6 +167,7 @@ export class MapEditor {
   }
 
   remember() {
+    this.dirty = true;
     this.undoStack.push(JSON.stringify(this.segments));
     if (this.undoStack.length > 200) this.undoStack.shift();
     this.redoStack = [];
@@ -322,6 +332,7 @@ export class MapEditor {
   async importMap() {
     const file = this.importFile.files[0];
     if (!file) { say("choose a file to import first", true); return; }
+    if (!mayDiscard(this, "this map")) return;
     const options = {};
     const lower = file.name.toLowerCase();
     if (/\.(png|pgm|bmp)$/.test(lower)) {
@@ -340,6 +351,8 @@ export class MapEditor {
         { filename: file.name, options: JSON.stringify(options) })));
     if (!data) return;
     this.load(data);
+    this.dirty = true; // imported, not saved
+    this.ownPath = null;
     this.pathInput.value = `maps/${file.name.replace(/\.[^.]+$/, "")}.txt`;
     say(`imported ${file.name}: ${data.walls} walls (not saved yet)`);
   }
@@ -347,8 +360,10 @@ export class MapEditor {
   async save() {
     const body = { path: this.pathInput.value.trim(), name: this.nameInput.value.trim() || "map",
       bounds: this.bounds, segments: this.segments };
-    const data = await guarded(() => api.put("/api/maps/file", body));
+    const data = await saveFile("/api/maps/file", body, this.ownPath, this.files);
     if (!data) return;
+    this.dirty = false;
+    this.ownPath = data.path;
     say(`saved ${data.path}: ${data.walls} walls`);
     this.refresh();
   }

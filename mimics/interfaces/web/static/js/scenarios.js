@@ -1,6 +1,6 @@
 // The Scenarios page: pick a map, place robots (one, line, grid, random), drag starts and
 // goals, choose the robot type and sensors, time limit, save, run.
-import { api, element, fileList, guarded, say, waitJob } from "./api.js";
+import { api, element, fileList, guarded, mayDiscard, saveFile, say, waitJob } from "./api.js";
 import { WorldView, drawRobots } from "./view.js";
 
 const TOOLS = ["One", "Line", "Grid", "Random", "Move", "Remove"];
@@ -23,6 +23,8 @@ export class ScenarioEditor {
     this.tool = "Line";
     this.points = [];
     this.robotTypes = {};
+    this.dirty = false; // edits not saved yet (asked about before they are dropped)
+    this.ownPath = null; // the file opened or last saved: saved over without asking
     this.build();
   }
 
@@ -89,6 +91,8 @@ export class ScenarioEditor {
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
     this.view.drawStatic = (c, view) => { if (this.map) view.drawSegments(this.map.segments); };
     this.canvas.addEventListener("pointerdown", (e) => this.pointerDown(e));
+    for (const input of [this.nameInput, this.timeInput, this.toleranceInput,
+      this.deadlockInput]) input.addEventListener("input", () => { this.dirty = true; });
   }
 
   async refresh() {
@@ -96,7 +100,8 @@ export class ScenarioEditor {
       guarded(() => api.get("/api/scenarios")), guarded(() => api.get("/api/maps")),
       guarded(() => api.get("/api/algorithms"))]);
     if (!scenarios || !maps || !algorithms) return;
-    fileList(this.fileListNode, scenarios.files, (p) => this.open(p));
+    this.files = scenarios.files;
+    fileList(this.fileListNode, this.files, (p) => this.open(p));
     this.robotTypes = scenarios.robot_types;
     const current = this.mapSelect.value;
     const mapNames = [...maps.files.map((f) => f.path), ...maps.builtin];
@@ -147,6 +152,7 @@ export class ScenarioEditor {
     if (!path) return;
     const data = await guarded(() => api.get("/api/maps/file", { path }));
     if (!data) return;
+    if (this.mapRef !== path) this.dirty = true;
     this.mapRef = path;
     this.map = data;
     this.view.fit(data.bounds);
@@ -155,6 +161,7 @@ export class ScenarioEditor {
   }
 
   async open(path) {
+    if (!mayDiscard(this, "this scenario")) return;
     const data = await guarded(() => api.get("/api/scenarios/file", { path }));
     if (!data) return;
     this.robots = data.robots;
@@ -175,6 +182,8 @@ export class ScenarioEditor {
     this.deadlockInput.value = String(data.settings.deadlock_window);
     this.view.fit(this.map.bounds);
     this.view.invalidate();
+    this.dirty = false;
+    this.ownPath = path;
     this.showInfo();
     say(`opened ${path}: ${this.robots.length} robots`);
   }
@@ -199,7 +208,7 @@ export class ScenarioEditor {
       this.robots.push({ type, x, y, yaw: heading ?? yaw,
         goal: offset ? [x + offset[0], y + offset[1]] : null });
     }
-    this.showInfo();
+    this.changed();
   }
 
   robotAt(x, y) {
@@ -219,7 +228,7 @@ export class ScenarioEditor {
     if (this.tool === "Move") { this.drag(event, x, y); return; }
     if (this.tool === "Remove") {
       const k = this.robotAt(x, y);
-      if (k >= 0) { this.robots.splice(k, 1); this.showInfo(); }
+      if (k >= 0) { this.robots.splice(k, 1); this.changed(); }
       return;
     }
     this.points.push([x, y]);
@@ -228,7 +237,7 @@ export class ScenarioEditor {
       this.robots.push({ type: this.currentType(), x: sx, y: sy,
         yaw: Math.atan2(gy - sy, gx - sx), goal: [gx, gy] });
       this.points = [];
-      this.showInfo();
+      this.changed();
     } else if (this.points.length === 2) {
       const [[x1, y1], [x2, y2]] = this.points;
       this.points = [];
@@ -282,6 +291,7 @@ export class ScenarioEditor {
       const [wx, wy] = this.view.eventWorld(e);
       const robot = this.robots[target[0]];
       if (target[1] === "start") { robot.x = wx; robot.y = wy; } else robot.goal = [wx, wy];
+      this.dirty = true;
       this.view.redraw();
     };
     const up = () => {
@@ -292,7 +302,12 @@ export class ScenarioEditor {
     window.addEventListener("pointerup", up);
   }
 
-  clearRobots() { this.robots = []; this.showInfo(); }
+  clearRobots() { this.robots = []; this.changed(); }
+
+  changed() {
+    this.dirty = true;
+    this.showInfo();
+  }
 
   paint(c, view) {
     if (!this.map) return;
@@ -342,8 +357,14 @@ export class ScenarioEditor {
 
   async save() {
     if (!this.mapRef) { say("choose a map first", true); return undefined; }
-    const data = await guarded(() => api.put("/api/scenarios/file", this.body()));
-    if (data) { say(`saved ${data.path}: ${data.robots} robots`); this.refresh(); }
+    const data = await saveFile("/api/scenarios/file", this.body(), this.ownPath,
+      this.files);
+    if (data) {
+      this.dirty = false;
+      this.ownPath = data.path;
+      say(`saved ${data.path}: ${data.robots} robots`);
+      this.refresh();
+    }
     return data;
   }
 
