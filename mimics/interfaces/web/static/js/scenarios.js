@@ -45,7 +45,14 @@ export class ScenarioEditor {
     this.columnsInput = number("Columns", "3");
     this.spacingInput = number("Min spacing (m)", "0.8", "0.1");
     this.offsetInput = element("input", { type: "text", value: "5, 0",
-      "aria-label": "Goal offset dx, dy (m)" });
+      "aria-label": "Goal offset dx, dy (m)", "aria-describedby": "offset-problem",
+      oninput: () => this.checkOffset() });
+    this.offsetProblem = element("span", { id: "offset-problem", class: "field-error",
+      role: "alert" });
+    this.snapInput = element("input", { type: "checkbox", checked: true,
+      "aria-label": "Snap to grid" });
+    this.gridInput = element("input", { type: "number", value: "0.5", step: "0.1", min: "0.01",
+      "aria-label": "Grid (m)", onchange: () => this.view.invalidate() });
     this.timeInput = number("Time limit (s)", "60", "1");
     this.toleranceInput = number("Goal tolerance (m)", "0.2", "0.05");
     this.deadlockInput = number("Deadlock window (s)", "10", "1");
@@ -71,7 +78,9 @@ export class ScenarioEditor {
         element("label", {}, "spacing ", this.spacingInput)),
       element("div", { class: "row" }, element("label", {}, "rows ", this.rowsInput),
         element("label", {}, "columns ", this.columnsInput)),
-      element("label", {}, "goal offset dx, dy (m) ", this.offsetInput),
+      element("label", {}, "goal offset dx, dy (m) ", this.offsetInput), this.offsetProblem,
+      element("div", { class: "row" }, element("label", {}, this.snapInput, " snap"),
+        element("label", {}, "grid ", this.gridInput, " m")),
       element("button", { type: "button", onclick: () => this.clearRobots() }, "Remove all"),
       element("h2", {}, "Settings"),
       element("label", {}, "time limit (s) ", this.timeInput),
@@ -89,7 +98,14 @@ export class ScenarioEditor {
       element("div", { class: "canvas-box" }, this.canvas),
       element("div", { class: "statusbar" }, this.info)));
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
-    this.view.drawStatic = (c, view) => { if (this.map) view.drawSegments(this.map.segments); };
+    this.view.drawStatic = (c, view) => {
+      if (!this.map) return;
+      if (this.snapInput.checked && Number(this.gridInput.value) > 0) {
+        view.drawGrid(Number(this.gridInput.value));
+      }
+      view.drawSegments(this.map.segments);
+    };
+    this.snapInput.addEventListener("change", () => this.view.invalidate());
     this.canvas.addEventListener("pointerdown", (e) => this.pointerDown(e));
     for (const input of [this.nameInput, this.timeInput, this.toleranceInput,
       this.deadlockInput]) input.addEventListener("input", () => { this.dirty = true; });
@@ -195,15 +211,71 @@ export class ScenarioEditor {
     this.toolButtons.forEach((b) => b.setAttribute("aria-pressed", String(b.textContent === name)));
   }
 
+  // The goal offset: [dx, dy], null for "no goals" (0, 0), or undefined when the text is not
+  // two numbers "dx, dy" (then the field says so and nothing is placed).
   offset() {
-    const [dx, dy] = this.offsetInput.value.split(",").map(Number);
-    return Number.isFinite(dx) && Number.isFinite(dy) && (dx || dy) ? [dx, dy] : null;
+    const parts = this.offsetInput.value.split(",").map((p) => p.trim());
+    const numbers = parts.map((p) => (/^[-+]?(\d+\.?\d*|\.\d+)(e[-+]?\d+)?$/i.test(p)
+      ? Number(p) : NaN));
+    if (numbers.length !== 2 || !numbers.every(Number.isFinite)) return undefined;
+    const [dx, dy] = numbers;
+    return dx || dy ? [dx, dy] : null;
+  }
+
+  checkOffset() {
+    const bad = this.offset() === undefined;
+    this.offsetProblem.textContent = bad
+      ? "Type two numbers separated by a comma, such as 5, 0 (0, 0: robots without goals)." : "";
+    if (bad) this.offsetInput.setAttribute("aria-invalid", "true");
+    else this.offsetInput.removeAttribute("aria-invalid");
+    return !bad;
+  }
+
+  snap([x, y]) {
+    const step = Number(this.gridInput.value);
+    if (!this.snapInput.checked || !(step > 0)) return [x, y];
+    const round = (v) => Math.round(Math.round(v / step) * step * 1e9) / 1e9;
+    return [round(x), round(y)];
+  }
+
+  // Why a goal at (x, y) cannot be reached by a robot of type typeName, or "" when it can:
+  // off the map's bounds, or closer to a wall than the robot's half width.
+  goalProblem(x, y, typeName) {
+    const [xmin, ymin, xmax, ymax] = this.map.bounds;
+    const at = `goal (${x.toFixed(2)}, ${y.toFixed(2)})`;
+    if (x < xmin || x > xmax || y < ymin || y > ymax) {
+      return `${at} is off the map (${xmin} to ${xmax}, ${ymin} to ${ymax}): not placed`;
+    }
+    const [, halfWidth] = this.sizeOf(typeName);
+    for (const [x1, y1, x2, y2] of this.map.segments) {
+      const dx = x2 - x1;
+      const dy = y2 - y1;
+      const t = Math.max(0, Math.min(1, ((x - x1) * dx + (y - y1) * dy) / (dx * dx + dy * dy || 1)));
+      if (Math.hypot(x - x1 - t * dx, y - y1 - t * dy) < halfWidth) {
+        return `${at} is in a wall (a robot there would touch it): not placed`;
+      }
+    }
+    return "";
   }
 
   add(starts) {
     const offset = this.offset();
+    if (offset === undefined) {
+      this.checkOffset();
+      say("goal offset: not two numbers", true);
+      return;
+    }
     const type = this.currentType();
     const yaw = offset ? Math.atan2(offset[1], offset[0]) : 0;
+    if (offset) {
+      const problems = starts.map(([x, y]) =>
+        this.goalProblem(x + offset[0], y + offset[1], type)).filter(Boolean);
+      if (problems.length) {
+        say(problems.length === 1 ? problems[0]
+          : `${problems[0]} (and ${problems.length - 1} more goals): no robot placed`, true);
+        return;
+      }
+    }
     for (const [x, y, heading] of starts) {
       this.robots.push({ type, x, y, yaw: heading ?? yaw,
         goal: offset ? [x + offset[0], y + offset[1]] : null });
@@ -226,14 +298,20 @@ export class ScenarioEditor {
     if (!this.map) { say("choose a map first", true); return; }
     const [x, y] = this.view.eventWorld(event);
     if (this.tool === "Move") { this.drag(event, x, y); return; }
+    if (this.tool !== "Remove" && this.tool !== "One" && !this.checkOffset()) {
+      say("goal offset: not two numbers", true);
+      return;
+    }
     if (this.tool === "Remove") {
       const k = this.robotAt(x, y);
       if (k >= 0) { this.robots.splice(k, 1); this.changed(); }
       return;
     }
-    this.points.push([x, y]);
+    this.points.push(this.snap([x, y]));
     if (this.tool === "One" && this.points.length === 2) {
       const [[sx, sy], [gx, gy]] = this.points;
+      const problem = this.goalProblem(gx, gy, this.currentType());
+      if (problem) { this.points.pop(); say(problem, true); this.view.redraw(); return; }
       this.robots.push({ type: this.currentType(), x: sx, y: sy,
         yaw: Math.atan2(gy - sy, gx - sx), goal: [gx, gy] });
       this.points = [];
@@ -287,9 +365,10 @@ export class ScenarioEditor {
       }
     });
     if (!target) return;
+    const robot = this.robots[target[0]];
+    const before = robot.goal ? robot.goal.slice() : null;
     const move = (e) => {
-      const [wx, wy] = this.view.eventWorld(e);
-      const robot = this.robots[target[0]];
+      const [wx, wy] = this.snap(this.view.eventWorld(e));
       if (target[1] === "start") { robot.x = wx; robot.y = wy; } else robot.goal = [wx, wy];
       this.dirty = true;
       this.view.redraw();
@@ -297,6 +376,8 @@ export class ScenarioEditor {
     const up = () => {
       window.removeEventListener("pointermove", move);
       window.removeEventListener("pointerup", up);
+      const problem = target[1] === "goal" ? this.goalProblem(...robot.goal, robot.type) : "";
+      if (problem) { robot.goal = before; say(problem, true); this.view.redraw(); }
     };
     window.addEventListener("pointermove", move);
     window.addEventListener("pointerup", up);
