@@ -15,6 +15,8 @@ from typing import Any
 from fastapi import APIRouter, HTTPException, Request
 from pydantic import BaseModel, Field
 
+from mimics.interfaces.web.wording import upload_for_page
+from mimics.world.errors import MimicsError
 from mimics.world.map_files import (
     BUILTIN_MAPS,
     IMAGE_SUFFIXES,
@@ -150,7 +152,10 @@ async def import_map(request: Request, filename: str, options: str = "{}") -> di
     with tempfile.TemporaryDirectory(prefix="mimics-import-") as folder:
         path = Path(folder) / PurePosixPath(filename).name
         path.write_bytes(data)
-        the_map = load_map(path, **parsed)
+        try:
+            the_map = load_map(path, **parsed)
+        except MimicsError as exc:  # named as uploaded, not by the server's temporary path
+            raise HTTPException(422, upload_for_page(str(exc), folder, path.name)) from None
     return map_json(the_map, "")
 
 

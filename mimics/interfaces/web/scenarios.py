@@ -24,6 +24,8 @@ from mimics.interfaces.web.algorithms import algorithm_ref
 from mimics.interfaces.web.jobs import Job
 from mimics.interfaces.web.maps import map_json, open_map, refuse_overwrite
 from mimics.interfaces.web.security import Workspace
+from mimics.interfaces.web.wording import paths_for_page, scenario_for_page
+from mimics.world.errors import MimicsError
 from mimics.world.map_files import BUILTIN_MAPS
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES
 from mimics.world.scenario import Settings
@@ -160,7 +162,11 @@ def put_scenario(request: Request, body: ScenarioBody) -> dict[str, Any]:
     """Check and save the scenario as the TOML file the CLI runs."""
     workspace: Workspace = request.app.state.workspace
     real, text = scenario_text(workspace, body)
-    scenario = scenario_from_toml_text(text, real)  # the CLI's own checks, before writing
+    try:  # the CLI's own checks, before writing; their message in the page's words
+        scenario = scenario_from_toml_text(text, real)
+    except MimicsError as exc:
+        raise HTTPException(422, scenario_for_page(paths_for_page(str(exc), workspace.root),
+                                                   body.types)) from None
     refuse_overwrite(real, body.path, body.overwrite)
     real.parent.mkdir(parents=True, exist_ok=True)
     real.write_text(text, encoding="utf-8")

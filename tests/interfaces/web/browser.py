@@ -26,3 +26,12 @@ def click_world(page: Any, editor: str, x: float, y: float) -> None:
 
 def message(page: Any) -> Any:
     return page.get_by_role("status")
+
+
+def take_refusals(page: Any, status: int) -> int:
+    """Take the console's "status of STATUS" lines (the API refusing what a test sent on
+    purpose) out of the page's console errors; returns how many there were."""
+    errors = page.console_errors
+    mine = [e for e in errors if f"the server responded with a status of {status} " in e]
+    errors[:] = [e for e in errors if e not in mine]
+    return len(mine)

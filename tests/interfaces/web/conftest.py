@@ -91,6 +91,7 @@ def page(browser: Any, site: tuple[str, Path], tmp_path_factory: pytest.TempPath
     errors: list[str] = []
     tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
     tab.on("pageerror", lambda e: errors.append(str(e)))
+    tab.console_errors = errors  # a test may take out the refusals it caused on purpose
     yield tab
     screenshot(tab, tmp_path_factory, request.node.name)
     tab.close()

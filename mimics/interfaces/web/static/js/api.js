@@ -1,9 +1,18 @@
 // The JSON API and the message line, shared by the pages.
 
+// The message line shows one line (a long message ends in "..."; its whole text is the
+// tooltip), so that the header never wraps.
 export function say(text, isError = false) {
   const line = document.getElementById("message");
   line.textContent = text;
+  line.title = text;
   line.classList.toggle("error", isError);
+}
+
+// An error shown for an earlier action goes once the next action succeeds.
+export function clearError() {
+  const line = document.getElementById("message");
+  if (line.classList.contains("error")) say("");
 }
 
 async function send(method, url, body, raw = false) {
@@ -43,7 +52,9 @@ export const api = {
 // Run an async action; show its error (one line) in the message line instead of throwing.
 export async function guarded(action) {
   try {
-    return await action();
+    const result = await action();
+    clearError();
+    return result;
   } catch (error) {
     say(error.message, true);
     return undefined;

@@ -1,5 +1,5 @@
 // The Maps page: list/open/create maps, draw and edit walls, import, save.
-import { api, element, fileList, guarded, mayDiscard, saveFile, say } from "./api.js";
+import { api, clearError, element, fileList, guarded, mayDiscard, saveFile, say } from "./api.js";
 import { WorldView } from "./view.js";
 
 const TOOLS = ["Select", "Segment", "Polyline", "Rectangle"];
@@ -168,6 +168,7 @@ export class MapEditor {
 
   remember() {
     this.dirty = true;
+    clearError();
     this.undoStack.push(JSON.stringify(this.segments));
     if (this.undoStack.length > 200) this.undoStack.shift();
     this.redoStack = [];

@@ -1,6 +1,8 @@
 // The Scenarios page: pick a map, place robots (one, line, grid, random), drag starts and
 // goals, choose the robot type and sensors, time limit, save, run.
-import { api, element, fileList, guarded, mayDiscard, saveFile, say, waitJob } from "./api.js";
+import {
+  api, clearError, element, fileList, guarded, mayDiscard, saveFile, say, waitJob,
+} from "./api.js";
 import { WorldView, drawRobots } from "./view.js";
 
 const TOOLS = ["One", "Line", "Grid", "Random", "Move", "Remove"];
@@ -387,6 +389,7 @@ export class ScenarioEditor {
 
   changed() {
     this.dirty = true;
+    clearError();
     this.showInfo();
   }
 
