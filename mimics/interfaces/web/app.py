@@ -2,7 +2,7 @@
 
 >>> import tempfile
 >>> app = create_app(tempfile.mkdtemp())
->>> sorted(r.path for r in app.routes if r.path.startswith("/api/maps"))[:2]
+>>> sorted(p for p in app.openapi()["paths"] if p.startswith("/api/maps"))[:2]
 ['/api/maps', '/api/maps/file']
 """
 
