@@ -48,6 +48,7 @@ def test_the_list_the_drawing_and_the_play_buttons(page: Any, site: tuple[str, P
     pause = page.get_by_role("button", name="Pause")
     expect(play).to_have_attribute("aria-pressed", "false")
     expect(pause).to_have_attribute("aria-pressed", "true")
+    page.wait_for_function("window.written.length >= 3")  # drawn at the next animation frame
     assert sorted(set(page.evaluate("window.written"))) == ["0", "1", "2"]  # the robot ids
     x, y, theta = run.scenario.stages[0, :3]
     half_length = float(run.scenario.robot_type(0).length) / 2
