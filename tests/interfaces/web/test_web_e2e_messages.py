@@ -3,6 +3,7 @@ the next action succeeds (Playwright, Debian's Chromium)."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -40,6 +41,9 @@ def test_a_long_error_keeps_the_header_on_one_line_and_goes_after_a_success(
     assert header.bounding_box()["height"] == one_line  # the header did not wrap
     assert line.evaluate("e => e.scrollWidth > e.clientWidth")  # cut with an ellipsis
     assert not (root / "scenarios" / "crowd.toml").exists()
+    named = sorted({int(k) for k in re.findall(r"\brobot (\d+)", text)})
+    assert len(named) >= 2  # the robots the message names are the ones drawn in red
+    assert sorted(page.evaluate("window.workbench.scenarios.fault.robots")) == named
     page.get_by_role("button", name="Remove all").click()  # the next action succeeds
     expect(line).to_have_text("")
     expect(line).not_to_have_class("error")
@@ -49,6 +53,16 @@ def test_a_long_error_keeps_the_header_on_one_line_and_goes_after_a_success(
     page.get_by_role("button", name="Save scenario").click()
     expect(line).to_have_text("robot 0: robot at (6, 0) touches wall 0 (0, 0)-(12, 0) at the "
                               "start (expected it in free space)")
+    fault = page.evaluate("window.workbench.scenarios.fault")
+    assert fault == {"robots": [0], "walls": [[0, 0, 12, 0]]}  # drawn in red
+    page.wait_for_function("""() => {  // the wall at fault, red on the canvas
+        const view = window.workbench.scenarios.view;
+        const [px, py] = view.toScreen(3, 0);
+        const ratio = window.devicePixelRatio || 1;
+        const [r, g, b] = view.context.getImageData(Math.round(px * ratio),
+                                                    Math.round(py * ratio), 1, 1).data;
+        return r === 198 && g === 40 && b === 40;
+    }""", timeout=5000)
     page.get_by_label("Map", exact=True).select_option("maps/hall.txt")  # reloads the map: OK
     expect(line).to_have_text("")
     assert take_refusals(page, 422) == 2  # the two saves refused

@@ -9,6 +9,12 @@ export function say(text, isError = false) {
   line.classList.toggle("error", isError);
 }
 
+// The error the message line shows, or "" when it shows none.
+export function shownError() {
+  const line = document.getElementById("message");
+  return line.classList.contains("error") ? line.textContent : "";
+}
+
 // An error shown for an earlier action goes once the next action succeeds.
 export function clearError() {
   const line = document.getElementById("message");

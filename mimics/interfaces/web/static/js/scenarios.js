@@ -1,7 +1,7 @@
 // The Scenarios page: pick a map, place robots (one, line, grid, random), drag starts and
 // goals, choose the robot type and sensors, time limit, save, run.
 import {
-  api, clearError, element, fileList, guarded, mayDiscard, saveFile, say, waitJob,
+  api, clearError, element, fileList, guarded, mayDiscard, saveFile, say, shownError, waitJob,
 } from "./api.js";
 import { WorldView, drawRobots } from "./view.js";
 
@@ -15,6 +15,17 @@ const HINTS = {
   Remove: "Click a robot to remove it.",
 };
 
+// The robots and walls a refused save names ("robot 2 at ... and robot 3 ...", "touches
+// wall 3 (0, 6)-(0, 0)"), to draw them in red.
+export function faultOf(message, robotCount) {
+  const robots = [...message.matchAll(/\brobot (\d+)/g)].map((m) => Number(m[1]))
+    .filter((i) => i < robotCount);
+  const number = "(-?[\\d.]+(?:e-?\\d+)?)";
+  const wall = new RegExp(`wall \\d+ \\(${number}, ${number}\\)-\\(${number}, ${number}\\)`, "g");
+  const walls = [...message.matchAll(wall)].map((m) => m.slice(1, 5).map(Number));
+  return { robots: [...new Set(robots)], walls };
+}
+
 export class ScenarioEditor {
   constructor(root) {
     this.root = root;
@@ -27,6 +38,7 @@ export class ScenarioEditor {
     this.robotTypes = {};
     this.dirty = false; // edits not saved yet (asked about before they are dropped)
     this.ownPath = null; // the file opened or last saved: saved over without asking
+    this.fault = { robots: [], walls: [] }; // what the last refused save named, drawn in red
     this.build();
   }
 
@@ -389,6 +401,7 @@ export class ScenarioEditor {
 
   changed() {
     this.dirty = true;
+    this.fault = { robots: [], walls: [] };
     clearError();
     this.showInfo();
   }
@@ -416,7 +429,18 @@ export class ScenarioEditor {
       poses.set([r.x, r.y, r.yaw], 3 * k);
       [halfLength[k], halfWidth[k]] = this.sizeOf(r.type);
     });
-    drawRobots(c, view, poses, halfLength, halfWidth, () => "#1f77b4", n);
+    const faulty = new Set(this.fault.robots);
+    drawRobots(c, view, poses, halfLength, halfWidth,
+      (i) => (faulty.has(i) ? "#c62828" : "#1f77b4"), n);
+    if (this.fault.walls.length) view.drawSegments(this.fault.walls, "#c62828", 4);
+    c.strokeStyle = "#c62828";
+    c.lineWidth = 2;
+    for (const i of faulty) {  // a ring, so that a small robot at fault is seen too
+      const [px, py] = view.toScreen(this.robots[i].x, this.robots[i].y);
+      c.beginPath();
+      c.arc(px, py, Math.max(10, halfLength[i] * view.scale * 1.8), 0, 2 * Math.PI);
+      c.stroke();
+    }
     if (this.points.length) {
       const [px, py] = view.toScreen(...this.points[0]);
       c.fillStyle = "#d62728";
@@ -443,6 +467,8 @@ export class ScenarioEditor {
     if (!this.mapRef) { say("choose a map first", true); return undefined; }
     const data = await saveFile("/api/scenarios/file", this.body(), this.ownPath,
       this.files);
+    this.fault = data ? { robots: [], walls: [] } : faultOf(shownError(), this.robots.length);
+    this.view.redraw();
     if (data) {
       this.dirty = false;
       this.ownPath = data.path;
