@@ -90,3 +90,33 @@ def test_a_saved_map_is_left_without_a_question(page: Any, site: tuple[str, Path
     expect(message(page)).to_have_text("opened maps/fresh.txt: 1 walls")
     page.reload()
     assert dialogs == []
+
+
+def test_saving_a_scenario_over_another_asks_and_its_own_file_does_not(
+        page: Any, site: tuple[str, Path]) -> None:
+    url, root = site
+    (root / "maps").mkdir(exist_ok=True)
+    (root / "maps" / "yard.txt").write_text("bounds 0 0 12 8\n0 0 12 0\n0 8 12 8\n")
+    (root / "scenarios").mkdir(exist_ok=True)
+    (root / "scenarios" / "taken.toml").write_text("# someone's scenario\n")
+    questions: list[str] = []
+    page.on("dialog", lambda d: (questions.append(d.message), d.dismiss()))
+    page.goto(f"{url}/#/scenarios")
+    page.get_by_label("Map", exact=True).select_option("maps/yard.txt")
+    page.get_by_role("button", name="One").click()
+    click_world(page, "scenarios", 2.0, 4.0)
+    click_world(page, "scenarios", 8.0, 4.0)
+    page.get_by_label("Save scenario as").fill("scenarios/taken.toml")
+    page.get_by_role("button", name="Save scenario").click()
+    expect(message(page)).to_have_text(
+        "not saved: scenarios/taken.toml exists already (choose another file name)")
+    assert questions == ["scenarios/taken.toml exists already. Replace it?"]
+    assert (root / "scenarios" / "taken.toml").read_text() == "# someone's scenario\n"
+    page.get_by_label("Save scenario as").fill("scenarios/mine.toml")
+    page.get_by_role("button", name="Save scenario").click()
+    expect(message(page)).to_have_text("saved scenarios/mine.toml: 1 robots")
+    click_world(page, "scenarios", 2.0, 6.0)
+    click_world(page, "scenarios", 8.0, 6.0)
+    page.get_by_role("button", name="Save scenario").click()  # its own file: no question
+    expect(message(page)).to_have_text("saved scenarios/mine.toml: 2 robots")
+    assert len(questions) == 1
