@@ -86,3 +86,38 @@ def test_goals_off_the_map_or_in_a_wall_are_refused_and_clicks_snap(
     click_world(page, "scenarios", 4.1, 2.2)
     added = robots(page)[1]
     assert abs(added["x"] - 4.1) < 0.05 and abs(added["y"] - 2.2) < 0.05  # not snapped
+
+
+def test_robots_and_walls_can_be_typed(page: Any, site: tuple[str, Path]) -> None:
+    url, _root = site
+    open_room(page, site)
+    start = page.get_by_label("Start x, y[, yaw] (m, rad)")
+    goal = page.get_by_label("Goal gx, gy (m)")
+    add = page.get_by_role("button", name="Add robot")
+    start.fill("2.25, 3.1")
+    goal.fill("9.5, 3.1")
+    add.click()
+    start.fill("4, 6, 1.5")
+    goal.fill("")
+    add.click()
+    assert robots(page)[0]["x"] == 2.25 and robots(page)[0]["goal"] == [9.5, 3.1]
+    assert robots(page)[0]["yaw"] == 0
+    assert robots(page)[1] == {**robots(page)[1], "x": 4, "y": 6, "yaw": 1.5, "goal": None}
+    start.fill("14 0")
+    add.click()
+    expect(message(page)).to_have_text("typed start: expected x, y or x, y, yaw (numbers)")
+    start.fill("3, 3")
+    goal.fill("30, 3")
+    add.click()
+    expect(message(page)).to_have_text(
+        "goal (30.00, 3.00) is off the map (0 to 12, 0 to 8): not placed")
+    assert len(robots(page)) == 2
+    page.goto(f"{url}/#/maps")
+    page.get_by_role("button", name="New map").click()
+    wall = page.get_by_label("Wall x1, y1, x2, y2 (m)")
+    wall.fill("1.05, 2, 7.3, 2")
+    page.get_by_role("button", name="Add wall").click()
+    wall.fill("1, 2, 3")
+    page.get_by_role("button", name="Add wall").click()
+    expect(message(page)).to_have_text("typed wall: expected x1, y1, x2, y2 (four numbers)")
+    assert page.evaluate("window.workbench.maps.segments") == [[1.05, 2, 7.3, 2]]

@@ -9,6 +9,16 @@ export function say(text, isError = false) {
   line.classList.toggle("error", isError);
 }
 
+// Numbers typed as "a, b, c": the list when it holds one of the counts allowed, each a plain
+// decimal number, else undefined ("abc", "14 0" and "1, 2, 3" for two are refused).
+export function parseNumbers(text, ...counts) {
+  const parts = text.split(",").map((p) => p.trim());
+  const numbers = parts.map((p) => (/^[-+]?(\d+\.?\d*|\.\d+)(e[-+]?\d+)?$/i.test(p)
+    ? Number(p) : NaN));
+  if (!counts.includes(numbers.length) || !numbers.every(Number.isFinite)) return undefined;
+  return numbers;
+}
+
 // The error the message line shows, or "" when it shows none.
 export function shownError() {
   const line = document.getElementById("message");

@@ -1,5 +1,7 @@
 // The Maps page: list/open/create maps, draw and edit walls, import, save.
-import { api, clearError, element, fileList, guarded, mayDiscard, saveFile, say } from "./api.js";
+import {
+  api, clearError, element, fileList, guarded, mayDiscard, parseNumbers, saveFile, say,
+} from "./api.js";
 import { WorldView } from "./view.js";
 
 const TOOLS = ["Select", "Segment", "Polyline", "Rectangle"];
@@ -47,6 +49,8 @@ export class MapEditor {
       "aria-label": "SVG scale (m/unit)" });
     this.originInput = element("input", { type: "text", value: "0, 0",
       "aria-label": "Origin x, y (m)" });
+    this.typedWall = element("input", { type: "text", placeholder: "x1, y1, x2, y2",
+      "aria-label": "Wall x1, y1, x2, y2 (m)" });
     this.info = element("span", { "aria-label": "Wall count" });
     this.coords = element("span", {});
     const side = element("div", { class: "side" },
@@ -65,6 +69,8 @@ export class MapEditor {
         element("label", {}, "grid ", this.gridInput, " m")),
       element("p", { class: "hint" }, "Click to place points; a polyline ends with a "
         + "double-click or Enter; Esc cancels. Wheel zooms, right-drag pans."),
+      element("label", {}, "typed wall ", this.typedWall),
+      element("button", { type: "button", onclick: () => this.addTyped() }, "Add wall"),
       element("h2", {}, "Import"), this.importFile,
       element("p", { class: "hint" }, "A ROS map_server YAML is read from the workspace's "
         + "maps/ folder, beside the image it names."),
@@ -195,6 +201,17 @@ export class MapEditor {
     this.remember();
     this.segments.push(...fresh);
     this.showInfo();
+  }
+
+  // A wall from typed numbers, as exact as typed (no snapping).
+  addTyped() {
+    const wall = parseNumbers(this.typedWall.value, 4);
+    if (!wall) { say("typed wall: expected x1, y1, x2, y2 (four numbers)", true); return; }
+    if (wall[0] === wall[2] && wall[1] === wall[3]) {
+      say("typed wall: its two ends are the same point", true);
+      return;
+    }
+    this.addSegments([wall]);
   }
 
   deleteSelected() {

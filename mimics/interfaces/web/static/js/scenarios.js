@@ -1,7 +1,8 @@
 // The Scenarios page: pick a map, place robots (one, line, grid, random), drag starts and
 // goals, choose the robot type and sensors, time limit, save, run.
 import {
-  api, clearError, element, fileList, guarded, mayDiscard, saveFile, say, shownError, waitJob,
+  api, clearError, element, fileList, guarded, mayDiscard, parseNumbers, saveFile, say,
+  shownError, waitJob,
 } from "./api.js";
 import { WorldView, drawRobots } from "./view.js";
 
@@ -65,6 +66,10 @@ export class ScenarioEditor {
       role: "alert" });
     this.snapInput = element("input", { type: "checkbox", checked: true,
       "aria-label": "Snap to grid" });
+    this.typedStart = element("input", { type: "text", placeholder: "x, y or x, y, yaw",
+      "aria-label": "Start x, y[, yaw] (m, rad)" });
+    this.typedGoal = element("input", { type: "text", placeholder: "gx, gy (empty: no goal)",
+      "aria-label": "Goal gx, gy (m)" });
     this.gridInput = element("input", { type: "number", value: "0.5", step: "0.1", min: "0.01",
       "aria-label": "Grid (m)", onchange: () => this.view.invalidate() });
     this.timeInput = number("Time limit (s)", "60", "1");
@@ -95,6 +100,9 @@ export class ScenarioEditor {
       element("label", {}, "goal offset dx, dy (m) ", this.offsetInput), this.offsetProblem,
       element("div", { class: "row" }, element("label", {}, this.snapInput, " snap"),
         element("label", {}, "grid ", this.gridInput, " m")),
+      element("label", {}, "typed start ", this.typedStart),
+      element("label", {}, "typed goal ", this.typedGoal),
+      element("button", { type: "button", onclick: () => this.addTyped() }, "Add robot"),
       element("button", { type: "button", onclick: () => this.clearRobots() }, "Remove all"),
       element("h2", {}, "Settings"),
       element("label", {}, "time limit (s) ", this.timeInput),
@@ -228,10 +236,8 @@ export class ScenarioEditor {
   // The goal offset: [dx, dy], null for "no goals" (0, 0), or undefined when the text is not
   // two numbers "dx, dy" (then the field says so and nothing is placed).
   offset() {
-    const parts = this.offsetInput.value.split(",").map((p) => p.trim());
-    const numbers = parts.map((p) => (/^[-+]?(\d+\.?\d*|\.\d+)(e[-+]?\d+)?$/i.test(p)
-      ? Number(p) : NaN));
-    if (numbers.length !== 2 || !numbers.every(Number.isFinite)) return undefined;
+    const numbers = parseNumbers(this.offsetInput.value, 2);
+    if (!numbers) return undefined;
     const [dx, dy] = numbers;
     return dx || dy ? [dx, dy] : null;
   }
@@ -395,6 +401,26 @@ export class ScenarioEditor {
     };
     window.addEventListener("pointermove", move);
     window.addEventListener("pointerup", up);
+  }
+
+  // A robot at a typed start (and goal), as exact as typed: no snapping.
+  addTyped() {
+    if (!this.map) { say("choose a map first", true); return; }
+    const start = parseNumbers(this.typedStart.value, 2, 3);
+    if (!start) { say("typed start: expected x, y or x, y, yaw (numbers)", true); return; }
+    const goalText = this.typedGoal.value.trim();
+    const goal = goalText ? parseNumbers(goalText, 2) : null;
+    if (goal === undefined) {
+      say("typed goal: expected gx, gy (numbers), or nothing", true);
+      return;
+    }
+    const type = this.currentType();
+    const problem = goal ? this.goalProblem(goal[0], goal[1], type) : "";
+    if (problem) { say(problem, true); return; }
+    const [x, y, yaw] = start;
+    this.robots.push({ type, x, y, goal,
+      yaw: yaw ?? (goal ? Math.atan2(goal[1] - y, goal[0] - x) : 0) });
+    this.changed();
   }
 
   clearRobots() { this.robots = []; this.changed(); }
