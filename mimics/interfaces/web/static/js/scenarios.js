@@ -4,7 +4,10 @@ import {
   api, clearError, element, fileList, guarded, mayDiscard, parseNumbers, saveFile, say,
   shownError, waitJob,
 } from "./api.js";
-import { WorldView, drawRobots } from "./view.js";
+import {
+  dragRobot, faultOf, paintScenario, placeAt, robotAt,
+} from "./scenario_canvas.js";
+import { WorldView } from "./view.js";
 
 const TOOLS = ["One", "Line", "Grid", "Random", "Move", "Remove"];
 const HINTS = {
@@ -15,17 +18,6 @@ const HINTS = {
   Move: "Drag a robot's start or its goal.",
   Remove: "Click a robot to remove it.",
 };
-
-// The robots and walls a refused save names ("robot 2 at ... and robot 3 ...", "touches
-// wall 3 (0, 6)-(0, 0)"), to draw them in red.
-export function faultOf(message, robotCount) {
-  const robots = [...message.matchAll(/\brobot (\d+)/g)].map((m) => Number(m[1]))
-    .filter((i) => i < robotCount);
-  const number = "(-?[\\d.]+(?:e-?\\d+)?)";
-  const wall = new RegExp(`wall \\d+ \\(${number}, ${number}\\)-\\(${number}, ${number}\\)`, "g");
-  const walls = [...message.matchAll(wall)].map((m) => m.slice(1, 5).map(Number));
-  return { robots: [...new Set(robots)], walls };
-}
 
 export class ScenarioEditor {
   constructor(root) {
@@ -303,65 +295,9 @@ export class ScenarioEditor {
     this.changed();
   }
 
-  robotAt(x, y) {
-    let best = -1;
-    let bestDistance = Infinity;
-    this.robots.forEach((r, k) => {
-      const d = Math.hypot(r.x - x, r.y - y);
-      if (d < bestDistance) { bestDistance = d; best = k; }
-    });
-    return bestDistance * this.view.scale < 12 ? best : -1;
-  }
+  robotAt(x, y) { return robotAt(this, x, y); }
 
-  async pointerDown(event) {
-    if (event.button !== 0 || event.shiftKey) return;
-    if (!this.map) { say("choose a map first", true); return; }
-    const [x, y] = this.view.eventWorld(event);
-    if (this.tool === "Move") { this.drag(event, x, y); return; }
-    if (this.tool !== "Remove" && this.tool !== "One" && !this.checkOffset()) {
-      say("goal offset: not two numbers", true);
-      return;
-    }
-    if (this.tool === "Remove") {
-      const k = this.robotAt(x, y);
-      if (k >= 0) { this.robots.splice(k, 1); this.changed(); }
-      return;
-    }
-    this.points.push(this.snap([x, y]));
-    if (this.tool === "One" && this.points.length === 2) {
-      const [[sx, sy], [gx, gy]] = this.points;
-      const problem = this.goalProblem(gx, gy, this.currentType());
-      if (problem) { this.points.pop(); say(problem, true); this.view.redraw(); return; }
-      this.robots.push({ type: this.currentType(), x: sx, y: sy,
-        yaw: Math.atan2(gy - sy, gx - sx), goal: [gx, gy] });
-      this.points = [];
-      this.changed();
-    } else if (this.points.length === 2) {
-      const [[x1, y1], [x2, y2]] = this.points;
-      this.points = [];
-      if (this.tool === "Line") {
-        const n = Math.max(1, Math.round(Number(this.countInput.value)));
-        this.add(Array.from({ length: n }, (_, k) => {
-          const t = n === 1 ? 0 : k / (n - 1);
-          return [x1 + t * (x2 - x1), y1 + t * (y2 - y1)];
-        }));
-      } else if (this.tool === "Grid") {
-        const rows = Math.max(1, Math.round(Number(this.rowsInput.value)));
-        const columns = Math.max(1, Math.round(Number(this.columnsInput.value)));
-        const starts = [];
-        for (let r = 0; r < rows; r++) {
-          for (let c = 0; c < columns; c++) {
-            starts.push([x1 + (columns === 1 ? 0 : (c / (columns - 1)) * (x2 - x1)),
-              y1 + (rows === 1 ? 0 : (r / (rows - 1)) * (y2 - y1))]);
-          }
-        }
-        this.add(starts);
-      } else if (this.tool === "Random") {
-        await this.random([Math.min(x1, x2), Math.min(y1, y2), Math.max(x1, x2), Math.max(y1, y2)]);
-      }
-    }
-    this.view.redraw();
-  }
+  pointerDown(event) { return placeAt(this, event); }
 
   async random(region) {
     const type = this.currentType();
@@ -373,35 +309,7 @@ export class ScenarioEditor {
     if (data) this.add(data.poses);
   }
 
-  drag(event, x, y) {
-    let target = null;
-    let bestDistance = 12 / this.view.scale;
-    this.robots.forEach((r, k) => {
-      const ds = Math.hypot(r.x - x, r.y - y);
-      if (ds < bestDistance) { bestDistance = ds; target = [k, "start"]; }
-      if (r.goal) {
-        const dg = Math.hypot(r.goal[0] - x, r.goal[1] - y);
-        if (dg < bestDistance) { bestDistance = dg; target = [k, "goal"]; }
-      }
-    });
-    if (!target) return;
-    const robot = this.robots[target[0]];
-    const before = robot.goal ? robot.goal.slice() : null;
-    const move = (e) => {
-      const [wx, wy] = this.snap(this.view.eventWorld(e));
-      if (target[1] === "start") { robot.x = wx; robot.y = wy; } else robot.goal = [wx, wy];
-      this.dirty = true;
-      this.view.redraw();
-    };
-    const up = () => {
-      window.removeEventListener("pointermove", move);
-      window.removeEventListener("pointerup", up);
-      const problem = target[1] === "goal" ? this.goalProblem(...robot.goal, robot.type) : "";
-      if (problem) { robot.goal = before; say(problem, true); this.view.redraw(); }
-    };
-    window.addEventListener("pointermove", move);
-    window.addEventListener("pointerup", up);
-  }
+  drag(event, x, y) { dragRobot(this, event, x, y); }
 
   // A robot at a typed start (and goal), as exact as typed: no snapping.
   addTyped() {
@@ -432,47 +340,7 @@ export class ScenarioEditor {
     this.showInfo();
   }
 
-  paint(c, view) {
-    if (!this.map) return;
-    const n = this.robots.length;
-    c.strokeStyle = "#9aa4b1";
-    c.lineWidth = 1;
-    c.beginPath();
-    for (const r of this.robots) {
-      if (!r.goal) continue;
-      const [ax, ay] = view.toScreen(r.x, r.y);
-      const [bx, by] = view.toScreen(r.goal[0], r.goal[1]);
-      c.moveTo(ax, ay);
-      c.lineTo(bx, by);
-      c.moveTo(bx + 4, by);
-      c.arc(bx, by, 4, 0, 2 * Math.PI);
-    }
-    c.stroke();
-    const poses = new Float32Array(3 * n);
-    const halfLength = new Float32Array(n);
-    const halfWidth = new Float32Array(n);
-    this.robots.forEach((r, k) => {
-      poses.set([r.x, r.y, r.yaw], 3 * k);
-      [halfLength[k], halfWidth[k]] = this.sizeOf(r.type);
-    });
-    const faulty = new Set(this.fault.robots);
-    drawRobots(c, view, poses, halfLength, halfWidth,
-      (i) => (faulty.has(i) ? "#c62828" : "#1f77b4"), n);
-    if (this.fault.walls.length) view.drawSegments(this.fault.walls, "#c62828", 4);
-    c.strokeStyle = "#c62828";
-    c.lineWidth = 2;
-    for (const i of faulty) {  // a ring, so that a small robot at fault is seen too
-      const [px, py] = view.toScreen(this.robots[i].x, this.robots[i].y);
-      c.beginPath();
-      c.arc(px, py, Math.max(10, halfLength[i] * view.scale * 1.8), 0, 2 * Math.PI);
-      c.stroke();
-    }
-    if (this.points.length) {
-      const [px, py] = view.toScreen(...this.points[0]);
-      c.fillStyle = "#d62728";
-      c.fillRect(px - 3, py - 3, 6, 6);
-    }
-  }
+  paint(c, view) { paintScenario(this, c, view); }
 
   showInfo() {
     this.info.textContent = `${this.robots.length} robots on ${this.mapRef || "no map"}`;
