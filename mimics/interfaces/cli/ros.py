@@ -27,8 +27,8 @@ def ros_command(
              "Realtime: wall-clock pace, the last command received.")] = True,
     time: Annotated[float | None, typer.Option(help="Simulated seconds to run.")] = None,
     seed: Annotated[int, typer.Option(help="Seed of every random draw.")] = 0,
-    out: Annotated[Path | None, typer.Option(help="Run folder [default: runs/SCENARIO-ros-sSEED]"
-                                             )] = None,
+    out: Annotated[Path | None, typer.Option(
+        help="Run folder [default: runs/SCENARIO-ros-sSEED, or -2, -3... when taken]")] = None,
     timeout: Annotated[float, typer.Option(
         help="Seconds to wait for the controller nodes to connect and, in lockstep, for "
              "all of each step's commands (one deadline per step).")] = 10.0,
@@ -96,10 +96,12 @@ def ros_command(
         raise fail(str(exc)) from None
     from mimics.interfaces.cli.first_run import kernels_compiled_ahead
     from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
+    from mimics.records.naming import new_run_folder
 
     live = make_live_view(view)
-    folder = out or Path("runs") / f"{Path(scenario).stem}-ros-s{seed}"
     try:
+        # the default name, never one taken (-2, -3...): a run never replaces another
+        folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed)
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
                                 map_resolution=map_resolution, watchdog=watchdog)
         with kernels_compiled_ahead():

@@ -32,8 +32,8 @@ def run(
     = None,
     time: Annotated[float | None, typer.Option(help="Simulated seconds to run.")] = None,
     seed: Annotated[int, typer.Option(help="Seed of every random draw.")] = 0,
-    out: Annotated[Path | None, typer.Option(help="Run folder [default: runs/SCENARIO-ALGO-sSEED]"
-                                             )] = None,
+    out: Annotated[Path | None, typer.Option(
+        help="Run folder [default: runs/SCENARIO-ALGO-sSEED, or -2, -3... when taken]")] = None,
     policy: Annotated[str, typer.Option(help="On user exceptions: abort or deactivate.")]
     = "abort",
     param: Annotated[list[str] | None, typer.Option(help="Scenario parameter NAME=VALUE "
@@ -68,6 +68,7 @@ def run(
             out=out, policy=policy, param=param, wall_limit=wall_limit, robot_logs=robot_logs,
             view=view, video=video, record_scans=record_scans, allow_overlap=allow_overlap,
             ros_timeout=ros_timeout)))
+    from mimics.records.naming import new_run_folder
     from mimics.records.runner import prepare, run_to_folder
 
     if policy not in ("abort", "deactivate"):
@@ -119,7 +120,13 @@ def run(
             if kept:
                 note(f"mimics: kept on purpose (--allow-overlap): {len(kept)} start "
                      f"problem(s), first: {kept[0]}")
-        folder = out or Path("runs") / f"{sim.scenario.name}-{sim.controller.name}-s{seed}"
+        if out is not None:  # the folder the user named: an earlier run in it is replaced
+            folder = out
+        else:  # the default name, never one taken: -2, -3... ("records in" says which)
+            try:
+                folder = new_run_folder("runs", sim.scenario.name, sim.controller.name, seed)
+            except MimicsError as exc:
+                raise fail(str(exc)) from None
         result = run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans)
     print_summary(result.summary(), folder)
     if video is not None:

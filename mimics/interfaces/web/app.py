@@ -2,7 +2,7 @@
 
 >>> import tempfile
 >>> app = create_app(tempfile.mkdtemp())
->>> sorted(r.path for r in app.routes if r.path.startswith("/api/maps"))[:2]
+>>> sorted(p for p in app.openapi()["paths"] if p.startswith("/api/maps"))[:2]
 ['/api/maps', '/api/maps/file']
 """
 
@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from fastapi import FastAPI, HTTPException, Request
+from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse, JSONResponse
 from fastapi.staticfiles import StaticFiles
 
@@ -23,6 +24,7 @@ from mimics.interfaces.web.security import (
     guard_middleware,
     served_hosts,
 )
+from mimics.interfaces.web.wording import paths_for_page, validation_for_page
 from mimics.world.errors import MimicsError
 
 STATIC = Path(__file__).parent / "static"
@@ -58,7 +60,13 @@ def create_app(workspace: str | Path, *, allow_uploads: bool = False, host: str 
 
     @app.exception_handler(MimicsError)
     async def bad_input(request: Request, exc: MimicsError) -> JSONResponse:
-        return JSONResponse({"detail": str(exc)}, status_code=422)
+        return JSONResponse({"detail": paths_for_page(str(exc), app.state.workspace.root)},
+                            status_code=422)
+
+    @app.exception_handler(RequestValidationError)
+    async def bad_request(request: Request, exc: RequestValidationError) -> JSONResponse:
+        # one sentence for the page, not pydantic's list ("List should have at least...")
+        return JSONResponse({"detail": validation_for_page(exc.errors())}, status_code=422)
 
     for module in (maps, scenarios, algorithms, batteries, runs):
         app.include_router(module.router)

@@ -12,6 +12,7 @@ the page and after a restart of the server, when the battery can be resumed.
 from __future__ import annotations
 
 import json
+import os
 import re
 import tempfile
 from pathlib import Path
@@ -63,13 +64,26 @@ class FolderBody(BaseModel):
 
 
 def _scenario_ref(workspace: Workspace, name: str) -> str:
+    """A built-in name, or the scenario file's path relative to ``batteries/`` (where the
+    battery file is written, and what ``mimics battery run`` resolves it against): the
+    file holds no absolute path, so the workspace can be moved or shared."""
     if name in [n for n, _ in list_scenarios()]:
         return name
     real = workspace.resolve(name, must_exist=True)
     if workspace.folder("scenarios") not in real.parents or real.suffix != ".toml":
         raise HTTPException(400, f"scenario {name!r}: expected a built-in or a .toml file "
                                  "under scenarios/")
-    return str(real)
+    return _from_batteries(workspace, real)
+
+
+def _from_batteries(workspace: Workspace, real: Path) -> str:
+    return os.path.relpath(real, workspace.folder("batteries")).replace(os.sep, "/")
+
+
+def _algorithm_entry(workspace: Workspace, name: str) -> str:
+    """A built-in name, or the algorithm file's path relative to ``batteries/``."""
+    ref = algorithm_ref(workspace, name)
+    return ref if not ref.endswith(".py") else _from_batteries(workspace, Path(ref))
 
 
 def battery_folder(workspace: Workspace, path: str) -> Path:
@@ -102,7 +116,8 @@ def create(request: Request, body: BatteryBody) -> dict[str, Any]:
     if body.policy not in POLICIES:
         raise HTTPException(400, f"policy {body.policy!r}: expected {' or '.join(POLICIES)}")
     table: dict[str, Any] = {"name": body.name,
-                             "algorithms": [algorithm_ref(workspace, a) for a in body.algorithms],
+                             "algorithms": [_algorithm_entry(workspace, a)
+                                            for a in body.algorithms],
                              "timeout": body.timeout, "policy": body.policy}
     if body.until is not None:
         table["until"] = body.until
@@ -115,7 +130,8 @@ def create(request: Request, body: BatteryBody) -> dict[str, Any]:
         raise HTTPException(400, "scenario parameters: 'name' is not a parameter")
     data = {"battery": table, "scenarios": scenarios}
     source = workspace.folder("batteries") / f"{body.name}.toml"
-    spec = spec_from_dict(data, workspace.root, str(source) if not body.dry_run else "")
+    spec = spec_from_dict(data, workspace.folder("batteries"),
+                          str(source) if not body.dry_run else "")
     runs = len(spec.runs())
     if body.dry_run:  # under a stopping rule: the first round, and at most
         return {"runs": runs} if spec.until is None else {

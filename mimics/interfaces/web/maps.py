@@ -15,6 +15,8 @@ from typing import Any
 from fastapi import APIRouter, HTTPException, Request
 from pydantic import BaseModel, Field
 
+from mimics.interfaces.web.wording import upload_for_page
+from mimics.world.errors import MimicsError
 from mimics.world.map_files import (
     BUILTIN_MAPS,
     IMAGE_SUFFIXES,
@@ -42,6 +44,14 @@ class MapBody(BaseModel):
     name: str = "map"
     bounds: list[float] = Field(min_length=4, max_length=4)
     segments: list[list[float]] = Field(default_factory=list, max_length=200_000)
+    # False: an existing file is kept and the answer is 409 (the page asks, then sends True)
+    overwrite: bool = True
+
+
+def refuse_overwrite(real: Path, path: str, overwrite: bool) -> None:
+    """409 when ``real`` exists and the request did not say to replace it."""
+    if not overwrite and real.exists():
+        raise HTTPException(409, f"{path} exists already: replace it?")
 
 
 def map_json(the_map: Map, path: str) -> dict[str, Any]:
@@ -114,6 +124,7 @@ def put_map(request: Request, body: MapBody) -> dict[str, Any]:
         raise HTTPException(400, f"{body.path}: save a map as {', '.join(SAVE_SUFFIXES)}")
     the_map = map_from_dict({"name": body.name, "bounds": body.bounds,
                              "segments": body.segments}, body.path, body.name)
+    refuse_overwrite(real, body.path, body.overwrite)
     real.parent.mkdir(parents=True, exist_ok=True)
     save_map(the_map, real)
     return map_json(load_map(real), workspace.relative(real))
@@ -141,7 +152,10 @@ async def import_map(request: Request, filename: str, options: str = "{}") -> di
     with tempfile.TemporaryDirectory(prefix="mimics-import-") as folder:
         path = Path(folder) / PurePosixPath(filename).name
         path.write_bytes(data)
-        the_map = load_map(path, **parsed)
+        try:
+            the_map = load_map(path, **parsed)
+        except MimicsError as exc:  # named as uploaded, not by the server's temporary path
+            raise HTTPException(422, upload_for_page(str(exc), folder, path.name)) from None
     return map_json(the_map, "")
 
 

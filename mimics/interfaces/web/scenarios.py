@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import os
-import re
 import tomllib
 from dataclasses import asdict, fields
 from typing import Any
@@ -23,8 +22,10 @@ from pydantic import BaseModel, Field
 from mimics.catalog import list_scenarios
 from mimics.interfaces.web.algorithms import algorithm_ref
 from mimics.interfaces.web.jobs import Job
-from mimics.interfaces.web.maps import map_json, open_map
+from mimics.interfaces.web.maps import map_json, open_map, refuse_overwrite
 from mimics.interfaces.web.security import Workspace
+from mimics.interfaces.web.wording import paths_for_page, scenario_for_page
+from mimics.world.errors import MimicsError
 from mimics.world.map_files import BUILTIN_MAPS
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES
 from mimics.world.scenario import Settings
@@ -35,7 +36,6 @@ from mimics.world.scenario_files import (
 )
 
 router = APIRouter(prefix="/api/scenarios", tags=["scenarios"])
-_SAFE = re.compile(r"[^A-Za-z0-9._=+-]+")
 
 
 class RobotBody(BaseModel):
@@ -57,6 +57,8 @@ class ScenarioBody(BaseModel):
     robots: list[RobotBody] = Field(min_length=1, max_length=100_000)
     types: dict[str, dict[str, Any]] = Field(default_factory=dict)
     settings: dict[str, float | bool] = Field(default_factory=dict)
+    # False: an existing file is kept and the answer is 409 (the page asks, then sends True)
+    overwrite: bool = True
 
 
 class PlaceBody(BaseModel):
@@ -160,7 +162,12 @@ def put_scenario(request: Request, body: ScenarioBody) -> dict[str, Any]:
     """Check and save the scenario as the TOML file the CLI runs."""
     workspace: Workspace = request.app.state.workspace
     real, text = scenario_text(workspace, body)
-    scenario = scenario_from_toml_text(text, real)  # the CLI's own checks, before writing
+    try:  # the CLI's own checks, before writing; their message in the page's words
+        scenario = scenario_from_toml_text(text, real)
+    except MimicsError as exc:
+        raise HTTPException(422, scenario_for_page(paths_for_page(str(exc), workspace.root),
+                                                   body.types)) from None
+    refuse_overwrite(real, body.path, body.overwrite)
     real.parent.mkdir(parents=True, exist_ok=True)
     real.write_text(text, encoding="utf-8")
     return {"path": workspace.relative(real), "robots": scenario.robot_count}
@@ -183,12 +190,14 @@ def place(request: Request, body: PlaceBody) -> dict[str, Any]:
 
 def run_scenario(workspace: Workspace, job: Job, scenario: str, algorithm: str, seed: int,
                  time: float | None, wall_limit: float | None = None) -> dict[str, Any]:
-    """Run once and record into ``runs/NAME-ALGORITHM-sSEED`` (reported to ``job``)."""
+    """Run once and record into ``runs/NAME-ALGORITHM-sSEED`` (reported to ``job``), or
+    ``-2``, ``-3``... when that folder is taken: a run never replaces another."""
+    from mimics.records.naming import new_run_folder
     from mimics.records.runner import prepare, run_to_folder
 
     sim = prepare(scenario, algorithm, seed=seed, time=time, wall_limit=wall_limit)
-    name = _SAFE.sub("_", f"{sim.scenario.name}-{sim.controller.name}-s{seed}")
-    folder = workspace.folder("runs") / name
+    folder = new_run_folder(workspace.folder("runs"), sim.scenario.name, sim.controller.name,
+                            seed)
     limit = sim.scenario.settings.time_limit if time is None else time
     total = max(1, round(limit / sim.scenario.settings.dt))
 

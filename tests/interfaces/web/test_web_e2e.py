@@ -1,97 +1,25 @@
 """The workbench in a real headless Chromium (Debian's package, driven by Playwright).
 
-The server runs in a thread of the test process (uvicorn on a free port). Every
-test fails on a console error of the page, and saves a screenshot of its page
-under pytest's temporary folder (the path is printed).
+The fixtures (conftest.py, browser.py): the server runs in a thread of the test process
+(uvicorn on a free port). Every test fails on a console error of the page, and saves a
+screenshot of its page under pytest's temporary folder (the path is printed).
 """
 
 from __future__ import annotations
 
 import re
-import shutil
-import socket
-import threading
-import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import imageio.v3 as imageio
 import numpy as np
 import pytest
-import uvicorn
 from playwright import sync_api as playwright_api
 
 from mimics.interfaces.cli import main
-from mimics.interfaces.web.app import create_app
 from mimics.records.run_folder import load_run
 from mimics.world.map_files import load_map
-from tests.system_packages import require
-
-
-@pytest.fixture(scope="module")
-def site(tmp_path_factory: pytest.TempPathFactory, recorded_run: Path
-         ) -> Iterator[tuple[str, Path]]:
-    """The workbench serving a fresh workspace (with a recorded run): its URL and folder."""
-    root = tmp_path_factory.mktemp("e2e") / "ws"
-    (root / "runs").mkdir(parents=True)
-    shutil.copytree(recorded_run, root / "runs" / recorded_run.name)
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
-    server = uvicorn.Server(uvicorn.Config(create_app(root, port=port), host="127.0.0.1",
-                                           port=port, log_level="warning"))
-    thread = threading.Thread(target=server.run, daemon=True)
-    thread.start()
-    while not server.started:
-        time.sleep(0.02)
-    yield f"http://127.0.0.1:{port}", root
-    server.should_exit = True
-    thread.join(10)
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    require("chromium")
-    with playwright_api.sync_playwright() as driver:
-        launched = driver.chromium.launch(executable_path=shutil.which("chromium"),
-                                          args=["--no-sandbox"])
-        yield launched
-        launched.close()
-
-
-@pytest.fixture
-def page(browser: Any, site: tuple[str, Path], tmp_path_factory: pytest.TempPathFactory,
-         request: pytest.FixtureRequest) -> Iterator[Any]:
-    """A fresh page; after the test: no console errors, and a screenshot kept."""
-    tab = browser.new_page(viewport={"width": 1280, "height": 800})
-    errors: list[str] = []
-    tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    tab.on("pageerror", lambda e: errors.append(str(e)))
-    yield tab
-    screenshot(tab, tmp_path_factory, request.node.name)
-    tab.close()
-    assert errors == [], errors
-
-
-def screenshot(page: Any, tmp_path_factory: pytest.TempPathFactory, name: str) -> Path:
-    """Save the page as ``screenshots/NAME.png`` under pytest's temporary folder."""
-    shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{name}.png"
-    shot.parent.mkdir(exist_ok=True)
-    page.screenshot(path=str(shot))
-    print(f"screenshot: {shot}")
-    return shot
-
-
-def click_world(page: Any, editor: str, x: float, y: float) -> None:
-    """Click the canvas of ``editor`` (maps, scenarios) at world point (x, y) in metres."""
-    px, py = page.evaluate(f"window.workbench.{editor}.view.toScreen({x}, {y})")
-    box = page.get_by_label(f"{editor[:-1].capitalize()} canvas").bounding_box()
-    page.mouse.click(box["x"] + px, box["y"] + py)
-
-
-def message(page: Any) -> Any:
-    return page.get_by_role("status")
+from tests.interfaces.web.browser import click_world, message, screenshot
 
 
 def test_every_page_opens_from_the_navigation(page: Any, site: tuple[str, Path]) -> None:
@@ -167,9 +95,12 @@ def test_rectangle_undo_redo_move_a_vertex_delete_and_import(
         "occupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n")
     expected = len(load_map(root / "maps" / "floor.yaml").segments)
     page.get_by_label("File to import").set_input_files(str(root / "maps" / "floor.yaml"))
+    questions: list[str] = []  # the imported drawing is not saved: the page asks first
+    page.once("dialog", lambda d: (questions.append(d.message), d.accept()))
     page.get_by_role("button", name="Import", exact=True).click()
     playwright_api.expect(message(page)).to_have_text(
         f"imported floor.yaml: {expected} walls (not saved yet)", timeout=30_000)
+    assert questions == ["Unsaved edits to this map will be lost. Continue?"]
 
 
 def test_place_a_line_of_robots_save_and_mimics_run_runs_it(

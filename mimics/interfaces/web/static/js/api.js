@@ -1,9 +1,34 @@
 // The JSON API and the message line, shared by the pages.
 
+// The message line shows one line (a long message ends in "..."; its whole text is the
+// tooltip), so that the header never wraps.
 export function say(text, isError = false) {
   const line = document.getElementById("message");
   line.textContent = text;
+  line.title = text;
   line.classList.toggle("error", isError);
+}
+
+// Numbers typed as "a, b, c": the list when it holds one of the counts allowed, each a plain
+// decimal number, else undefined ("abc", "14 0" and "1, 2, 3" for two are refused).
+export function parseNumbers(text, ...counts) {
+  const parts = text.split(",").map((p) => p.trim());
+  const numbers = parts.map((p) => (/^[-+]?(\d+\.?\d*|\.\d+)(e[-+]?\d+)?$/i.test(p)
+    ? Number(p) : NaN));
+  if (!counts.includes(numbers.length) || !numbers.every(Number.isFinite)) return undefined;
+  return numbers;
+}
+
+// The error the message line shows, or "" when it shows none.
+export function shownError() {
+  const line = document.getElementById("message");
+  return line.classList.contains("error") ? line.textContent : "";
+}
+
+// An error shown for an earlier action goes once the next action succeeds.
+export function clearError() {
+  const line = document.getElementById("message");
+  if (line.classList.contains("error")) say("");
 }
 
 async function send(method, url, body, raw = false) {
@@ -25,7 +50,9 @@ async function send(method, url, body, raw = false) {
           : data.detail.map((d) => `${(d.loc || []).slice(1).join(".")}: ${d.msg}`).join("; ");
       }
     } catch (_) { /* not JSON: keep the status line */ }
-    throw new Error(detail);
+    const error = new Error(detail);
+    error.status = response.status;
+    throw error;
   }
   return raw ? response.arrayBuffer() : response.json();
 }
@@ -41,11 +68,42 @@ export const api = {
 // Run an async action; show its error (one line) in the message line instead of throwing.
 export async function guarded(action) {
   try {
-    return await action();
+    const result = await action();
+    clearError();
+    return result;
   } catch (error) {
     say(error.message, true);
     return undefined;
   }
+}
+
+// Save a file with PUT: over the file this editor opened or last saved it is replaced at once;
+// over another existing file (in the page's list, else the server's 409) the user is asked.
+// Returns the server's answer, or undefined when not saved (the reason is in the message line).
+export async function saveFile(url, body, ownPath, knownFiles = []) {
+  const ask = () => {
+    if (window.confirm(`${body.path} exists already. Replace it?`)) return true;
+    say(`not saved: ${body.path} exists already (choose another file name)`, true);
+    return false;
+  };
+  const own = body.path === ownPath;
+  if (!own && knownFiles.includes(body.path)) {
+    if (!ask()) return undefined;
+    return guarded(() => api.put(url, { ...body, overwrite: true }));
+  }
+  try {
+    return await api.put(url, { ...body, overwrite: own });
+  } catch (error) {
+    if (error.status !== 409) { say(error.message, true); return undefined; }
+    if (!ask()) return undefined;
+    return guarded(() => api.put(url, { ...body, overwrite: true }));
+  }
+}
+
+// Before edits are replaced (opening another file, a new map): true when there are none
+// unsaved, or the user agrees to drop them.
+export function mayDiscard(editor, what) {
+  return !editor.dirty || window.confirm(`Unsaved edits to ${what} will be lost. Continue?`);
 }
 
 // Poll a background job until it ends; onProgress(job) after each poll.

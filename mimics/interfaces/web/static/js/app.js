@@ -28,4 +28,11 @@ function route() {
 
 window.workbench = instances; // for tests and the console: the page objects
 window.addEventListener("hashchange", route);
+// Closing or reloading the tab loses the editors' unsaved edits: the browser asks first.
+// (Moving between pages keeps every page's edits: nothing to ask there.)
+window.addEventListener("beforeunload", (event) => {
+  if (!Object.values(instances).some((page) => page.dirty)) return;
+  event.preventDefault();
+  event.returnValue = ""; // older browsers ask only when this is set
+});
 route();

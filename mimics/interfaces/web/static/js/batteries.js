@@ -104,9 +104,25 @@ export class BatteryPage {
         element("input", { type: "text", "aria-label": `Parameters of ${n}`,
           "data-scenario": n, onchange: () => this.count() }))));
     }
-    this.list.replaceChildren(...batteries.batteries.map((b) => element("li", {},
-      element("button", { type: "button", onclick: () => this.watch(b.path) },
-        `${b.path} (${b.total} runs${b.running ? ", running" : ""})`))));
+    this.showList(batteries.batteries);
+  }
+
+  async refreshList() {
+    const batteries = await guarded(() => api.get("/api/batteries"));
+    if (batteries) this.showList(batteries.batteries);
+  }
+
+  // Each battery with its state: running, stopped (runs left) or finished. The watched
+  // battery's poll refreshes the list when its state changes, so that no entry stays
+  // "running" after the battery stopped.
+  showList(batteries) {
+    this.listed = Object.fromEntries(batteries.map((b) => [b.path, b.running]));
+    this.list.replaceChildren(...batteries.map((b) => {
+      const left = (b.counts.pending || 0) + (b.counts.running || 0);
+      const state = b.running ? "running" : left ? "stopped" : "finished";
+      return element("li", {}, element("button", { type: "button",
+        onclick: () => this.watch(b.path) }, `${b.path} (${b.total} runs, ${state})`));
+    }));
   }
 
   body(dryRun) {
@@ -178,6 +194,7 @@ export class BatteryPage {
       return;
     }
     if (path !== this.current) return;
+    if (this.listed && !data.starting && this.listed[path] !== data.running) this.refreshList();
     const counts = Object.entries(data.counts).map(([k, v]) => `${v} ${k}`).join(", ");
     const rate = data.rate ? `, ${data.rate.toFixed(2)} runs/s` : "";
     const eta = data.running && data.eta ? `, ${Math.ceil(data.eta)} s left` : "";
@@ -221,6 +238,11 @@ export class BatteryPage {
       onclick: () => { if (r.folder) window.location.hash = `#/runs?path=${encodeURIComponent(r.folder)}`; },
     }, ...COLUMNS.map((c) => element("td", {}, c === "state" && r.misbehaving
       ? `⚠ ${r[c]}` : formatCell(r[c])))));
+    if (!body.length && this.rows.length) {  // the filter hides every run: say so
+      body.push(element("tr", {}, element("td", { colspan: String(COLUMNS.length),
+        class: "empty" }, `No run of the ${this.rows.length} matches the filter`
+        + `${this.onlyBad.checked ? " (only misbehaving runs)" : ""}.`)));
+    }
     this.table.replaceChildren(element("thead", {}, head), element("tbody", {}, ...body));
   }
 

@@ -1,5 +1,7 @@
 // The Maps page: list/open/create maps, draw and edit walls, import, save.
-import { api, element, fileList, guarded, say } from "./api.js";
+import {
+  api, clearError, element, fileList, guarded, mayDiscard, parseNumbers, saveFile, say,
+} from "./api.js";
 import { WorldView } from "./view.js";
 
 const TOOLS = ["Select", "Segment", "Polyline", "Rectangle"];
@@ -17,6 +19,8 @@ export class MapEditor {
     this.selected = -1;
     this.undoStack = [];
     this.redoStack = [];
+    this.dirty = false; // edits not saved yet (asked about before they are dropped)
+    this.ownPath = null; // the workspace file opened or last saved: saved over without asking
     this.build();
   }
 
@@ -45,6 +49,8 @@ export class MapEditor {
       "aria-label": "SVG scale (m/unit)" });
     this.originInput = element("input", { type: "text", value: "0, 0",
       "aria-label": "Origin x, y (m)" });
+    this.typedWall = element("input", { type: "text", placeholder: "x1, y1, x2, y2",
+      "aria-label": "Wall x1, y1, x2, y2 (m)" });
     this.info = element("span", { "aria-label": "Wall count" });
     this.coords = element("span", {});
     const side = element("div", { class: "side" },
@@ -63,6 +69,8 @@ export class MapEditor {
         element("label", {}, "grid ", this.gridInput, " m")),
       element("p", { class: "hint" }, "Click to place points; a polyline ends with a "
         + "double-click or Enter; Esc cancels. Wheel zooms, right-drag pans."),
+      element("label", {}, "typed wall ", this.typedWall),
+      element("button", { type: "button", onclick: () => this.addTyped() }, "Add wall"),
       element("h2", {}, "Import"), this.importFile,
       element("p", { class: "hint" }, "A ROS map_server YAML is read from the workspace's "
         + "maps/ folder, beside the image it names."),
@@ -93,14 +101,17 @@ export class MapEditor {
   async refresh() {
     const data = await guarded(() => api.get("/api/maps"));
     if (!data) return;
-    fileList(this.fileListNode, data.files.map((f) => f.path), (p) => this.open(p));
+    this.files = data.files.map((f) => f.path);
+    fileList(this.fileListNode, this.files, (p) => this.open(p));
     fileList(this.builtinNode, data.builtin, (p) => this.open(p));
   }
 
   async open(path) {
+    if (!mayDiscard(this, "this map")) return;
     const data = await guarded(() => api.get("/api/maps/file", { path }));
     if (!data) return;
     this.load(data);
+    this.ownPath = path.startsWith("maps/") ? path : null;
     const stem = path.startsWith("stage:") ? path.slice(6) : path.split("/").pop()
       .replace(/\.[^.]+$/, "");
     this.pathInput.value = path.startsWith("maps/") && /\.(txt|map|segments|toml|json)$/
@@ -119,16 +130,19 @@ export class MapEditor {
     this.selected = -1;
     this.points = [];
     this.view.fit(this.bounds);
+    this.dirty = false;
     this.showInfo();
   }
 
   newMap() {
+    if (!mayDiscard(this, "this map")) return;
     const bounds = this.boundInputs.map((input) => Number(input.value));
     if (!(bounds[0] < bounds[2] && bounds[1] < bounds[3])) {
       say("bounds: expected xmin < xmax and ymin < ymax", true);
       return;
     }
     this.load({ segments: [], bounds, name: "map" });
+    this.ownPath = null;
     this.pathInput.value = "maps/map.txt";
     say("new map: draw its walls");
   }
@@ -137,6 +151,7 @@ export class MapEditor {
     const bounds = this.boundInputs.map((input) => Number(input.value));
     if (bounds[0] < bounds[2] && bounds[1] < bounds[3]) {
       this.bounds = bounds;
+      this.dirty = true;
       this.view.bounds = bounds;
       this.view.invalidate();
     }
@@ -158,6 +173,8 @@ export class MapEditor {
   }
 
   remember() {
+    this.dirty = true;
+    clearError();
     this.undoStack.push(JSON.stringify(this.segments));
     if (this.undoStack.length > 200) this.undoStack.shift();
     this.redoStack = [];
@@ -184,6 +201,17 @@ export class MapEditor {
     this.remember();
     this.segments.push(...fresh);
     this.showInfo();
+  }
+
+  // A wall from typed numbers, as exact as typed (no snapping).
+  addTyped() {
+    const wall = parseNumbers(this.typedWall.value, 4);
+    if (!wall) { say("typed wall: expected x1, y1, x2, y2 (four numbers)", true); return; }
+    if (wall[0] === wall[2] && wall[1] === wall[3]) {
+      say("typed wall: its two ends are the same point", true);
+      return;
+    }
+    this.addSegments([wall]);
   }
 
   deleteSelected() {
@@ -322,6 +350,7 @@ export class MapEditor {
   async importMap() {
     const file = this.importFile.files[0];
     if (!file) { say("choose a file to import first", true); return; }
+    if (!mayDiscard(this, "this map")) return;
     const options = {};
     const lower = file.name.toLowerCase();
     if (/\.(png|pgm|bmp)$/.test(lower)) {
@@ -340,6 +369,8 @@ export class MapEditor {
         { filename: file.name, options: JSON.stringify(options) })));
     if (!data) return;
     this.load(data);
+    this.dirty = true; // imported, not saved
+    this.ownPath = null;
     this.pathInput.value = `maps/${file.name.replace(/\.[^.]+$/, "")}.txt`;
     say(`imported ${file.name}: ${data.walls} walls (not saved yet)`);
   }
@@ -347,8 +378,10 @@ export class MapEditor {
   async save() {
     const body = { path: this.pathInput.value.trim(), name: this.nameInput.value.trim() || "map",
       bounds: this.bounds, segments: this.segments };
-    const data = await guarded(() => api.put("/api/maps/file", body));
+    const data = await saveFile("/api/maps/file", body, this.ownPath, this.files);
     if (!data) return;
+    this.dirty = false;
+    this.ownPath = data.path;
     say(`saved ${data.path}: ${data.walls} walls`);
     this.refresh();
   }

@@ -1,6 +1,6 @@
 // The Runs page: replay a run folder (binary frames), play/pause/scrub, speed, colours by
 // state, trails, the selected robot's beams and log, events on the time bar, video export.
-import { api, element, fileList, guarded, say, waitJob } from "./api.js";
+import { api, element, guarded, say, waitJob } from "./api.js";
 import { WorldView, drawRobots } from "./view.js";
 
 const SPEEDS = [0.1, 0.25, 0.5, 1, 2, 5, 10, 25, 50, 100];
@@ -9,6 +9,10 @@ const STATE_NAMES = ["active", "reached_goal", "collided", "escaped", "deadlock"
 const EVENT_COLORS = { collision: "#d62728", deadlock: "#ff7f0e", livelock: "#9467bd",
   exception: "#e377c2", escaped: "#8c8c8c", reached_goal: "#2ca02c" };
 const TRAIL_FRAMES = 40;
+const GOAL_COLOR = "#7a7a7a"; // the exported video's colours (interfaces/render.py)
+const HEADING_COLOR = "#ffffff";
+const MAX_IDS = 200; // robot ids are written when at most this many robots...
+const ID_MIN_PX = 10; // ...and a robot is at least this many pixels long
 
 // Parse the body of /api/runs/frames (layout in runs.py): times, poses, states.
 export function parseFrames(buffer) {
@@ -19,6 +23,13 @@ export function parseFrames(buffer) {
   const poses = new Float32Array(buffer, 8 + 4 * frames, frames * robots * 3);
   const states = new Uint8Array(buffer, 8 + 4 * frames + 12 * frames * robots, frames * robots);
   return { frames, robots, times, poses, states };
+}
+
+// A run's state and robot count for the list: "finished, 3 robots", "not finished", "error".
+export function runState(run) {
+  if (run.error) return "unreadable";
+  const robots = run.robots === undefined || run.robots === null ? "" : `, ${run.robots} robots`;
+  return `${run.status || "not finished"}${robots}`;
 }
 
 export class RunPage {
@@ -54,10 +65,11 @@ export class RunPage {
       this.plotBox);
     this.canvas = element("canvas", { "aria-label": "Replay canvas" });
     // disabled until a run's frames are loaded, so a click never falls into the gap
+    // aria-pressed shows which of Play and Pause is in effect
     this.playButton = element("button", { type: "button", disabled: true,
-      onclick: () => this.play() }, "Play");
-    this.pauseButton = element("button", { type: "button", onclick: () => this.pause() },
-      "Pause");
+      "aria-pressed": "false", onclick: () => this.play() }, "Play");
+    this.pauseButton = element("button", { type: "button", "aria-pressed": "true",
+      onclick: () => this.pause() }, "Pause");
     this.scrub = element("input", { type: "range", min: "0", max: "0", value: "0", step: "1",
       "aria-label": "Time", oninput: () => this.seekFrame(Number(this.scrub.value)) });
     this.speed = element("select", { "aria-label": "Speed" },
@@ -79,13 +91,20 @@ export class RunPage {
         this.clock, element("label", {}, "speed ", this.speed),
         element("label", {}, this.trails, " trails"))));
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
-    this.view.drawStatic = (c, view) => { if (this.meta) view.drawSegments(this.meta.map.segments); };
+    this.view.drawStatic = (c, view) => {
+      if (!this.meta) return;
+      view.drawSegments(this.meta.map.segments);
+      this.paintGoals(c, view);
+    };
     this.canvas.addEventListener("pointerdown", (e) => this.pick(e));
   }
 
   async refresh() {
     const data = await guarded(() => api.get("/api/runs"));
-    if (data) fileList(this.list, data.runs.map((r) => r.path), (p) => this.open(p));
+    if (!data) return;
+    this.list.replaceChildren(...data.runs.map((run) => element("li", {},
+      element("button", { type: "button", onclick: () => this.open(run.path) },
+        run.path, " ", element("span", { class: "run-state" }, runState(run))))));
   }
 
   enter(params) {
@@ -133,23 +152,29 @@ export class RunPage {
     this.playButton.disabled = false;
   }
 
+  setPlaying(playing) {
+    this.playing = playing;
+    this.playButton.setAttribute("aria-pressed", String(playing));
+    this.pauseButton.setAttribute("aria-pressed", String(!playing));
+  }
+
   play() {
     if (!this.data || this.playing) return;
     if (this.frame >= this.data.frames - 1) this.seekFrame(0);
-    this.playing = true;
+    this.setPlaying(true);
     let last = performance.now();
     const tick = (now) => {
       if (!this.playing) return;
       const advance = ((now - last) / 1000) * Number(this.speed.value);
       last = now;
       this.seekTime(this.time + advance, false);
-      if (this.frame >= this.data.frames - 1) { this.playing = false; return; }
+      if (this.frame >= this.data.frames - 1) { this.setPlaying(false); return; }
       requestAnimationFrame(tick);
     };
     requestAnimationFrame(tick);
   }
 
-  pause() { this.playing = false; this.fetchBeams(); }
+  pause() { this.setPlaying(false); this.fetchBeams(); }
 
   seekTime(t, fetchBeams = true) {
     const { times, frames } = this.data;
@@ -240,6 +265,8 @@ export class RunPage {
     const stateBase = k * robots;
     drawRobots(c, view, frame, this.halfLength, this.halfWidth,
       (i) => this.colors[states[stateBase + i]] || "#000", robots);
+    this.paintHeadings(c, view, frame, robots);
+    this.paintIds(c, view, frame, robots);
     if (this.selected >= 0) {
       const [px, py] = view.toScreen(frame[3 * this.selected], frame[3 * this.selected + 1]);
       c.strokeStyle = "#111";
@@ -247,6 +274,53 @@ export class RunPage {
       c.beginPath();
       c.arc(px, py, Math.max(8, this.halfLength[this.selected] * view.scale * 1.6), 0, 2 * Math.PI);
       c.stroke();
+    }
+  }
+
+  // Goals as grey crosses, as in the exported video (part of the cached static layer).
+  paintGoals(c, view) {
+    const size = 4;
+    c.strokeStyle = GOAL_COLOR;
+    c.lineWidth = 1.5;
+    c.beginPath();
+    for (const goal of this.meta.goals) {
+      if (!goal) continue;
+      const [px, py] = view.toScreen(goal[0], goal[1]);
+      c.moveTo(px - size, py - size);
+      c.lineTo(px + size, py + size);
+      c.moveTo(px - size, py + size);
+      c.lineTo(px + size, py - size);
+    }
+    c.stroke();
+  }
+
+  // Each robot's heading: a white line from its centre to its front, as in the video.
+  paintHeadings(c, view, frame, robots) {
+    const { scale, offsetX, offsetY } = view;
+    c.strokeStyle = HEADING_COLOR;
+    c.lineWidth = Math.max(1, Math.min(2, this.halfWidth[0] * scale * 0.3));
+    c.beginPath();
+    for (let i = 0; i < robots; i++) {
+      const x = frame[3 * i];
+      const y = frame[3 * i + 1];
+      const t = frame[3 * i + 2];
+      const l = this.halfLength[i];
+      c.moveTo(offsetX + x * scale, offsetY - y * scale);
+      c.lineTo(offsetX + (x + l * Math.cos(t)) * scale, offsetY - (y + l * Math.sin(t)) * scale);
+    }
+    c.stroke();
+  }
+
+  // Robot ids (0-based, as in the logs and the inspector) beside the robots, when they fit.
+  paintIds(c, view, frame, robots) {
+    if (robots > MAX_IDS || 2 * Math.max(...this.halfLength) * view.scale < ID_MIN_PX) return;
+    c.fillStyle = "#111";
+    c.font = "11px system-ui, sans-serif";
+    c.textBaseline = "bottom";
+    for (let i = 0; i < robots; i++) {
+      const [px, py] = view.toScreen(frame[3 * i], frame[3 * i + 1]);
+      const r = Math.max(this.halfLength[i], this.halfWidth[i]) * view.scale;
+      c.fillText(String(i), px + r, py - r);
     }
   }
 

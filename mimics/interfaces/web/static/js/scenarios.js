@@ -1,7 +1,13 @@
 // The Scenarios page: pick a map, place robots (one, line, grid, random), drag starts and
 // goals, choose the robot type and sensors, time limit, save, run.
-import { api, element, fileList, guarded, say, waitJob } from "./api.js";
-import { WorldView, drawRobots } from "./view.js";
+import {
+  api, clearError, element, fileList, guarded, mayDiscard, parseNumbers, saveFile, say,
+  shownError, waitJob,
+} from "./api.js";
+import {
+  dragRobot, faultOf, paintScenario, placeAt, robotAt,
+} from "./scenario_canvas.js";
+import { WorldView } from "./view.js";
 
 const TOOLS = ["One", "Line", "Grid", "Random", "Move", "Remove"];
 const HINTS = {
@@ -23,6 +29,9 @@ export class ScenarioEditor {
     this.tool = "Line";
     this.points = [];
     this.robotTypes = {};
+    this.dirty = false; // edits not saved yet (asked about before they are dropped)
+    this.ownPath = null; // the file opened or last saved: saved over without asking
+    this.fault = { robots: [], walls: [] }; // what the last refused save named, drawn in red
     this.build();
   }
 
@@ -43,7 +52,18 @@ export class ScenarioEditor {
     this.columnsInput = number("Columns", "3");
     this.spacingInput = number("Min spacing (m)", "0.8", "0.1");
     this.offsetInput = element("input", { type: "text", value: "5, 0",
-      "aria-label": "Goal offset dx, dy (m)" });
+      "aria-label": "Goal offset dx, dy (m)", "aria-describedby": "offset-problem",
+      oninput: () => this.checkOffset() });
+    this.offsetProblem = element("span", { id: "offset-problem", class: "field-error",
+      role: "alert" });
+    this.snapInput = element("input", { type: "checkbox", checked: true,
+      "aria-label": "Snap to grid" });
+    this.typedStart = element("input", { type: "text", placeholder: "x, y or x, y, yaw",
+      "aria-label": "Start x, y[, yaw] (m, rad)" });
+    this.typedGoal = element("input", { type: "text", placeholder: "gx, gy (empty: no goal)",
+      "aria-label": "Goal gx, gy (m)" });
+    this.gridInput = element("input", { type: "number", value: "0.5", step: "0.1", min: "0.01",
+      "aria-label": "Grid (m)", onchange: () => this.view.invalidate() });
     this.timeInput = number("Time limit (s)", "60", "1");
     this.toleranceInput = number("Goal tolerance (m)", "0.2", "0.05");
     this.deadlockInput = number("Deadlock window (s)", "10", "1");
@@ -69,7 +89,12 @@ export class ScenarioEditor {
         element("label", {}, "spacing ", this.spacingInput)),
       element("div", { class: "row" }, element("label", {}, "rows ", this.rowsInput),
         element("label", {}, "columns ", this.columnsInput)),
-      element("label", {}, "goal offset dx, dy (m) ", this.offsetInput),
+      element("label", {}, "goal offset dx, dy (m) ", this.offsetInput), this.offsetProblem,
+      element("div", { class: "row" }, element("label", {}, this.snapInput, " snap"),
+        element("label", {}, "grid ", this.gridInput, " m")),
+      element("label", {}, "typed start ", this.typedStart),
+      element("label", {}, "typed goal ", this.typedGoal),
+      element("button", { type: "button", onclick: () => this.addTyped() }, "Add robot"),
       element("button", { type: "button", onclick: () => this.clearRobots() }, "Remove all"),
       element("h2", {}, "Settings"),
       element("label", {}, "time limit (s) ", this.timeInput),
@@ -87,8 +112,17 @@ export class ScenarioEditor {
       element("div", { class: "canvas-box" }, this.canvas),
       element("div", { class: "statusbar" }, this.info)));
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
-    this.view.drawStatic = (c, view) => { if (this.map) view.drawSegments(this.map.segments); };
+    this.view.drawStatic = (c, view) => {
+      if (!this.map) return;
+      if (this.snapInput.checked && Number(this.gridInput.value) > 0) {
+        view.drawGrid(Number(this.gridInput.value));
+      }
+      view.drawSegments(this.map.segments);
+    };
+    this.snapInput.addEventListener("change", () => this.view.invalidate());
     this.canvas.addEventListener("pointerdown", (e) => this.pointerDown(e));
+    for (const input of [this.nameInput, this.timeInput, this.toleranceInput,
+      this.deadlockInput]) input.addEventListener("input", () => { this.dirty = true; });
   }
 
   async refresh() {
@@ -96,7 +130,8 @@ export class ScenarioEditor {
       guarded(() => api.get("/api/scenarios")), guarded(() => api.get("/api/maps")),
       guarded(() => api.get("/api/algorithms"))]);
     if (!scenarios || !maps || !algorithms) return;
-    fileList(this.fileListNode, scenarios.files, (p) => this.open(p));
+    this.files = scenarios.files;
+    fileList(this.fileListNode, this.files, (p) => this.open(p));
     this.robotTypes = scenarios.robot_types;
     const current = this.mapSelect.value;
     const mapNames = [...maps.files.map((f) => f.path), ...maps.builtin];
@@ -147,6 +182,7 @@ export class ScenarioEditor {
     if (!path) return;
     const data = await guarded(() => api.get("/api/maps/file", { path }));
     if (!data) return;
+    if (this.mapRef !== path) this.dirty = true;
     this.mapRef = path;
     this.map = data;
     this.view.fit(data.bounds);
@@ -155,6 +191,7 @@ export class ScenarioEditor {
   }
 
   async open(path) {
+    if (!mayDiscard(this, "this scenario")) return;
     const data = await guarded(() => api.get("/api/scenarios/file", { path }));
     if (!data) return;
     this.robots = data.robots;
@@ -175,6 +212,8 @@ export class ScenarioEditor {
     this.deadlockInput.value = String(data.settings.deadlock_window);
     this.view.fit(this.map.bounds);
     this.view.invalidate();
+    this.dirty = false;
+    this.ownPath = path;
     this.showInfo();
     say(`opened ${path}: ${this.robots.length} robots`);
   }
@@ -186,75 +225,79 @@ export class ScenarioEditor {
     this.toolButtons.forEach((b) => b.setAttribute("aria-pressed", String(b.textContent === name)));
   }
 
+  // The goal offset: [dx, dy], null for "no goals" (0, 0), or undefined when the text is not
+  // two numbers "dx, dy" (then the field says so and nothing is placed).
   offset() {
-    const [dx, dy] = this.offsetInput.value.split(",").map(Number);
-    return Number.isFinite(dx) && Number.isFinite(dy) && (dx || dy) ? [dx, dy] : null;
+    const numbers = parseNumbers(this.offsetInput.value, 2);
+    if (!numbers) return undefined;
+    const [dx, dy] = numbers;
+    return dx || dy ? [dx, dy] : null;
+  }
+
+  checkOffset() {
+    const bad = this.offset() === undefined;
+    this.offsetProblem.textContent = bad
+      ? "Type two numbers separated by a comma, such as 5, 0 (0, 0: robots without goals)." : "";
+    if (bad) this.offsetInput.setAttribute("aria-invalid", "true");
+    else this.offsetInput.removeAttribute("aria-invalid");
+    return !bad;
+  }
+
+  snap([x, y]) {
+    const step = Number(this.gridInput.value);
+    if (!this.snapInput.checked || !(step > 0)) return [x, y];
+    const round = (v) => Math.round(Math.round(v / step) * step * 1e9) / 1e9;
+    return [round(x), round(y)];
+  }
+
+  // Why a goal at (x, y) cannot be reached by a robot of type typeName, or "" when it can:
+  // off the map's bounds, or closer to a wall than the robot's half width.
+  goalProblem(x, y, typeName) {
+    const [xmin, ymin, xmax, ymax] = this.map.bounds;
+    const at = `goal (${x.toFixed(2)}, ${y.toFixed(2)})`;
+    if (x < xmin || x > xmax || y < ymin || y > ymax) {
+      return `${at} is off the map (${xmin} to ${xmax}, ${ymin} to ${ymax}): not placed`;
+    }
+    const [, halfWidth] = this.sizeOf(typeName);
+    for (const [x1, y1, x2, y2] of this.map.segments) {
+      const dx = x2 - x1;
+      const dy = y2 - y1;
+      const t = Math.max(0, Math.min(1, ((x - x1) * dx + (y - y1) * dy) / (dx * dx + dy * dy || 1)));
+      if (Math.hypot(x - x1 - t * dx, y - y1 - t * dy) < halfWidth) {
+        return `${at} is in a wall (a robot there would touch it): not placed`;
+      }
+    }
+    return "";
   }
 
   add(starts) {
     const offset = this.offset();
+    if (offset === undefined) {
+      this.checkOffset();
+      say("goal offset: not two numbers", true);
+      return;
+    }
     const type = this.currentType();
     const yaw = offset ? Math.atan2(offset[1], offset[0]) : 0;
+    if (offset) {
+      const problems = starts.map(([x, y]) =>
+        this.goalProblem(x + offset[0], y + offset[1], type)).filter(Boolean);
+      if (problems.length) {
+        say(problems.length === 1 ? problems[0]
+          : `${problems[0]} (and ${problems.length - 1} more goals): no robot placed`, true);
+        return;
+      }
+    }
     for (const [x, y, heading] of starts) {
       this.robots.push({ type, x, y, yaw: heading ?? yaw,
         goal: offset ? [x + offset[0], y + offset[1]] : null });
     }
-    this.showInfo();
+    this.changed();
   }
 
-  robotAt(x, y) {
-    let best = -1;
-    let bestDistance = Infinity;
-    this.robots.forEach((r, k) => {
-      const d = Math.hypot(r.x - x, r.y - y);
-      if (d < bestDistance) { bestDistance = d; best = k; }
-    });
-    return bestDistance * this.view.scale < 12 ? best : -1;
-  }
+  robotAt(x, y) { return robotAt(this, x, y); }
 
-  async pointerDown(event) {
-    if (event.button !== 0 || event.shiftKey) return;
-    if (!this.map) { say("choose a map first", true); return; }
-    const [x, y] = this.view.eventWorld(event);
-    if (this.tool === "Move") { this.drag(event, x, y); return; }
-    if (this.tool === "Remove") {
-      const k = this.robotAt(x, y);
-      if (k >= 0) { this.robots.splice(k, 1); this.showInfo(); }
-      return;
-    }
-    this.points.push([x, y]);
-    if (this.tool === "One" && this.points.length === 2) {
-      const [[sx, sy], [gx, gy]] = this.points;
-      this.robots.push({ type: this.currentType(), x: sx, y: sy,
-        yaw: Math.atan2(gy - sy, gx - sx), goal: [gx, gy] });
-      this.points = [];
-      this.showInfo();
-    } else if (this.points.length === 2) {
-      const [[x1, y1], [x2, y2]] = this.points;
-      this.points = [];
-      if (this.tool === "Line") {
-        const n = Math.max(1, Math.round(Number(this.countInput.value)));
-        this.add(Array.from({ length: n }, (_, k) => {
-          const t = n === 1 ? 0 : k / (n - 1);
-          return [x1 + t * (x2 - x1), y1 + t * (y2 - y1)];
-        }));
-      } else if (this.tool === "Grid") {
-        const rows = Math.max(1, Math.round(Number(this.rowsInput.value)));
-        const columns = Math.max(1, Math.round(Number(this.columnsInput.value)));
-        const starts = [];
-        for (let r = 0; r < rows; r++) {
-          for (let c = 0; c < columns; c++) {
-            starts.push([x1 + (columns === 1 ? 0 : (c / (columns - 1)) * (x2 - x1)),
-              y1 + (rows === 1 ? 0 : (r / (rows - 1)) * (y2 - y1))]);
-          }
-        }
-        this.add(starts);
-      } else if (this.tool === "Random") {
-        await this.random([Math.min(x1, x2), Math.min(y1, y2), Math.max(x1, x2), Math.max(y1, y2)]);
-      }
-    }
-    this.view.redraw();
-  }
+  pointerDown(event) { return placeAt(this, event); }
 
   async random(region) {
     const type = this.currentType();
@@ -266,64 +309,38 @@ export class ScenarioEditor {
     if (data) this.add(data.poses);
   }
 
-  drag(event, x, y) {
-    let target = null;
-    let bestDistance = 12 / this.view.scale;
-    this.robots.forEach((r, k) => {
-      const ds = Math.hypot(r.x - x, r.y - y);
-      if (ds < bestDistance) { bestDistance = ds; target = [k, "start"]; }
-      if (r.goal) {
-        const dg = Math.hypot(r.goal[0] - x, r.goal[1] - y);
-        if (dg < bestDistance) { bestDistance = dg; target = [k, "goal"]; }
-      }
-    });
-    if (!target) return;
-    const move = (e) => {
-      const [wx, wy] = this.view.eventWorld(e);
-      const robot = this.robots[target[0]];
-      if (target[1] === "start") { robot.x = wx; robot.y = wy; } else robot.goal = [wx, wy];
-      this.view.redraw();
-    };
-    const up = () => {
-      window.removeEventListener("pointermove", move);
-      window.removeEventListener("pointerup", up);
-    };
-    window.addEventListener("pointermove", move);
-    window.addEventListener("pointerup", up);
+  drag(event, x, y) { dragRobot(this, event, x, y); }
+
+  // A robot at a typed start (and goal), as exact as typed: no snapping.
+  addTyped() {
+    if (!this.map) { say("choose a map first", true); return; }
+    const start = parseNumbers(this.typedStart.value, 2, 3);
+    if (!start) { say("typed start: expected x, y or x, y, yaw (numbers)", true); return; }
+    const goalText = this.typedGoal.value.trim();
+    const goal = goalText ? parseNumbers(goalText, 2) : null;
+    if (goal === undefined) {
+      say("typed goal: expected gx, gy (numbers), or nothing", true);
+      return;
+    }
+    const type = this.currentType();
+    const problem = goal ? this.goalProblem(goal[0], goal[1], type) : "";
+    if (problem) { say(problem, true); return; }
+    const [x, y, yaw] = start;
+    this.robots.push({ type, x, y, goal,
+      yaw: yaw ?? (goal ? Math.atan2(goal[1] - y, goal[0] - x) : 0) });
+    this.changed();
   }
 
-  clearRobots() { this.robots = []; this.showInfo(); }
+  clearRobots() { this.robots = []; this.changed(); }
 
-  paint(c, view) {
-    if (!this.map) return;
-    const n = this.robots.length;
-    c.strokeStyle = "#9aa4b1";
-    c.lineWidth = 1;
-    c.beginPath();
-    for (const r of this.robots) {
-      if (!r.goal) continue;
-      const [ax, ay] = view.toScreen(r.x, r.y);
-      const [bx, by] = view.toScreen(r.goal[0], r.goal[1]);
-      c.moveTo(ax, ay);
-      c.lineTo(bx, by);
-      c.moveTo(bx + 4, by);
-      c.arc(bx, by, 4, 0, 2 * Math.PI);
-    }
-    c.stroke();
-    const poses = new Float32Array(3 * n);
-    const halfLength = new Float32Array(n);
-    const halfWidth = new Float32Array(n);
-    this.robots.forEach((r, k) => {
-      poses.set([r.x, r.y, r.yaw], 3 * k);
-      [halfLength[k], halfWidth[k]] = this.sizeOf(r.type);
-    });
-    drawRobots(c, view, poses, halfLength, halfWidth, () => "#1f77b4", n);
-    if (this.points.length) {
-      const [px, py] = view.toScreen(...this.points[0]);
-      c.fillStyle = "#d62728";
-      c.fillRect(px - 3, py - 3, 6, 6);
-    }
+  changed() {
+    this.dirty = true;
+    this.fault = { robots: [], walls: [] };
+    clearError();
+    this.showInfo();
   }
+
+  paint(c, view) { paintScenario(this, c, view); }
 
   showInfo() {
     this.info.textContent = `${this.robots.length} robots on ${this.mapRef || "no map"}`;
@@ -342,8 +359,16 @@ export class ScenarioEditor {
 
   async save() {
     if (!this.mapRef) { say("choose a map first", true); return undefined; }
-    const data = await guarded(() => api.put("/api/scenarios/file", this.body()));
-    if (data) { say(`saved ${data.path}: ${data.robots} robots`); this.refresh(); }
+    const data = await saveFile("/api/scenarios/file", this.body(), this.ownPath,
+      this.files);
+    this.fault = data ? { robots: [], walls: [] } : faultOf(shownError(), this.robots.length);
+    this.view.redraw();
+    if (data) {
+      this.dirty = false;
+      this.ownPath = data.path;
+      say(`saved ${data.path}: ${data.robots} robots`);
+      this.refresh();
+    }
     return data;
   }
 
