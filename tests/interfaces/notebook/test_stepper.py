@@ -68,8 +68,9 @@ def test_speed_paces_simulated_time_against_the_wall_clock():
     stepper.wait_paused()
     elapsed = time.monotonic() - began
     simulated = sim.state.time - at
-    # never ahead of 5 simulated seconds per wall second (one step of slack)
-    assert simulated <= 5.0 * elapsed + 0.1 + 1e-9
+    # never ahead of 5 simulated seconds per wall second, but for two steps: the first
+    # of the play (pacing starts at its end) and the last, whose wait Pause cuts short
+    assert simulated <= 5.0 * elapsed + 0.2 + 1e-9
     assert simulated > 0
     stepper.close()
 
