@@ -209,17 +209,8 @@ class LiveView:
         if self._window is not None and not self._window_open():
             self.enabled = False  # the user closed the window: the run goes on without it
             return
+        draw_world(renderer, sim, self.beams_of, self._trails)
         state = sim.state
-        beams = None
-        i = self.beams_of
-        if i is not None and state.status[i] == Status.ACTIVE and sim.types.beam_count[i] > 0:
-            from mimics.interfaces.render import beam_segments
-
-            beams = beam_segments(state.pose[i, :2], state.pose[i, 2],
-                                  sim.types.beam_offsets[i], state.scan[i])
-        trails = None if self._trails is None else self._trails.segments(state.pose[:, :2])
-        renderer.update(state.pose, state.status, state.time, livelock=state.in_livelock,
-                        trails=trails, beams=beams)
         self.drawn_times.append(float(state.time))
         if self.offscreen:
             rgb = renderer.to_rgb()
@@ -258,3 +249,20 @@ def make_live_view(mode: str, *, offscreen: bool = False, **options: Any) -> Liv
         print(no_display_notice(mode), file=sys.stderr)
         return None
     return LiveView(mode, offscreen=offscreen, **options)
+
+
+def draw_world(renderer: Any, sim: Any, beams_of: int | None,
+               trails: TrailBuffer | None) -> None:
+    """Bring ``renderer`` up to the simulation's state: the robots, their trails, and the
+    beams of robot ``beams_of`` (None: no beams; nor for a stopped or blind robot)."""
+    state = sim.state
+    beams = None
+    i = beams_of
+    if i is not None and state.status[i] == Status.ACTIVE and sim.types.beam_count[i] > 0:
+        from mimics.interfaces.render import beam_segments
+
+        beams = beam_segments(state.pose[i, :2], state.pose[i, 2], sim.types.beam_offsets[i],
+                              state.scan[i])
+    segments = None if trails is None else trails.segments(state.pose[:, :2])
+    renderer.update(state.pose, state.status, state.time, livelock=state.in_livelock,
+                    trails=segments, beams=beams)

@@ -8,8 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from mimics.engine.state import Status
-from mimics.interfaces.live_view import TrailBuffer, trail_shape
+from mimics.interfaces.live_view import TrailBuffer, draw_world, trail_shape
 from mimics.world.errors import MimicsError
 
 
@@ -55,17 +54,7 @@ class FrameDrawer:
         """The world now, as PNG bytes."""
         from PIL import Image
 
-        from mimics.interfaces.render import beam_segments
-
-        state = sim.state
-        beams = None
-        i = self.beams_of
-        if i is not None and state.status[i] == Status.ACTIVE and sim.types.beam_count[i] > 0:
-            beams = beam_segments(state.pose[i, :2], state.pose[i, 2],
-                                  sim.types.beam_offsets[i], state.scan[i])
-        trails = None if self._trails is None else self._trails.segments(state.pose[:, :2])
-        self.renderer.update(state.pose, state.status, state.time, livelock=state.in_livelock,
-                             trails=trails, beams=beams)
+        draw_world(self.renderer, sim, self.beams_of, self._trails)
         buffer = io.BytesIO()
         Image.fromarray(np.ascontiguousarray(self.renderer.to_rgb())).save(
             buffer, format="PNG", compress_level=1)

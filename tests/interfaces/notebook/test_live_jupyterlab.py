@@ -11,7 +11,6 @@ import io
 import json
 import os
 import secrets
-import shutil
 import socket
 import subprocess
 import sys
@@ -24,9 +23,6 @@ from typing import Any
 import imageio.v3 as imageio
 import numpy as np
 import pytest
-from playwright import sync_api as playwright_api
-
-from tests.system_packages import require
 
 CELL = """import mimics
 view = mimics.show("circle_swap", "wall_aware", robots=6, time=600, speed=1)
@@ -80,16 +76,6 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, str, Pa
     except subprocess.TimeoutExpired:
         server.kill()
     log.close()
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    require("chromium")
-    with playwright_api.sync_playwright() as driver:
-        launched = driver.chromium.launch(executable_path=shutil.which("chromium"),
-                                          args=["--no-sandbox"])
-        yield launched
-        launched.close()
 
 
 def picture(frame: Any) -> np.ndarray:

@@ -14,7 +14,6 @@ from typing import Any
 
 import pytest
 import uvicorn
-from playwright import sync_api as playwright_api
 
 warnings.filterwarnings("ignore", message=".*httpx2.*")  # Starlette's note on its TestClient
 from fastapi.testclient import TestClient  # noqa: E402
@@ -24,7 +23,6 @@ from mimics.records.runner import prepare, run_to_folder  # noqa: E402
 from mimics.world.map_files import save_map  # noqa: E402
 from mimics.world.maps import Map  # noqa: E402
 from tests.interfaces.web.browser import screenshot  # noqa: E402
-from tests.system_packages import require  # noqa: E402
 
 
 @pytest.fixture(scope="session")
@@ -71,16 +69,6 @@ def site(tmp_path_factory: pytest.TempPathFactory, recorded_run: Path
     yield f"http://127.0.0.1:{port}", root
     server.should_exit = True
     thread.join(10)
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    require("chromium")
-    with playwright_api.sync_playwright() as driver:
-        launched = driver.chromium.launch(executable_path=shutil.which("chromium"),
-                                          args=["--no-sandbox"])
-        yield launched
-        launched.close()
 
 
 @pytest.fixture
