@@ -120,22 +120,14 @@ def test_a_battery_between_its_database_and_its_lock_reads_as_running(
     assert not status["running"]  # the job ended and nobody holds the lock: stopped
 
 
-STAND_STILL = "def step(robot):\n    return 0.0, 0.0\n"
-RANDOM_SPEED = '''import math
-
-
-def step(robot):
-    if "speed" not in robot.memory:
-        robot.memory["speed"] = float(robot.rng.uniform(0.3, 1.0))
-    x, y, _ = robot.pose
-    gx, gy = robot.goal
-    return robot.memory["speed"], math.atan2(gy - y, gx - x)
-'''
+FAULTS = Path(__file__).resolve().parents[2] / "batteries" / "faults"
 
 
 def test_evidence_of_a_stopping_rule_battery(client: TestClient, workspace: Path) -> None:
-    (workspace / "algorithms" / "random_speed.py").write_text(RANDOM_SPEED)
-    (workspace / "algorithms" / "stand_still.py").write_text(STAND_STILL)
+    (workspace / "algorithms" / "random_speed.py").write_text(
+        (FAULTS / "random_speed.py").read_text())
+    (workspace / "algorithms" / "stand_still.py").write_text(
+        (FAULTS / "stand_still.py").read_text())
     # path length over 4 s: none standing still (fixed start poses), 1 to 4 m at random speeds
     until = {"metric": "path_length", "half_width": 0.05, "min_seeds": 3, "max_seeds": 6}
     body = {"name": "rule", "algorithms": ["algorithms/stand_still.py",
