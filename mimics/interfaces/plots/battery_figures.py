@@ -60,7 +60,7 @@ def plot_outcomes(table: pd.DataFrame, out: str | Path | None, *, width_px: int 
     left.set_ylim(0, 1.1)
     left.set_ylabel("fraction of robots")
     left.set_title("Robot outcomes", fontsize=10)
-    left.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0, -0.12), ncol=3, frameon=False)
+    _legend_beside(left)
     statuses = sorted(table["status"].unique(), key=lambda s: (s != "completed", s))
     counts = table.groupby(["algorithm", "scenario", "status"]).size()
     bottom = np.zeros(len(combos))
@@ -72,8 +72,15 @@ def plot_outcomes(table: pd.DataFrame, out: str | Path | None, *, width_px: int 
     right.set_xticks(x, labels, fontsize=8)
     right.set_ylabel("runs")
     right.set_title("Run statuses", fontsize=10)
-    right.legend(fontsize=7, frameon=False)
+    _legend_beside(right)
     return _save(fig, out)
+
+
+def _legend_beside(ax: Any) -> None:
+    """The legend to the right of the axes, outside them: it never covers a bar or a label
+    (the constrained layout makes room for it)."""
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0,
+              frameon=False)
 
 
 def plot_time_to_goal(table: pd.DataFrame, out: str | Path | None, *, width_px: int = 1000,
@@ -97,12 +104,21 @@ def plot_time_to_goal(table: pd.DataFrame, out: str | Path | None, *, width_px: 
         samples.append(np.concatenate(values) if values else np.zeros(0))
     fig = _new_figure(width_px, height_px)
     ax = fig.add_subplot()
+    if not any(s.size for s in samples):  # a message, not an empty axis
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "No robot reached its goal in these runs:\nno time to goal to plot.",
+                ha="center", va="center", fontsize=12, transform=ax.transAxes)
+        ax.set_title("Time to goal per robot", fontsize=10)
+        return _save(fig, out)
     shown = [s if s.size else np.array([np.nan]) for s in samples]
     ax.boxplot(shown, tick_labels=[f"{a}\n{s}" for a, s in combos], showfliers=True,
                flierprops={"markersize": 2})
     for k, s in enumerate(samples, start=1):
         ax.annotate(f"n={s.size}", (k, 1.0), xycoords=("data", "axes fraction"), ha="center",
                     va="bottom", fontsize=7)
+        if not s.size:  # a cell where no robot reached its goal: said where its box would be
+            ax.annotate("no data", (k, 0.5), xycoords=("data", "axes fraction"), ha="center",
+                        va="center", fontsize=9, color="#777777")
     ax.set_ylabel("time to goal (s)")
     note = f" ({fallbacks} run(s) without readable events: their mean)" if fallbacks else ""
     ax.set_title(f"Time to goal per robot{note}", fontsize=10, pad=14)
