@@ -200,7 +200,8 @@ export class RunPage {
     this.frame = k;
     this.scrub.value = String(k);
     this.clock.textContent = `t = ${this.time.toFixed(2)} s`;
-    if (fetchBeams) this.fetchBeams(); else this.beams = [];
+    // while playing, beams follow one request at a time (drawn a frame or two late)
+    if (fetchBeams || this.inspector.allBeams || this.selected >= 0) this.fetchBeams();
     this.view.redraw();
     this.inspector.update();
   }
@@ -221,20 +222,26 @@ export class RunPage {
     }
   }
 
-  // The beams drawn: every robot's when the inspector's toggle is on, else the selected one's.
+  // The beams drawn: every robot's when the inspector's toggle is on, else the selected one's;
+  // one request at a time, then one for the frame shown by then.
   async fetchBeams() {
     if (!this.data) return;
     const all = this.inspector.allBeams;
     if (!all && (this.selected < 0 || !this.meta.beams[this.selected])) return;
+    if (this.beamsPending) { this.beamsWanted = true; return; }
     const [robot, frame, path] = [this.selected, this.frame, this.meta.path];
+    this.beamsPending = true;
+    this.beamsWanted = false;
     const data = await guarded(() => (all
       ? api.get("/api/runs/all_beams", { path, frame })
       : api.get("/api/runs/beams", { path, robot, frame })));
+    this.beamsPending = false;
     if (data && all === this.inspector.allBeams && (all || robot === this.selected)
-        && frame === this.frame && path === this.meta.path) {
+        && path === this.meta.path) {
       this.beams = data.segments;
       this.view.redraw();
     }
+    if (this.beamsWanted || frame !== this.frame) this.fetchBeams();
   }
 
   paint(c, view) {
