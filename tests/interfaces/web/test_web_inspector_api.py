@@ -132,3 +132,18 @@ def test_an_unknown_builtin_scenario_is_refused_naming_the_known_ones(client: Te
     answer = client.get("/api/scenarios/builtin", params={"name": "nope"})
     assert answer.status_code == 400
     assert "line" in answer.json()["detail"] and "'nope'" in answer.json()["detail"]
+
+
+def test_every_kth_beam_of_each_robot_when_thinned(workspace: Path) -> None:
+    from mimics.interfaces.replay import BeamCaster, replay_data
+
+    data = replay_data(load_run(workspace / RUN))
+    caster = BeamCaster(data.scenario)
+    pose, status = data.pose[10], data.status[10].copy()
+    status[1] = 2  # robot 1 collided: no beams of its own (it is still an obstacle)
+    thinned = caster.all_beams(pose, status, every=4)
+    singles = [caster.beams(r, pose, status) for r in range(3)]
+    assert singles[1] is None
+    expected = np.concatenate([singles[0][::4], singles[2][::4]])
+    assert thinned.shape == expected.shape == (2 * 68, 2, 2)  # 270 beams: 0, 4, ..., 268
+    np.testing.assert_allclose(thinned, expected, atol=1e-9)
