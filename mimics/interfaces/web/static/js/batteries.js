@@ -3,6 +3,7 @@
 // the evidence: intervals per cell, the paired comparison, the stopping rule's progress.
 import { api, element, guarded, say } from "./api.js";
 import { EvidenceView } from "./evidence.js";
+import { enlargeable } from "./plot_view.js";
 
 const COLUMNS = ["id", "algorithm", "scenario", "parameters", "seed", "state", "status",
   "reached_goal", "collisions", "deadlocks", "livelocks", "escaped", "exceptions", "sim_time",
@@ -250,8 +251,8 @@ export class BatteryPage {
     if (!this.current) return;
     const stamp = Date.now();
     this.plots.replaceChildren(...["outcomes.png", "time_to_goal.png"].map((name) =>
-      element("img", { alt: `${name} of ${this.current}`,
-        src: `/api/batteries/plot?${new URLSearchParams({ path: this.current, name })}&t=${stamp}` })));
+      enlargeable(element("img", { alt: `${name} of ${this.current}`,
+        src: `/api/batteries/plot?${new URLSearchParams({ path: this.current, name })}&t=${stamp}` }))));
   }
 
   leave() { clearTimeout(this.timer); }
