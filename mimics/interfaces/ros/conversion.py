@@ -70,9 +70,11 @@ def odometry_message(seconds: float, frame_id: str, child_frame_id: str, pose: n
     message.pose.pose.position.x = x
     message.pose.pose.position.y = y
     message.pose.pose.orientation = yaw_quaternion(theta)
-    covariance = np.zeros((6, 6))
-    covariance[np.ix_(PLANAR, PLANAR)] = pose_covariance
-    message.pose.covariance = covariance.ravel().tolist()
+    covariance = [0.0] * 36  # a list filled in place: a NumPy 6x6 costs twice the message
+    for row, values in zip(PLANAR, pose_covariance.tolist(), strict=True):
+        for column, value in zip(PLANAR, values, strict=True):
+            covariance[6 * row + column] = value
+    message.pose.covariance = covariance
     message.twist.twist.linear.x = float(velocity[0])
     message.twist.twist.angular.z = float(velocity[1])
     message.twist.covariance = [0.0] * 36

@@ -111,3 +111,18 @@ def test_ros_algorithm_string_takes_the_name_set_before_the_program():
         NodeCommand.parse(f"--name=stage {NODE}", Path.cwd())
     with pytest.raises(AlgorithmError, match="--names=: expected one of mimics, stage, got 'x'"):
         NodeCommand.parse(f"--names=x {NODE}", Path.cwd())
+
+
+def test_a_battery_file_keeps_the_name_set_of_its_ros_algorithm():
+    from mimics.batteries.spec import spec_from_dict
+
+    spec = spec_from_dict({"battery": {"algorithms": ["ros:--names=stage nodes/stage_user_node.py"
+                                                      " --robots {robots}"]},
+                           "scenarios": [{"name": "line", "robots": 2}]},
+                          base=NODE.parents[1])
+    (algorithm,) = spec.algorithms
+    assert algorithm == f"ros:--names=stage {NODE} --robots {{robots}}"  # the program made absolute
+    (run,) = spec.runs()
+    assert run.algorithm == "ros-stage_user_node"
+    _, controller = SCHEME.algorithm(algorithm.removeprefix("ros:"))
+    assert controller.command.names == "stage"  # what the worker's bridge is built with
