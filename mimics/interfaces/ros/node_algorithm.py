@@ -11,7 +11,7 @@ executable (a roscpp node, say). For each run, mimics
 2. publishes the run's topics (the bridge of ``mimics ros``), starts the
    node with ``{robots}`` and ``{seed}`` in ARGS replaced by the run's robot
    count and seed (also given as ``MIMICS_ROBOTS`` and ``MIMICS_SEED``) and
-   waits until it listens to every robot's ``odom`` and publishes commands;
+   waits until it listens to each robot's topics and publishes commands;
 3. runs in lockstep (each step waits for every active robot's command), so
    the run is as deterministic as the node, and a battery of such runs gives
    the same results on any number of workers;
