@@ -9,17 +9,18 @@ criteria are those of ``mimics run``.
 
 Per step ``k`` (time ``t_k``), lockstep: the inbox is told to expect step
 ``k``'s commands, then ``/clock``, every active robot's ``odom``, ``pose``,
-ground truth and ``scan`` and ``/tf`` are published stamped ``t_k``; the next step waits for every
-active robot's command, all within one deadline (``timeout`` seconds from
-the step's publication). Realtime: the same publications, then a sleep until
-wall time ``start + t_k + dt``; the next step uses the latest commands, and
-a robot whose commands stop for ``watchdog`` seconds is stopped.
+ground truth and ``scan``, and ``/tf`` are published stamped ``t_k``; the
+next step waits for every active robot's command, all within one deadline
+(``timeout`` seconds from the step's publication). Realtime: the same
+publications, then a sleep until wall time ``start + t_k + dt``; the next
+step uses the latest commands, and a robot whose commands stop for
+``watchdog`` seconds is stopped.
 
 Topic and frame names come from one
 :class:`~mimics.interfaces.ros.names.RosNames` (``--names mimics`` or
-``stage``). The per-step topics are latched: a node that subscribes late (to the scan
-0.3 s after the odometry, say) still receives the current step's message
-on connecting, and in lockstep the run waits for its command, so no step's
+``stage``). The per-step topics are latched: a node that subscribes late (to
+the scan 0.3 s after the odometry, say) still receives the current step's
+message on connecting, and in lockstep the run waits for its command, so no step's
 scan is lost, whatever the timing.
 """
 

@@ -54,6 +54,9 @@ def header(seconds: float, frame_id: str) -> Header:
     return Header(stamp=stamp(seconds), frame_id=frame_id)
 
 
+PLANAR = [0, 1, 5]  # x, y and yaw among a 6x6 covariance's x, y, z, roll, pitch, yaw
+
+
 def odometry_message(seconds: float, frame_id: str, child_frame_id: str, pose: np.ndarray,
                      velocity: np.ndarray, pose_covariance: np.ndarray,
                      velocity_variance: tuple[float, float]) -> Odometry:
@@ -80,9 +83,6 @@ def odometry_message(seconds: float, frame_id: str, child_frame_id: str, pose: n
     message.twist.covariance = [0.0] * 36
     message.twist.covariance[0], message.twist.covariance[35] = velocity_variance
     return message
-
-
-PLANAR = [0, 1, 5]  # x, y and yaw among a 6x6 covariance's x, y, z, roll, pitch, yaw
 
 
 def scan_message(frame_id: str, seconds: float, ranges: np.ndarray, hit: np.ndarray,
