@@ -137,7 +137,8 @@ class RosBridge:
                     f"no controller node for robot {i} within "
                     f"{self.options.timeout:g} s{hint} (nothing subscribes to "
                     f"{self.names.odom(i)} (or its other topics) or publishes on "
-                    f"{self.names.commands_text(i)}; {len(waiting)} robots waiting)")
+                    f"{self.names.commands_text(i)}; {len(waiting)} "
+                    f"robot{'s' if len(waiting) > 1 else ''} waiting)")
             wall.sleep(0.02)
 
     def _observed(self, robot: int) -> bool:

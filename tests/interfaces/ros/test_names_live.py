@@ -224,3 +224,14 @@ def subprocess_mimics(*args: str):
     return subprocess.run([sys.executable, "-m", "mimics", *args], capture_output=True,
                           text=True, timeout=300, check=False,
                           env={**os.environ, "PYTHONUNBUFFERED": "1"})
+
+
+def test_no_node_names_the_topics_of_the_name_set(ros_env, tmp_path):
+    from tests.interfaces.ros.helpers import mimics_ros
+
+    done = mimics_ros(ros_env, "line", "--robots", "1", "--names", "stage", "--timeout", "0.5",
+                      "--out", str(tmp_path / "run"))
+    assert done.returncode == 2
+    assert ("no controller node for robot 0 within 0.5 s (--timeout sets it) (nothing "
+            "subscribes to /odom (or its other topics) or publishes on /cmd_vel; 1 robot "
+            "waiting)") in done.stderr
