@@ -22,7 +22,7 @@ import numpy as np
 import rospy
 from nav_msgs.msg import Odometry
 
-from mimics.interfaces.ros.conversion import odometry_message
+from mimics.interfaces.ros.conversion import fill_odometry, odometry_message
 from mimics.interfaces.ros.names import MAP_FRAME, RosNames
 from mimics.interfaces.ros.odometry_frame import OdometerFrames
 
@@ -32,8 +32,27 @@ if TYPE_CHECKING:
 _NO_COVARIANCE = np.zeros((3, 3))
 
 
-def _latched(topic: str) -> rospy.Publisher:
-    return rospy.Publisher(topic, Odometry, queue_size=10, tcp_nodelay=True, latch=True)
+class _Topic:
+    """One robot's latched Odometry topic and the message it sends again each step."""
+
+    def __init__(self, topic: str, frame_id: str, child_frame_id: str) -> None:
+        self.publisher = rospy.Publisher(topic, Odometry, queue_size=10, tcp_nodelay=True,
+                                         latch=True)
+        self.message = odometry_message(0.0, frame_id, child_frame_id, np.zeros(3),
+                                        np.zeros(2), _NO_COVARIANCE, (0.0, 0.0))
+
+    def send(self, seconds: float, pose: np.ndarray, velocity: np.ndarray,
+             covariance: np.ndarray, velocity_variance: tuple[float, float]) -> None:
+        """Publish the step. The message is filled under the topic's lock, which rospy
+        also takes to send the latched message to a subscriber that connects: never
+        half-written."""
+        impl = self.publisher.impl
+        impl.acquire()
+        try:
+            fill_odometry(self.message, seconds, pose, velocity, covariance, velocity_variance)
+            self.publisher.publish(self.message)
+        finally:
+            impl.release()
 
 
 class OdometryPublisher:
@@ -45,38 +64,38 @@ class OdometryPublisher:
         # the odometer starts at the start pose (the engine copies the pose into it)
         self.frames = OdometerFrames(sim.state.odometry, types.sigma_translation,
                                      types.sigma_rotation)
-        self.publishers = [_latched(names.odom(i)) for i in range(n)]
-        pose_topics = [names.pose(i) for i in range(n)]
-        self.pose_publishers = [_latched(topic) for topic in pose_topics if topic is not None]
-        self.truth_publishers = [_latched(names.ground_truth(i)) for i in range(n)]
+        self.odom = [_Topic(names.odom(i), names.odom_frame(i), names.body_frame(i))
+                     for i in range(n)]
+        self.pose = [_Topic(topic, MAP_FRAME, names.body_frame(i))
+                     for i in range(n) if (topic := names.pose(i)) is not None]
+        self.truth = [_Topic(names.ground_truth(i), MAP_FRAME, names.body_frame(i))
+                      for i in range(n)]
+        self._velocity_variance = [(float(sigma) ** 2,) * 2 for sigma in types.sigma_velocity]
+        self._position_covariance = [np.diag([float(sigma) ** 2] * 2 + [0.0])
+                                     for sigma in types.sigma_position]
 
     def all_publishers(self, robot: int) -> list[rospy.Publisher]:
         """The robot's publishers (a node listening to any of them is connected)."""
-        own = [self.publishers[robot], self.truth_publishers[robot]]
-        return own + ([self.pose_publishers[robot]] if self.pose_publishers else [])
+        topics = [self.odom[robot], self.truth[robot]]
+        return [topic.publisher for topic in topics + self.pose[robot:robot + 1]]
 
     def publish(self, sim: Simulation, ids: np.ndarray) -> None:
         """The odometer, measured pose and true pose of robots ``ids`` at the current step."""
-        state, types, names = sim.state, sim.types, self.names
+        state = sim.state
         if state.step > 0:  # step 0: the odometer is at its start, covariance 0
             self.frames.update(state.odometry)
         seconds = state.time
         for i in ids.tolist():
-            body = names.body_frame(i)
-            velocity_variance = (float(types.sigma_velocity[i]) ** 2,) * 2
-            self.publishers[i].publish(odometry_message(
-                seconds, names.odom_frame(i), body, self.frames.pose[i],
-                state.measured_velocity[i], self.frames.covariance[i], velocity_variance))
-            if self.pose_publishers:
-                position_variance = float(types.sigma_position[i]) ** 2
-                self.pose_publishers[i].publish(odometry_message(
-                    seconds, MAP_FRAME, body, state.measured_pose[i], state.measured_velocity[i],
-                    np.diag([position_variance, position_variance, 0.0]), velocity_variance))
-            self.truth_publishers[i].publish(odometry_message(
-                seconds, MAP_FRAME, body, state.pose[i], state.velocity[i], _NO_COVARIANCE,
-                (0.0, 0.0)))
+            velocity_variance = self._velocity_variance[i]
+            self.odom[i].send(seconds, self.frames.pose[i], state.measured_velocity[i],
+                              self.frames.covariance[i], velocity_variance)
+            if self.pose:
+                self.pose[i].send(seconds, state.measured_pose[i], state.measured_velocity[i],
+                                  self._position_covariance[i], velocity_variance)
+            self.truth[i].send(seconds, state.pose[i], state.velocity[i], _NO_COVARIANCE,
+                               (0.0, 0.0))
 
     def close(self) -> None:
         """Withdraw the topics."""
-        for publisher in (*self.publishers, *self.pose_publishers, *self.truth_publishers):
-            publisher.unregister()
+        for topic in (*self.odom, *self.pose, *self.truth):
+            topic.publisher.unregister()

@@ -97,6 +97,23 @@ def test_odometry_carries_pose_velocity_and_covariances(convert):
     assert message.twist.covariance[0] == 0.0004 and message.twist.covariance[35] == 0.0009
 
 
+def test_a_refilled_odometry_message_is_a_fresh_one(convert):
+    import io
+
+    def serialised(message):
+        buffer = io.BytesIO()
+        message.serialize(buffer)
+        return buffer.getvalue()
+
+    first = (0.1, np.array([1.0, 2.0, 0.7]), np.array([0.4, -0.1]), np.eye(3), (0.1, 0.2))
+    second = (0.2, np.array([-3.0, 0.5, -2.9]), np.array([0.0, 0.3]),
+              np.arange(9.0).reshape(3, 3), (0.0, 0.0))
+    reused = convert.odometry_message(first[0], "odom", "base_footprint", *first[1:])
+    convert.fill_odometry(reused, *second)
+    fresh = convert.odometry_message(second[0], "odom", "base_footprint", *second[1:])
+    assert serialised(reused) == serialised(fresh)
+
+
 def test_scan_has_the_rangers_angles_and_inf_for_no_return(convert):
     offsets = np.array(PIONEER_3AT.ranger.beam_offsets())
     ranges = np.full(offsets.shape, 30.0)
