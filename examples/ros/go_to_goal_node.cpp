@@ -10,9 +10,10 @@
 // and run it beside `mimics ros line --robots 5`:  ./go_to_goal_node 5
 //
 // It reads every robot's latched goal first, then answers each
-// /robot_i/odom with one /robot_i/cmd: [speed_ref, heading_ref, stamp], the
-// stamp being the odometry's, so that in lockstep the bridge knows which step
-// the reference answers. Stop it with Ctrl-C.
+// /robot_i/pose (the positioning sensor's pose in map; /robot_i/odom is the
+// odometer, in the robot's odom frame) with one /robot_i/cmd: [speed_ref,
+// heading_ref, stamp], the stamp being the pose's, so that in lockstep the
+// bridge knows which step the reference answers. Stop it with Ctrl-C.
 
 #include <cmath>
 #include <cstdlib>
@@ -67,7 +68,7 @@ int main(int argc, char** argv) {
     const std::string name = "/robot_" + std::to_string(i);
     robots[i].cmd = node.advertise<std_msgs::Float64MultiArray>(name + "/cmd", 10);
     subscribers.push_back(node.subscribe<nav_msgs::Odometry>(
-        name + "/odom", 10,
+        name + "/pose", 10,
         [&robots, i, max_speed](const nav_msgs::Odometry::ConstPtr& odom) {
           const auto& pose = odom->pose.pose;
           const auto& q = pose.orientation;

@@ -10,9 +10,11 @@ speed when facing it, slower the more it is off. Run it beside
     /usr/bin/python3 examples/ros/go_to_goal_node.py --robots 5
 
 It reads each robot's latched goal first, then answers every
-``/robot_i/odom`` with one ``/robot_i/cmd``: ``[speed_ref, heading_ref,
-stamp]``, the stamp being the odometry's, so that in lockstep the bridge
-knows which step the reference answers. Stop it with Ctrl-C.
+``/robot_i/pose`` (the positioning sensor's pose in ``map``, what the
+built-in algorithms read; ``/robot_i/odom`` is the odometer, in the robot's
+``odom`` frame) with one ``/robot_i/cmd``: ``[speed_ref, heading_ref,
+stamp]``, the stamp being the pose's, so that in lockstep the bridge knows
+which step the reference answers. Stop it with Ctrl-C.
 """
 
 import argparse
@@ -25,7 +27,7 @@ from std_msgs.msg import Float64MultiArray
 
 
 class GoToGoal:
-    """One robot: its goal, its command publisher and its odometry callback."""
+    """One robot: its goal, its command publisher and its pose callback."""
 
     def __init__(self, robot, max_speed):
         self.robot = robot
@@ -39,12 +41,12 @@ class GoToGoal:
         self.goal = (message.pose.position.x, message.pose.position.y)
 
     def start(self):
-        """Once the goal is known: publish commands, listen to the odometry."""
+        """Once the goal is known: publish commands, listen to the pose."""
         self.cmd = rospy.Publisher(f"/robot_{self.robot}/cmd", Float64MultiArray,
                                    queue_size=10, tcp_nodelay=True)
-        rospy.Subscriber(f"/robot_{self.robot}/odom", Odometry, self.on_odom, tcp_nodelay=True)
+        rospy.Subscriber(f"/robot_{self.robot}/pose", Odometry, self.on_pose, tcp_nodelay=True)
 
-    def on_odom(self, message):
+    def on_pose(self, message):
         pose = message.pose.pose
         x, y = pose.position.x, pose.position.y
         q = pose.orientation

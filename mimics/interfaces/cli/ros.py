@@ -45,17 +45,22 @@ def ros_command(
     video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
     record_scans: Annotated[bool, typer.Option("--record-scans", help="Also record the laser "
                                                "scans (scans.parquet, 1 mm steps).")] = False,
+    names: Annotated[str, typer.Option(
+        help="Topic and frame names: mimics, or stage for stage_ros' names (odom, "
+             "base_scan, base_pose_ground_truth, cmd_vel; no robot_i/ prefix for one "
+             "robot).")] = "mimics",
 ) -> None:
     """Run a simulation as a ROS node: robots are driven by commands received from ROS.
 
-    Per robot i, under /robot_i/: odom (nav_msgs/Odometry), scan
-    (sensor_msgs/LaserScan), goal (geometry_msgs/PoseStamped, latched); it
-    listens to cmd (std_msgs/Float64MultiArray [speed_ref, heading_ref(,
-    stamp)]) and cmd_vel (geometry_msgs/Twist). Also /map (latched
-    nav_msgs/OccupancyGrid), /clock and tf2 frames map -> robot_i/odom ->
-    robot_i/base_link -> robot_i/laser. Needs ROS 1 (Debian's python3-rospy
-    and message packages) and a running master (ROS_MASTER_URI). See
-    docs/how-to/ros.md.
+    Per robot i, under /robot_i/: odom (nav_msgs/Odometry: the odometer, in
+    robot_i/odom, its start pose), pose (the positioning sensor, in map),
+    ground_truth, scan (sensor_msgs/LaserScan), goal (geometry_msgs/PoseStamped,
+    latched); it listens to cmd (std_msgs/Float64MultiArray [speed_ref,
+    heading_ref(, stamp)]) and cmd_vel (geometry_msgs/Twist). Also /map
+    (latched nav_msgs/OccupancyGrid), /clock and tf2 frames map -> robot_i/odom
+    -> robot_i/base_link -> robot_i/laser. --names stage: stage_ros' names
+    instead. Needs ROS 1 (Debian's python3-rospy and message packages) and a
+    running master (ROS_MASTER_URI). See docs/how-to/ros.md.
     """
     from mimics.interfaces.cli.run_summary import (
         check_repeated,
@@ -80,7 +85,10 @@ def ros_command(
         raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
     if view not in VIEW_CHOICES:
         raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
+    from mimics.interfaces.ros.names import check_name_set
+
     try:
+        check_name_set(names, "--names")
         params = parse_params(param or [])
         check_repeated(params, robots=robots, time=time)
     except MimicsError as exc:
@@ -103,7 +111,7 @@ def ros_command(
         # the default name, never one taken (-2, -3...): a run never replaces another
         folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed)
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
-                                map_resolution=map_resolution, watchdog=watchdog)
+                                map_resolution=map_resolution, watchdog=watchdog, names=names)
         with kernels_compiled_ahead():
             result = run_ros(scenario, folder, options=options, params=params, time=time,
                              seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]

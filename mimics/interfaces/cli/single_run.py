@@ -53,6 +53,9 @@ def run(
     ros_timeout: Annotated[float | None, typer.Option(
         help="ros: algorithms: seconds to wait for the node to connect and, each step, for "
              "all its commands [default: 10]")] = None,
+    ros_names: Annotated[str | None, typer.Option(
+        help="ros: algorithms: topic and frame names, mimics or stage (stage_ros' names) "
+             "[default: mimics]")] = None,
 ) -> None:
     """Run one simulation, print its summary and write its run folder.
 
@@ -67,7 +70,7 @@ def run(
             scenario=scenario, algorithm=algorithm, robots=robots, time=time, seed=seed,
             out=out, policy=policy, param=param, wall_limit=wall_limit, robot_logs=robot_logs,
             view=view, video=video, record_scans=record_scans, allow_overlap=allow_overlap,
-            ros_timeout=ros_timeout)))
+            ros_timeout=ros_timeout, ros_names=ros_names)))
     from mimics.records.naming import new_run_folder
     from mimics.records.runner import prepare, run_to_folder
 
@@ -87,8 +90,16 @@ def run(
         DEFAULTS.timeout_option = "--ros-timeout"
         if ros_timeout is not None:
             DEFAULTS.timeout = ros_timeout
-    elif ros_timeout is not None:
-        raise fail("--ros-timeout: only for ros: algorithms (ros:PROGRAM [ARGS...])")
+        if ros_names is not None:
+            from mimics.interfaces.ros.names import check_name_set
+
+            try:
+                DEFAULTS.names = check_name_set(ros_names, "--ros-names")
+            except MimicsError as exc:
+                raise fail(str(exc)) from None
+    elif ros_timeout is not None or ros_names is not None:
+        option = "--ros-timeout" if ros_timeout is not None else "--ros-names"
+        raise fail(f"{option}: only for ros: algorithms (ros:PROGRAM [ARGS...])")
     from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
 
     if video is not None:

@@ -2,8 +2,10 @@
 
 A bridge is a set of small capabilities, one module each: ``clock``,
 ``odometry``, ``scans``, ``grid_map`` (the latched ``/map``), ``frames`` (tf2),
-``goals``, ``commands`` (the ``cmd`` and ``cmd_vel`` subscriptions); message
-conversion lives in one place (``conversion``), the map's rasterisation in
+``goals``, ``commands`` (the ``cmd`` and ``cmd_vel`` subscriptions); every
+topic and frame name comes from ``names`` (the ``mimics`` and ``stage`` name
+sets), the odometer's ``odom`` frame and covariance from ``odometry_frame``
+(plain NumPy); message conversion lives in one place (``conversion``), the map's rasterisation in
 ``occupancy``, the references' hand-over between ROS threads and the step in
 ``inbox`` and ``references``, and ``bridge`` ties them to a run.
 

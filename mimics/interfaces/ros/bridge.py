@@ -8,16 +8,19 @@ that returns the references received. The run folder, logs, summary and end
 criteria are those of ``mimics run``.
 
 Per step ``k`` (time ``t_k``), lockstep: the inbox is told to expect step
-``k``'s commands, then ``/clock``, every active robot's ``odom`` and ``scan``
-and ``/tf`` are published stamped ``t_k``; the next step waits for every
-active robot's command, all within one deadline (``timeout`` seconds from
-the step's publication). Realtime: the same publications, then a sleep until
-wall time ``start + t_k + dt``; the next step uses the latest commands, and
-a robot whose commands stop for ``watchdog`` seconds is stopped.
+``k``'s commands, then ``/clock``, every active robot's ``odom``, ``pose``,
+ground truth and ``scan``, and ``/tf`` are published stamped ``t_k``; the
+next step waits for every active robot's command, all within one deadline
+(``timeout`` seconds from the step's publication). Realtime: the same
+publications, then a sleep until wall time ``start + t_k + dt``; the next
+step uses the latest commands, and a robot whose commands stop for
+``watchdog`` seconds is stopped.
 
-``odom`` and ``scan`` are latched: a node that subscribes late (to the scan
-0.3 s after the odometry, say) still receives the current step's message
-on connecting, and in lockstep the run waits for its command, so no step's
+Topic and frame names come from one
+:class:`~mimics.interfaces.ros.names.RosNames` (``--names mimics`` or
+``stage``). The per-step topics are latched: a node that subscribes late (to
+the scan 0.3 s after the odometry, say) still receives the current step's
+message on connecting, and in lockstep the run waits for its command, so no step's
 scan is lost, whatever the timing.
 """
 
@@ -31,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mimics.interfaces.ros.names import RosNames, check_name_set
 from mimics.interfaces.ros.system_ros import require_master, require_ros
 from mimics.world.errors import MimicsError
 
@@ -56,6 +60,8 @@ class BridgeOptions:
             is stopped (stage_ros' ``base_watchdog_timeout``).
         timeout_option: the option setting ``timeout`` in the running
             command, cited by time-out messages (None: no such option).
+        names: the name set of topics and frames, ``"mimics"`` or ``"stage"``
+            (see :mod:`~mimics.interfaces.ros.names`).
     """
 
     lockstep: bool = True
@@ -63,8 +69,10 @@ class BridgeOptions:
     map_resolution: float = 0.05
     watchdog: float = 0.2
     timeout_option: str | None = "--timeout"
+    names: str = "mimics"
 
     def __post_init__(self) -> None:
+        check_name_set(self.names)
         if not self.timeout > 0:
             raise MimicsError(f"timeout: expected a positive number of seconds, "
                               f"got {self.timeout!r}")
@@ -88,19 +96,23 @@ class RosBridge:
         self.options = options
         self.inbox = inbox
         n, beams = sim.state.n, sim.types.beam_count
+        self.names = RosNames(options.names, n)
         self.map = MapPublisher(sim.scenario.map, options.map_resolution)
-        self.goals = GoalPublisher(sim.state.goal)
-        self.frames = FramePublisher(beams)
+        self.goals = GoalPublisher(sim.state.goal, self.names)
         self.clock = ClockPublisher()
-        self.odometry = OdometryPublisher(n)
-        self.scans = ScanPublisher(beams)
-        self.commands = CommandSubscriber(n, inbox, sim.scenario.settings.dt)
+        self.odometry = OdometryPublisher(sim, self.names)
+        self.frames = FramePublisher(beams, self.names, self.odometry.frames)
+        self.scans = ScanPublisher(beams, self.names)
+        self.commands = CommandSubscriber(n, inbox, sim.scenario.settings.dt, self.names)
         self._dt = sim.scenario.settings.dt
         self._wall_start = 0.0
 
     def wait_for_nodes(self, robots: np.ndarray,
                        check: Callable[[], None] | None = None) -> None:
-        """Wait until each robot's ``odom`` has a subscriber and its commands a publisher.
+        """Wait until each robot's observations have a subscriber and its commands a publisher.
+
+        A node connects to a robot by subscribing to any of its per-step
+        topics (``odom``, ``pose``, the ground truth or the scan).
 
         ``check`` is called while waiting; it raises to give up early (the
         controller's process has exited, say).
@@ -114,8 +126,7 @@ class RosBridge:
             if check is not None:
                 check()
             waiting = [i for i in waiting
-                       if self.odometry.publishers[i].get_num_connections() == 0
-                       or self.commands.publishers_connected(i) == 0]
+                       if not self._observed(i) or self.commands.publishers_connected(i) == 0]
             if not waiting:
                 return
             if wall.monotonic() > deadline:
@@ -124,10 +135,18 @@ class RosBridge:
                 hint = f" ({option} sets it)" if option else ""
                 raise MimicsError(
                     f"no controller node for robot {i} within "
-                    f"{self.options.timeout:g} s{hint} (nothing subscribes to /robot_{i}/odom or "
-                    f"publishes on /robot_{i}/cmd or /robot_{i}/cmd_vel; "
-                    f"{len(waiting)} robots waiting)")
+                    f"{self.options.timeout:g} s{hint} (nothing subscribes to "
+                    f"{self.names.odom(i)} (or its other topics) or publishes on "
+                    f"{self.names.commands_text(i)}; {len(waiting)} "
+                    f"robot{'s' if len(waiting) > 1 else ''} waiting)")
             wall.sleep(0.02)
+
+    def _observed(self, robot: int) -> bool:
+        """Whether some node subscribes to one of the robot's per-step topics."""
+        publishers = self.odometry.all_publishers(robot)
+        scan = self.scans.publishers.get(robot)
+        return any(publisher.get_num_connections() > 0
+                   for publisher in (*publishers, *([scan] if scan is not None else [])))
 
     def on_start(self, sim: Simulation) -> None:
         self._wall_start = wall.monotonic()
@@ -223,6 +242,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     join_ros()
     bridge = RosBridge(sim, inbox, options)
     references.publishers = bridge.commands.publishers_connected
+    references.names = bridge.names
     try:
         bridge.wait_for_nodes(np.flatnonzero(sim.state.active))
         sim.observers.append(bridge)
@@ -231,6 +251,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
                                             else "realtime",
                                             "timeout": options.timeout,
                                             "watchdog": options.watchdog,
+                                            "names": options.names,
                                             "map_resolution": options.map_resolution}})
     finally:
         bridge.close()

@@ -1,4 +1,6 @@
-"""The subscriptions: ``/robot_i/cmd`` and ``/robot_i/cmd_vel`` feed the inbox.
+"""The subscriptions: each robot's ``cmd`` and ``cmd_vel`` (names from
+:class:`~mimics.interfaces.ros.names.RosNames`; the ``stage`` names have
+``cmd_vel`` only) feed the inbox.
 
 ``cmd`` is ``std_msgs/Float64MultiArray`` with ``data = [speed_ref,
 heading_ref]`` or ``[speed_ref, heading_ref, stamp]`` (see
@@ -22,9 +24,9 @@ from mimics.interfaces.ros.conversion import (
     BadCommand,
     command_from_array,
     command_from_twist,
-    robot_namespace,
 )
 from mimics.interfaces.ros.inbox import Inbox
+from mimics.interfaces.ros.names import RosNames
 
 WARNING_INTERVAL = 1.0  # seconds of wall time between two warnings about one robot
 
@@ -52,14 +54,17 @@ class WarningThrottle:
 class CommandSubscriber:
     """Subscribes to both command topics of every robot."""
 
-    def __init__(self, robots: int, inbox: Inbox, dt: float) -> None:
+    def __init__(self, robots: int, inbox: Inbox, dt: float,
+                 names: RosNames | None = None) -> None:
+        names = names or RosNames(robots=robots)
         self.inbox = inbox
         self.dt = dt
         self.warnings = WarningThrottle()
-        self.cmd = [rospy.Subscriber(f"/{robot_namespace(i)}/cmd", Float64MultiArray,
-                                     self._on_cmd, callback_args=i, tcp_nodelay=True)
-                    for i in range(robots)]
-        self.cmd_vel = [rospy.Subscriber(f"/{robot_namespace(i)}/cmd_vel", Twist,
+        cmd_topics = [names.cmd(i) for i in range(robots)]
+        self.cmd = [rospy.Subscriber(topic, Float64MultiArray, self._on_cmd, callback_args=i,
+                                     tcp_nodelay=True) if topic is not None else None
+                    for i, topic in enumerate(cmd_topics)]
+        self.cmd_vel = [rospy.Subscriber(names.cmd_vel(i), Twist,
                                          self._on_twist, callback_args=i, tcp_nodelay=True)
                         for i in range(robots)]
 
@@ -90,12 +95,14 @@ class CommandSubscriber:
         """
         return sum(_handshaken(connection)
                    for subscriber in (self.cmd[robot], self.cmd_vel[robot])
+                   if subscriber is not None
                    for connection in list(subscriber.impl.connections))
 
     def close(self) -> None:
         """Stop listening."""
         for subscriber in (*self.cmd, *self.cmd_vel):
-            subscriber.unregister()
+            if subscriber is not None:
+                subscriber.unregister()
 
 
 def _handshaken(connection: Any) -> bool:

@@ -4,10 +4,8 @@ Outgoing: odometry, laser scans, goals, the occupancy grid, tf2 transforms
 and the clock, all stamped with simulated time. Incoming: the two command
 messages, checked and turned into :class:`~mimics.interfaces.ros.inbox.Command`.
 
-Frames (REP 105 names, one set per robot ``i``): ``map`` (the world),
-``robot_i/odom`` (where the odometer's estimate lives), ``robot_i/base_link``
-(the robot's centre, x forward) and ``robot_i/laser`` (the ranger, at the
-centre, facing forward).
+Frame and topic names come from :mod:`~mimics.interfaces.ros.names` (the
+``mimics`` or the ``stage`` name set); the functions here take frame ids.
 """
 
 from __future__ import annotations
@@ -23,23 +21,12 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Float64MultiArray, Header
 
 from mimics.interfaces.ros.inbox import Command
+from mimics.interfaces.ros.names import MAP_FRAME
 from mimics.interfaces.ros.occupancy import Grid
-
-MAP_FRAME = "map"
 
 
 class BadCommand(ValueError):
     """A command message that cannot be used (its text says why)."""
-
-
-def robot_namespace(robot: int) -> str:
-    """The topic namespace and frame prefix of robot ``robot``: ``robot_3``."""
-    return f"robot_{robot}"
-
-
-def frame(robot: int, name: str) -> str:
-    """A robot's frame id, e.g. ``robot_3/base_link``."""
-    return f"{robot_namespace(robot)}/{name}"
 
 
 def stamp(seconds: float) -> rospy.Time:
@@ -67,29 +54,48 @@ def header(seconds: float, frame_id: str) -> Header:
     return Header(stamp=stamp(seconds), frame_id=frame_id)
 
 
-def odometry_message(robot: int, seconds: float, pose: np.ndarray, velocity: np.ndarray,
-                     sigma_position: float, sigma_velocity: float) -> Odometry:
-    """The measured pose (in ``map``) and velocity (in ``base_link``) of one robot.
+PLANAR = [0, 1, 5]  # x, y and yaw among a 6x6 covariance's x, y, z, roll, pitch, yaw
 
-    The covariances hold the positioning noise of the robot's type: variance
-    ``sigma_position**2`` on x and y, ``sigma_velocity**2`` on v and w.
+
+def odometry_message(seconds: float, frame_id: str, child_frame_id: str, pose: np.ndarray,
+                     velocity: np.ndarray, pose_covariance: np.ndarray,
+                     velocity_variance: tuple[float, float]) -> Odometry:
+    """A planar pose in ``frame_id`` and a velocity in ``child_frame_id``.
+
+    ``pose`` is ``(x, y, theta)``, ``velocity`` ``(v, w)``; ``pose_covariance``
+    is the 3x3 covariance of ``(x, y, theta)``, written into the message's
+    6x6 (rows and columns x, y and yaw: 0, 1 and 5); ``velocity_variance``
+    the variances of ``v`` and ``w`` (twist rows 0 and 5). The dimensions a
+    planar robot does not have (z, roll, pitch) get 0.
     """
-    x, y, theta = (float(value) for value in pose)
-    message = Odometry(header=header(seconds, MAP_FRAME), child_frame_id=frame(robot, "base_link"))
-    message.pose.pose.position.x = x
-    message.pose.pose.position.y = y
-    message.pose.pose.orientation = yaw_quaternion(theta)
-    position_variance, velocity_variance = sigma_position ** 2, sigma_velocity ** 2
+    message = Odometry(header=Header(frame_id=frame_id), child_frame_id=child_frame_id)
     message.pose.covariance = [0.0] * 36
-    message.pose.covariance[0] = message.pose.covariance[7] = position_variance
-    message.twist.twist.linear.x = float(velocity[0])
-    message.twist.twist.angular.z = float(velocity[1])
     message.twist.covariance = [0.0] * 36
-    message.twist.covariance[0] = message.twist.covariance[35] = velocity_variance
+    fill_odometry(message, seconds, pose, velocity, pose_covariance, velocity_variance)
     return message
 
 
-def scan_message(robot: int, seconds: float, ranges: np.ndarray, hit: np.ndarray,
+def fill_odometry(message: Odometry, seconds: float, pose: np.ndarray, velocity: np.ndarray,
+                  pose_covariance: np.ndarray, velocity_variance: tuple[float, float]) -> None:
+    """Write a new step into a message of :func:`odometry_message`, in place.
+
+    A sixth of the cost of a new message (6 against 35 us here): the bridge
+    keeps one message per robot and topic.
+    """
+    x, y, theta = pose.tolist()
+    message.header.stamp = stamp(seconds)
+    position, orientation = message.pose.pose.position, message.pose.pose.orientation
+    position.x, position.y = x, y
+    orientation.z, orientation.w = math.sin(theta / 2.0), math.cos(theta / 2.0)
+    covariance = message.pose.covariance
+    for row, values in zip(PLANAR, pose_covariance.tolist(), strict=True):
+        for column, value in zip(PLANAR, values, strict=True):
+            covariance[6 * row + column] = value
+    message.twist.twist.linear.x, message.twist.twist.angular.z = velocity.tolist()
+    message.twist.covariance[0], message.twist.covariance[35] = velocity_variance
+
+
+def scan_message(frame_id: str, seconds: float, ranges: np.ndarray, hit: np.ndarray,
                  angles: np.ndarray, max_range: float, dt: float) -> LaserScan:
     """One ranger reading; beams that hit nothing read ``+inf`` (REP 117).
 
@@ -98,7 +104,7 @@ def scan_message(robot: int, seconds: float, ranges: np.ndarray, hit: np.ndarray
     """
     increment = float(angles[1] - angles[0]) if len(angles) > 1 else 0.0
     values = np.where(hit, ranges, np.inf)
-    return LaserScan(header=header(seconds, frame(robot, "laser")),
+    return LaserScan(header=header(seconds, frame_id),
                      angle_min=float(angles[0]), angle_max=float(angles[-1]),
                      angle_increment=increment, time_increment=0.0, scan_time=dt,
                      range_min=0.0, range_max=float(max_range), ranges=values.tolist(),
@@ -135,28 +141,29 @@ def transform(seconds: float, parent: str, child: str, x: float, y: float,
     return message
 
 
-def robot_transforms(robot: int, seconds: float, pose: np.ndarray,
-                     odometry: np.ndarray) -> list[TransformStamped]:
-    """``map -> robot_i/odom -> robot_i/base_link`` for one robot.
+def odometry_transforms(seconds: float, odom_frame: str, body_frame: str, pose: np.ndarray,
+                         odometry: np.ndarray) -> list[TransformStamped]:
+    """``map -> odom -> body`` for one robot (REP 105).
 
-    ``odom -> base_link`` is the odometer's estimate; ``map -> odom`` is the
-    correction that puts ``base_link`` at the measured ``pose`` in ``map``:
-    ``T(pose) * T(odometry)^-1``.
+    ``odometry`` is the odometer's pose in ``odom_frame``, ``pose`` the
+    measured pose in ``map``: ``odom -> body`` is the odometer's estimate;
+    ``map -> odom`` is the correction that puts ``body`` at ``pose`` in
+    ``map``, ``T(pose) * T(odometry)^-1``, as a localiser would publish it.
     """
     px, py, ptheta = (float(value) for value in pose)
     ox, oy, otheta = (float(value) for value in odometry)
     yaw = ptheta - otheta
     cos, sin = math.cos(yaw), math.sin(yaw)
-    to_odom = transform(seconds, MAP_FRAME, frame(robot, "odom"),
+    to_odom = transform(seconds, MAP_FRAME, odom_frame,
                         px - (cos * ox - sin * oy), py - (sin * ox + cos * oy), yaw)
-    to_base = transform(seconds, frame(robot, "odom"), frame(robot, "base_link"), ox, oy,
-                        otheta)
-    return [to_odom, to_base]
+    to_body = transform(seconds, odom_frame, body_frame, ox, oy, otheta)
+    return [to_odom, to_body]
 
 
-def laser_transform(robot: int) -> TransformStamped:
-    """``robot_i/base_link -> robot_i/laser``: the ranger sits at the centre, facing forward."""
-    return transform(0.0, frame(robot, "base_link"), frame(robot, "laser"), 0.0, 0.0, 0.0)
+def fixed_transform(parent: str, child: str) -> TransformStamped:
+    """``parent -> child`` as the identity: the laser sits at the robot's centre, facing
+    forward, and ``base_link`` on ``base_footprint`` (a planar robot)."""
+    return transform(0.0, parent, child, 0.0, 0.0, 0.0)
 
 
 def clock_message(seconds: float) -> Clock:

@@ -1,8 +1,16 @@
-"""tf2 frames: ``map -> robot_i/odom -> robot_i/base_link`` on ``/tf`` every step, and
-``robot_i/base_link -> robot_i/laser`` once on the latched ``/tf_static``.
+"""tf2 frames (REP 105), names from :mod:`~mimics.interfaces.ros.names`.
 
-Published as plain ``tf2_msgs/TFMessage`` (what ``tf2_ros``' broadcasters
-send), so no compiled part of tf2 is loaded.
+Every step on ``/tf``, per active robot: ``map -> odom`` (the correction
+that puts the body at the measured pose in ``map``) and ``odom -> body``
+(the odometer's pose in its ``odom`` frame). Once on the latched
+``/tf_static``: ``base_footprint -> base_link`` (``stage`` names) and
+``base_link -> laser`` (``base_laser_link``), both the identity: the ranger
+sits at the robot's centre, facing forward.
+
+``/tf`` is latched (one message per step holds every robot's frames), so a
+listener that connects late still gets the current step's. Published as
+plain ``tf2_msgs/TFMessage`` (what ``tf2_ros``' broadcasters send), so no
+compiled part of tf2 is loaded.
 """
 
 from __future__ import annotations
@@ -13,28 +21,42 @@ import numpy as np
 import rospy
 from tf2_msgs.msg import TFMessage
 
-from mimics.interfaces.ros.conversion import laser_transform, robot_transforms
+from mimics.interfaces.ros.conversion import fixed_transform, odometry_transforms
+from mimics.interfaces.ros.names import RosNames
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
+    from mimics.interfaces.ros.odometry_frame import OdometerFrames
 
 
 class FramePublisher:
     """Broadcasts every robot's frames."""
 
-    def __init__(self, beam_count: np.ndarray) -> None:
-        self._dynamic = rospy.Publisher("/tf", TFMessage, queue_size=100)
+    def __init__(self, beam_count: np.ndarray, names: RosNames,
+                 odometer: OdometerFrames) -> None:
+        self.names = names
+        self.odometer = odometer  # the odometry publisher's: updated before this publishes
+        # latched: a listener that connects late (the run waits for the nodes' odometry
+        # and scan subscriptions, not for /tf) still gets the current step's frames
+        self._dynamic = rospy.Publisher("/tf", TFMessage, queue_size=100, latch=True)
         self._static = rospy.Publisher("/tf_static", TFMessage, queue_size=1, latch=True)
-        lasers = [laser_transform(i) for i in np.flatnonzero(beam_count > 0).tolist()]
-        self._static.publish(TFMessage(transforms=lasers))
+        fixed = []
+        for i in range(len(beam_count)):
+            footprint = names.footprint_frame(i)
+            if footprint is not None:
+                fixed.append(fixed_transform(footprint, names.base_frame(i)))
+            if beam_count[i] > 0:
+                fixed.append(fixed_transform(names.base_frame(i), names.laser_frame(i)))
+        self._static.publish(TFMessage(transforms=fixed))
 
     def publish(self, sim: Simulation, ids: np.ndarray) -> None:
         """The frames of robots ``ids`` at the current step, in one message."""
-        state = sim.state
+        state, names = sim.state, self.names
         transforms = []
         for i in ids.tolist():
-            transforms.extend(robot_transforms(i, state.time, state.measured_pose[i],
-                                               state.odometry[i]))
+            transforms.extend(odometry_transforms(state.time, names.odom_frame(i),
+                                                  names.body_frame(i), state.measured_pose[i],
+                                                  self.odometer.pose[i]))
         if transforms:
             self._dynamic.publish(TFMessage(transforms=transforms))
 

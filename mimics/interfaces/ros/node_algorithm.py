@@ -11,13 +11,19 @@ executable (a roscpp node, say). For each run, mimics
 2. publishes the run's topics (the bridge of ``mimics ros``), starts the
    node with ``{robots}`` and ``{seed}`` in ARGS replaced by the run's robot
    count and seed (also given as ``MIMICS_ROBOTS`` and ``MIMICS_SEED``) and
-   waits until it listens to every robot's ``odom`` and publishes commands;
+   waits until it listens to each robot's topics and publishes commands;
 3. runs in lockstep (each step waits for every active robot's command), so
    the run is as deterministic as the node, and a battery of such runs gives
    the same results on any number of workers;
 4. stops the node when the run ends (SIGINT, then SIGKILL) and withdraws
    the run's topics. The kernel kills the node and the master if the process
    dies first (a battery worker past its time limit, say).
+
+Options of the bridge may come before PROGRAM: ``ros:--names=stage
+PROGRAM [ARGS...]`` publishes ``stage_ros``' names
+(:mod:`~mimics.interfaces.ros.names`), for a node written for Stage; in a
+battery file that is the way to choose them (``mimics run`` also has
+``--ros-names``, which the algorithm's own option overrides).
 
 The entry point ``ros`` of the group ``mimics.algorithm_schemes``
 (``pyproject.toml``) is :data:`SCHEME`: the catalog finds it there, so that
@@ -42,6 +48,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mimics.engine.controllers import Controller, UserFailure
+from mimics.interfaces.ros.names import NAME_SETS
 from mimics.world.errors import AlgorithmError, MimicsError
 
 if TYPE_CHECKING:
@@ -55,16 +62,22 @@ def system_python() -> str:
     return shutil.which("python3", path="/usr/bin") or sys.executable
 
 
+NAMES_OPTION = "--names="
+
+
 @dataclass(frozen=True)
 class NodeCommand:
-    """A controller node's program (absolute) and arguments."""
+    """A controller node's program (absolute) and arguments, and the bridge's name set
+    (None: the process's default, :data:`DEFAULTS`)."""
 
     program: Path
     args: tuple[str, ...]
+    names: str | None = None
 
     @classmethod
     def parse(cls, text: str, base: Path) -> NodeCommand:
-        """``PROGRAM [ARGS...]``, PROGRAM a file relative to ``base`` or a name on ``PATH``.
+        """``[--names=SET] PROGRAM [ARGS...]``, PROGRAM a file relative to ``base`` or a
+        name on ``PATH``.
 
         Raises:
             AlgorithmError: naming the algorithm and what was expected.
@@ -74,6 +87,17 @@ class NodeCommand:
             words = shlex.split(text)
         except ValueError as exc:
             raise AlgorithmError(f"{where}: {exc} (expected ros:PROGRAM [ARGS...])") from None
+        names = None
+        while words and words[0].startswith("--"):
+            option = words.pop(0)
+            if not option.startswith(NAMES_OPTION):
+                raise AlgorithmError(f"{where}: unknown option {option!r} before the program "
+                                     f"(expected {NAMES_OPTION}SET, SET one of "
+                                     f"{', '.join(NAME_SETS)})")
+            names = option[len(NAMES_OPTION):]
+            if names not in NAME_SETS:
+                raise AlgorithmError(f"{where}: {NAMES_OPTION}: expected one of "
+                                     f"{', '.join(NAME_SETS)}, got {names!r}")
         if not words:
             raise AlgorithmError(f"{where}: expected ros:PROGRAM [ARGS...], PROGRAM a rospy "
                                  ".py file or an executable ROS node")
@@ -91,12 +115,13 @@ class NodeCommand:
         if program.suffix != ".py" and not os.access(program, os.X_OK):
             raise AlgorithmError(f"{where}: {str(program)!r} is neither a .py file nor "
                                  "executable (chmod +x it, or build the node)")
-        return cls(program, tuple(words[1:]))
+        return cls(program, tuple(words[1:]), names)
 
     @property
     def text(self) -> str:
         """The command as an algorithm reference takes it (after ``ros:``)."""
-        return " ".join(_quoted(word) for word in (str(self.program), *self.args))
+        options = [] if self.names is None else [f"{NAMES_OPTION}{self.names}"]
+        return " ".join(_quoted(word) for word in (*options, str(self.program), *self.args))
 
     @property
     def label(self) -> str:
@@ -173,13 +198,14 @@ multiprocessing.util.Finalize(None, _close_current, exitpriority=200)
 class NodeDefaults:
     """The bridge settings of ``ros:`` runs in this process.
 
-    ``mimics run --ros-timeout`` sets ``timeout`` and ``timeout_option``;
-    elsewhere (a battery, the Python API) the defaults hold and time-out
-    messages cite no option.
+    ``mimics run --ros-timeout`` sets ``timeout`` and ``timeout_option``,
+    ``--ros-names`` sets ``names``; elsewhere (a battery, the Python API) the
+    defaults hold and time-out messages cite no option.
     """
 
     timeout: float = 10.0
     timeout_option: str | None = None
+    names: str = "mimics"
 
 
 DEFAULTS = NodeDefaults()
@@ -198,7 +224,8 @@ class NodeController(Controller):
         from mimics.interfaces.ros.private_master import private_master
 
         # lockstep: a run as deterministic as the node
-        options = BridgeOptions(timeout=DEFAULTS.timeout, timeout_option=DEFAULTS.timeout_option)
+        options = BridgeOptions(timeout=DEFAULTS.timeout, timeout_option=DEFAULTS.timeout_option,
+                                names=self.command.names or DEFAULTS.names)
         _close_current()  # a run that ended without on_end (it raised) leaves its node
         private_master()
         join_ros()  # rospy importable from here on
@@ -212,6 +239,7 @@ class NodeController(Controller):
         self._references = references.controller()
         bridge = RosBridge(sim, inbox, options)
         references.publishers = bridge.commands.publishers_connected
+        references.names = bridge.names
         run = _NodeRun(bridge, self.command.argv(state.n, sim.seed), state.n, sim.seed)
         try:
             bridge.wait_for_nodes(np.flatnonzero(state.active), check=run.check_node)
@@ -242,6 +270,7 @@ class RosScheme:
             words = shlex.split(command)
         except ValueError:
             words = command.split()
+        words = [word for word in words if not word.startswith("--")][:1]  # options first
         return f"ros-{Path(words[0]).stem}" if words else "ros"
 
     def algorithm(self, command: str) -> tuple[str, Any]:

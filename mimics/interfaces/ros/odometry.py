@@ -1,4 +1,18 @@
-"""``/robot_i/odom``: each active robot's measured (noisy) pose and velocity."""
+"""Each active robot's odometry, positioning and ground truth, as ``nav_msgs/Odometry``.
+
+* ``odom`` (both name sets): the odometer's pose in the robot's ``odom``
+  frame (its start pose: ``(0, 0, 0)`` at ``t = 0``), with its accumulated
+  noise and the covariance of :mod:`~mimics.interfaces.ros.odometry_frame`;
+  the twist is the measured velocity (variance ``sigma_velocity**2`` on v and w).
+* ``pose`` (``mimics`` names only): the positioning sensor's measured pose
+  in ``map`` (variance ``sigma_position**2`` on x and y) and the measured velocity,
+  what mimics' own algorithms read as ``robot.pose``.
+* ``ground_truth`` / ``base_pose_ground_truth``: the true pose in ``map``
+  and the true velocity, covariance 0.
+
+The child frame is the robot's body (``base_link``, or ``base_footprint``
+under the ``stage`` names). All three are latched (see ``bridge``).
+"""
 
 from __future__ import annotations
 
@@ -8,30 +22,80 @@ import numpy as np
 import rospy
 from nav_msgs.msg import Odometry
 
-from mimics.interfaces.ros.conversion import odometry_message, robot_namespace
+from mimics.interfaces.ros.conversion import fill_odometry, odometry_message
+from mimics.interfaces.ros.names import MAP_FRAME, RosNames
+from mimics.interfaces.ros.odometry_frame import OdometerFrames
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
 
+_NO_COVARIANCE = np.zeros((3, 3))
+
+
+class _Topic:
+    """One robot's latched Odometry topic and the message it sends again each step."""
+
+    def __init__(self, topic: str, frame_id: str, child_frame_id: str) -> None:
+        self.publisher = rospy.Publisher(topic, Odometry, queue_size=10, tcp_nodelay=True,
+                                         latch=True)
+        self.message = odometry_message(0.0, frame_id, child_frame_id, np.zeros(3),
+                                        np.zeros(2), _NO_COVARIANCE, (0.0, 0.0))
+
+    def send(self, seconds: float, pose: np.ndarray, velocity: np.ndarray,
+             covariance: np.ndarray, velocity_variance: tuple[float, float]) -> None:
+        """Publish the step. The message is filled under the topic's lock, which rospy
+        also takes to send the latched message to a subscriber that connects: never
+        half-written."""
+        impl = self.publisher.impl
+        impl.acquire()
+        try:
+            fill_odometry(self.message, seconds, pose, velocity, covariance, velocity_variance)
+            self.publisher.publish(self.message)
+        finally:
+            impl.release()
+
 
 class OdometryPublisher:
-    """Publishes ``nav_msgs/Odometry`` for every robot, pose in ``map``."""
+    """Publishes every robot's ``odom``, ``pose`` (when the name set has it) and ground truth."""
 
-    def __init__(self, robots: int) -> None:
-        self.publishers = [rospy.Publisher(f"/{robot_namespace(i)}/odom", Odometry,
-                                           queue_size=10, tcp_nodelay=True,
-                                           latch=True)
-                           for i in range(robots)]
+    def __init__(self, sim: Simulation, names: RosNames) -> None:
+        n, types = sim.state.n, sim.types
+        self.names = names
+        # the odometer starts at the start pose (the engine copies the pose into it)
+        self.frames = OdometerFrames(sim.state.odometry, types.sigma_translation,
+                                     types.sigma_rotation)
+        self.odom = [_Topic(names.odom(i), names.odom_frame(i), names.body_frame(i))
+                     for i in range(n)]
+        self.pose = [_Topic(topic, MAP_FRAME, names.body_frame(i))
+                     for i in range(n) if (topic := names.pose(i)) is not None]
+        self.truth = [_Topic(names.ground_truth(i), MAP_FRAME, names.body_frame(i))
+                      for i in range(n)]
+        self._velocity_variance = [(float(sigma) ** 2,) * 2 for sigma in types.sigma_velocity]
+        self._position_covariance = [np.diag([float(sigma) ** 2] * 2 + [0.0])
+                                     for sigma in types.sigma_position]
+
+    def all_publishers(self, robot: int) -> list[rospy.Publisher]:
+        """The robot's publishers (a node listening to any of them is connected)."""
+        topics = [self.odom[robot], self.truth[robot]]
+        return [topic.publisher for topic in topics + self.pose[robot:robot + 1]]
 
     def publish(self, sim: Simulation, ids: np.ndarray) -> None:
-        """The measured pose and velocity of robots ``ids`` at the current step."""
-        state, types = sim.state, sim.types
+        """The odometer, measured pose and true pose of robots ``ids`` at the current step."""
+        state = sim.state
+        if state.step > 0:  # step 0: the odometer is at its start, covariance 0
+            self.frames.update(state.odometry)
+        seconds = state.time
         for i in ids.tolist():
-            self.publishers[i].publish(odometry_message(
-                i, state.time, state.measured_pose[i], state.measured_velocity[i],
-                float(types.sigma_position[i]), float(types.sigma_velocity[i])))
+            velocity_variance = self._velocity_variance[i]
+            self.odom[i].send(seconds, self.frames.pose[i], state.measured_velocity[i],
+                              self.frames.covariance[i], velocity_variance)
+            if self.pose:
+                self.pose[i].send(seconds, state.measured_pose[i], state.measured_velocity[i],
+                                  self._position_covariance[i], velocity_variance)
+            self.truth[i].send(seconds, state.pose[i], state.velocity[i], _NO_COVARIANCE,
+                               (0.0, 0.0))
 
     def close(self) -> None:
         """Withdraw the topics."""
-        for publisher in self.publishers:
-            publisher.unregister()
+        for topic in (*self.odom, *self.pose, *self.truth):
+            topic.publisher.unregister()

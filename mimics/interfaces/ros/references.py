@@ -28,8 +28,9 @@ from typing import Any
 import numpy as np
 
 from mimics.engine.controllers import PerRobotController
-from mimics.interfaces.ros.conversion import robot_namespace, twist_to_references
+from mimics.interfaces.ros.conversion import twist_to_references
 from mimics.interfaces.ros.inbox import HOLD, Command, Inbox, LockstepTimeout
+from mimics.interfaces.ros.names import RosNames
 
 ALGORITHM_NAME = "ros"
 
@@ -49,12 +50,15 @@ class RosReferences:
             stopped (None: never).
         publishers: how many command publishers robot ``i`` has (to tell a
             node that has gone from one that is only late).
+        names: the run's topic names (cited by messages).
     """
 
     def __init__(self, inbox: Inbox, initial_headings: np.ndarray, timeout: float,
                  timeout_option: str | None = "--timeout", watchdog: float | None = None,
-                 publishers: Callable[[int], int] | None = None) -> None:
+                 publishers: Callable[[int], int] | None = None,
+                 names: RosNames | None = None) -> None:
         self.inbox = inbox
+        self.names = names or RosNames(robots=len(initial_headings))
         self.timeout = timeout
         self.timeout_option = timeout_option
         self.watchdog = watchdog
@@ -84,8 +88,8 @@ class RosReferences:
         option = f" ({self.timeout_option})" if self.timeout_option else ""
         plural = "s" if len(waiting) > 1 else ""
         return (f"no command for t={seconds:g} s within {self.timeout:g} s{option} from "
-                f"{len(waiting)} robot{plural}: {robot_ranges(waiting)} (on /robot_i/cmd or "
-                "/robot_i/cmd_vel): has the controller node stopped?")
+                f"{len(waiting)} robot{plural}: {robot_ranges(waiting)} (on "
+                f"{self.names.commands_text()}): has the controller node stopped?")
 
     def _silent(self, robot: Any) -> bool:
         """Realtime: whether the robot's commands have ceased; it is then stopped (once)."""
@@ -97,8 +101,8 @@ class RosReferences:
                 robot.log("commands again: the watchdog releases the robot")
             return False
         gone = self.publishers is not None and self.publishers(i) == 0
-        gone_note = (f"its node has gone (nothing publishes /{robot_namespace(i)}/cmd or "
-                     "cmd_vel)")
+        gone_note = (f"its node has gone (nothing publishes "
+                     f"{self.names.commands_text(i)})")
         if not self._stopped[i]:
             self._stopped[i] = True
             self._gone[i] = gone

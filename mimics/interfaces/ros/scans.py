@@ -1,4 +1,9 @@
-"""``/robot_i/scan``: each active robot's ranger reading, with its real angles and range."""
+"""Each active robot's ranger reading (``scan``, or ``base_scan`` under the stage names),
+with its real angles and range.
+
+A mimics robot has at most one ranger, so the topic is ``scan`` or
+``base_scan`` (the names object numbers them when a robot has several).
+"""
 
 from __future__ import annotations
 
@@ -8,7 +13,8 @@ import numpy as np
 import rospy
 from sensor_msgs.msg import LaserScan
 
-from mimics.interfaces.ros.conversion import robot_namespace, scan_message
+from mimics.interfaces.ros.conversion import scan_message
+from mimics.interfaces.ros.names import RosNames
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
@@ -17,9 +23,10 @@ if TYPE_CHECKING:
 class ScanPublisher:
     """Publishes ``sensor_msgs/LaserScan`` for every robot that has a ranger."""
 
-    def __init__(self, beam_count: np.ndarray) -> None:
+    def __init__(self, beam_count: np.ndarray, names: RosNames) -> None:
         self.beam_count = beam_count
-        self.publishers = {i: rospy.Publisher(f"/{robot_namespace(i)}/scan", LaserScan,
+        self.names = names
+        self.publishers = {i: rospy.Publisher(names.scan(i), LaserScan,
                                               queue_size=10, tcp_nodelay=True,
                                               latch=True)
                            for i in np.flatnonzero(beam_count > 0).tolist()}
@@ -33,9 +40,9 @@ class ScanPublisher:
                 continue
             beams = int(self.beam_count[i])
             publisher.publish(scan_message(
-                i, state.time, state.scan[i, :beams], state.scan_hit[i, :beams] != -2,
-                types.beam_offsets[i, :beams], float(types.max_range[i]),
-                sim.scenario.settings.dt))
+                self.names.laser_frame(i), state.time, state.scan[i, :beams],
+                state.scan_hit[i, :beams] != -2, types.beam_offsets[i, :beams],
+                float(types.max_range[i]), sim.scenario.settings.dt))
 
     def close(self) -> None:
         """Withdraw the topics."""

@@ -68,7 +68,7 @@ seeds = [1, 2]
 [[scenarios]]
 name = "line"
 robots = 5
-noise = "off"  # the node steers by the odometer, go_to_goal by the pose: equal when exact
+noise = "off"  # both steer by the positioning sensor: exact, so the same runs
 random_yaw = false  # facing their goals, the node and go_to_goal turn alike
 ''')
     mark = f"MIMICS_TEST_MARK_{uuid.uuid4().hex}"

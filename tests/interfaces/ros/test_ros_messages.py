@@ -64,29 +64,54 @@ def test_stamps_are_exact_nanoseconds_and_map_back_to_steps(convert):
 
 def test_frames_chain_to_the_measured_pose(convert):
     pose, odometry = np.array([3.0, -1.5, 2.5]), np.array([2.7, -1.2, 2.3])
-    to_odom, to_base = convert.robot_transforms(4, 1.2, pose, odometry)
+    to_odom, to_base = convert.odometry_transforms(1.2, "robot_4/odom", "robot_4/base_link",
+                                                   pose, odometry)
     assert (to_odom.header.frame_id, to_odom.child_frame_id) == ("map", "robot_4/odom")
     assert (to_base.header.frame_id, to_base.child_frame_id) == ("robot_4/odom",
                                                                  "robot_4/base_link")
     np.testing.assert_allclose(as_matrix(to_base), planar(*odometry), atol=1e-12)
     np.testing.assert_allclose(as_matrix(to_odom) @ as_matrix(to_base), planar(*pose),
                                atol=1e-12)
-    laser = convert.laser_transform(4)
+    laser = convert.fixed_transform("robot_4/base_link", "robot_4/laser")
     assert (laser.header.frame_id, laser.child_frame_id) == ("robot_4/base_link",
                                                              "robot_4/laser")
+    np.testing.assert_allclose(as_matrix(laser), np.eye(3), atol=1e-12)
 
 
-def test_odometry_carries_pose_velocity_and_noise(convert):
-    message = convert.odometry_message(2, 0.5, np.array([1.0, 2.0, 0.7]), np.array([0.4, -0.1]),
-                                       sigma_position=0.05, sigma_velocity=0.02)
-    assert (message.header.frame_id, message.child_frame_id) == ("map", "robot_2/base_link")
+def test_odometry_carries_pose_velocity_and_covariances(convert):
+    covariance = np.array([[0.01, 0.002, 0.003], [0.002, 0.02, 0.004], [0.003, 0.004, 0.03]])
+    message = convert.odometry_message(0.5, "robot_2/odom", "robot_2/base_link",
+                                       np.array([1.0, 2.0, 0.7]), np.array([0.4, -0.1]),
+                                       covariance, (0.0004, 0.0009))
+    assert (message.header.frame_id, message.child_frame_id) == ("robot_2/odom",
+                                                                 "robot_2/base_link")
     assert message.header.stamp.to_nsec() == 500_000_000
     p = message.pose.pose
     assert (p.position.x, p.position.y) == (1.0, 2.0)
     assert convert.quaternion_yaw(p.orientation) == pytest.approx(0.7)
     assert (message.twist.twist.linear.x, message.twist.twist.angular.z) == (0.4, -0.1)
-    assert message.pose.covariance[0] == message.pose.covariance[7] == pytest.approx(0.0025)
-    assert message.twist.covariance[0] == message.twist.covariance[35] == pytest.approx(0.0004)
+    # row-major 6x6 over x, y, z, roll, pitch, yaw: x, y, yaw are rows/columns 0, 1, 5
+    full = np.array(message.pose.covariance).reshape(6, 6)
+    np.testing.assert_array_equal(full[np.ix_([0, 1, 5], [0, 1, 5])], covariance)
+    assert np.count_nonzero(full) == 9
+    assert message.twist.covariance[0] == 0.0004 and message.twist.covariance[35] == 0.0009
+
+
+def test_a_refilled_odometry_message_is_a_fresh_one(convert):
+    import io
+
+    def serialised(message):
+        buffer = io.BytesIO()
+        message.serialize(buffer)
+        return buffer.getvalue()
+
+    first = (0.1, np.array([1.0, 2.0, 0.7]), np.array([0.4, -0.1]), np.eye(3), (0.1, 0.2))
+    second = (0.2, np.array([-3.0, 0.5, -2.9]), np.array([0.0, 0.3]),
+              np.arange(9.0).reshape(3, 3), (0.0, 0.0))
+    reused = convert.odometry_message(first[0], "odom", "base_footprint", *first[1:])
+    convert.fill_odometry(reused, *second)
+    fresh = convert.odometry_message(second[0], "odom", "base_footprint", *second[1:])
+    assert serialised(reused) == serialised(fresh)
 
 
 def test_scan_has_the_rangers_angles_and_inf_for_no_return(convert):
@@ -94,7 +119,7 @@ def test_scan_has_the_rangers_angles_and_inf_for_no_return(convert):
     ranges = np.full(offsets.shape, 30.0)
     hit = np.zeros(offsets.shape, dtype=bool)
     ranges[10], hit[10] = 4.25, True
-    message = convert.scan_message(0, 0.1, ranges, hit, offsets, 30.0, 0.1)
+    message = convert.scan_message("robot_0/laser", 0.1, ranges, hit, offsets, 30.0, 0.1)
     assert message.header.frame_id == "robot_0/laser"
     assert message.angle_min == pytest.approx(-math.radians(135))
     assert message.angle_max == pytest.approx(math.radians(135))
