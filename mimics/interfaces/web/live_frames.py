@@ -10,7 +10,7 @@ bytes    type              content
 4..7     uint32            n, robots
 8..      float32[T]        simulated time of each frame (s)
 then     float32[T, n, 3]  x, y, theta of every robot in every frame
-then     uint8[T, n]       state: ``Status`` code, 6 for a robot in livelock
+then     uint8[T, n]       state: ``Status`` code, 7 for a robot in livelock
 ======== ================= ==============================================
 
 The live stream sends each frame as such a body with T = 1.
@@ -27,8 +27,12 @@ import struct
 
 import numpy as np
 
-#: The state code of an active robot in a livelock (after the ``Status`` codes 0..5).
-LIVELOCK_CODE = 6
+from mimics.engine.state import Status
+
+#: The state code of an active robot in a livelock (after the ``Status`` codes 0..6).
+LIVELOCK_CODE = max(Status) + 1
+#: The names of the state codes, in code order (the keys of ``render.STATUS_COLORS``).
+STATE_NAMES = [*(s.name.lower() for s in sorted(Status)), "livelock"]
 
 
 def frame_states(status: np.ndarray, livelock: np.ndarray) -> np.ndarray:

@@ -121,14 +121,14 @@ class LiveWorker:
         self._sent_goals = goals.copy()
         self._sent_walls = self._walls_key()
         return {"title": f"{scenario.name} / {sim.controller.name} / seed {sim.seed}",
-                "robots": int(sim.state.n), "map": map_to_dict(scenario.map),
+                "robots": int(sim.state.n), "map": map_to_dict(sim.world_map),
                 "half_length": (lengths / 2).tolist(), "half_width": (widths / 2).tolist(),
                 "goals": [None if math.isnan(g[0]) else [float(g[0]), float(g[1])]
                           for g in goals.tolist()],
                 "dt": float(scenario.settings.dt), "colors": STATUS_COLORS}
 
     def _walls_key(self) -> tuple[int, int]:
-        segments = self.sim.scenario.map.segments
+        segments = self.sim.world_map.segments  # the walls as edited so far
         return id(segments), len(segments)
 
     def frame(self) -> tuple[int, float, bytes]:

@@ -7,6 +7,7 @@ import {
 import {
   dragRobot, faultOf, paintScenario, placeAt, robotAt,
 } from "./scenario_canvas.js";
+import { startLive } from "./live.js";
 import { WorldView } from "./view.js";
 
 const TOOLS = ["One", "Line", "Grid", "Random", "Move", "Remove"];
@@ -106,7 +107,9 @@ export class ScenarioEditor {
         "Save scenario"),
       element("h2", {}, "Run"), element("label", {}, "algorithm ", this.algorithmSelect),
       element("label", {}, "seed ", this.seedInput),
-      element("button", { type: "button", onclick: () => this.run() }, "Run"), this.progress);
+      element("button", { type: "button", onclick: () => this.run() }, "Run"),
+      element("button", { type: "button", onclick: () => this.runLive() }, "Run live"),
+      this.progress);
     this.canvas = element("canvas", { "aria-label": "Scenario canvas" });
     this.root.replaceChildren(side, element("div", { class: "stage" },
       element("div", { class: "canvas-box" }, this.canvas),
@@ -370,6 +373,14 @@ export class ScenarioEditor {
       this.refresh();
     }
     return data;
+  }
+
+  async runLive() { // save, then start a live run of the file and open its page (#/live/ID)
+    const saved = await this.save();
+    if (saved) {
+      await startLive({ scenario: saved.path, algorithm: this.algorithmSelect.value,
+        seed: Math.round(Number(this.seedInput.value)) });
+    }
   }
 
   async run() {
