@@ -35,6 +35,7 @@ from mimics.catalog import list_scenarios
 from mimics.interfaces.web.algorithms import algorithm_ref
 from mimics.interfaces.web.live_runs import ENDED, LiveRefused, LiveRun, LiveRuns
 from mimics.interfaces.web.security import Workspace, websocket_refusal
+from mimics.interfaces.web.wording import paths_for_page
 
 router = APIRouter(prefix="/api/live", tags=["live"])
 SPEED_RANGE = (0.1, 100.0)  # factors of real time the page offers
@@ -85,8 +86,10 @@ def _refused(exc: LiveRefused) -> HTTPException:
 
 
 def described(workspace: Workspace, run: LiveRun) -> dict[str, Any]:
-    """The run's state with its folder relative to the workspace."""
+    """The run's state with its folder, and the paths in its error, relative to the
+    workspace (as the CLI words the error, but for the page)."""
     out = run.as_dict()
+    out["error"] = paths_for_page(out["error"], workspace.root)
     if out["run"]:
         with contextlib.suppress(ValueError):
             out["run"] = workspace.relative(Path(out["run"]))
@@ -155,7 +158,7 @@ def start(request: Request, body: LiveBody) -> dict[str, Any]:
         raise _refused(exc) from None
     run.wait_ready()
     if run.state == "error" and not run.run:  # it never started: a bad input, one line
-        raise HTTPException(422, run.error)
+        raise HTTPException(422, paths_for_page(run.error, workspace.root))
     return described(workspace, run)
 
 

@@ -188,8 +188,25 @@ def test_an_algorithm_that_raises_ends_the_run_with_the_clis_error(
                                          "algorithm": "algorithms/raises.py"}).json()
     end = wait_for(client, run["id"], "finished", "error")
     assert end["state"] == "error"
-    # the CLI prints summary.json's error: the same text
+    # the CLI prints summary.json's error: the same text, its paths workspace-relative
     cli = run_to_folder(prepare(workspace / "scenarios" / "two.toml",
                                 workspace / "algorithms" / "raises.py"), workspace / "cli")
-    assert end["error"] == cli.error and "no way forward" in end["error"]
+    assert cli.error.startswith(f"ValueError in robot 0 at t=0 s, {workspace}/algorithms/")
+    assert end["error"] == cli.error.replace(f"{workspace}/", "")
     assert load_run(workspace / end["run"]).summary["error"] == cli.error
+
+
+def test_an_algorithm_that_hangs_is_stopped_at_the_wall_limit_as_in_the_cli(
+        live_client: TestClient, workspace: Path) -> None:
+    hang = workspace / "algorithms" / "hangs.py"
+    hang.write_text("def step(robot):\n    while True:\n        pass\n")
+    client = live_client
+    run = client.post("/api/live", json={"scenario": "scenarios/two.toml",
+                                         "algorithm": "algorithms/hangs.py",
+                                         "wall_limit": 0.5}).json()
+    end = wait_for(client, run["id"], "finished", "error")
+    cli = run_to_folder(prepare(workspace / "scenarios" / "two.toml", hang, wall_limit=0.5),
+                        workspace / "cli")
+    assert (end["state"], end["status"]) == ("error", "wall_limit")
+    assert end["error"] == cli.error.replace(f"{workspace}/", "")
+    assert "did not return within the wall limit of 0.5 s" in cli.error

@@ -6,6 +6,7 @@ Chromium)."""
 from __future__ import annotations
 
 import json
+import re
 import urllib.request
 from pathlib import Path
 from typing import Any
@@ -106,3 +107,51 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     # the Runs page lists the live run at the top
     page.goto(f"{url}/#/runs")
     expect(page.get_by_role("link", name=f"live {run['id']}:")).to_contain_text("finished")
+
+
+def test_run_live_from_the_scenarios_page_a_battery_row_and_an_error_shown(
+        page: Any, site: tuple[str, Path]) -> None:
+    url, root = site
+    (root / "maps").mkdir(exist_ok=True)
+    save_map(Map.box(10.0, 6.0, name="room"), root / "maps" / "room.txt")
+    call(f"{url}/api/scenarios/file", "PUT", scenario_body(settings={"time_limit": 60.0}))
+    page.goto(f"{url}/#/scenarios")
+    page.get_by_role("button", name="scenarios/two.toml").click()
+    page.get_by_label("Algorithm", exact=True).select_option("go_to_goal")
+    page.get_by_role("button", name="Run live").click()
+    expect(page).to_have_url(re.compile(r"#/live/\d+$"), timeout=120_000)
+    expect(page.get_by_label("Live state")).to_contain_text("running")
+    page.get_by_role("button", name="Stop").click()
+    expect(page.get_by_label("Live state")).to_contain_text("finished (stopped)")
+    # a battery's row: the same run again, live
+    page.goto(f"{url}/#/batteries")
+    page.get_by_label("Battery name").fill("one")
+    page.get_by_role("group", name="Algorithms").get_by_label("go_to_goal", exact=True).check()
+    scenarios = page.get_by_role("group", name="Scenarios")
+    scenarios.get_by_label("line", exact=True).check()
+    scenarios.get_by_label("Parameters of line", exact=True).fill("robots=2")
+    page.get_by_label("Seeds", exact=True).fill("1")
+    page.get_by_label("Simulated seconds per run").fill("0.5")
+    page.get_by_label("Simulated seconds per run").blur()
+    expect(page.get_by_text("1 runs", exact=True)).to_be_visible()
+    page.get_by_role("button", name="Start battery").click()
+    expect(page.get_by_label("Progress", exact=True)).to_contain_text("1 of 1 runs finished",
+                                                                      timeout=90_000)
+    page.get_by_role("button", name="Run live: run 1").click()
+    expect(page).to_have_url(re.compile(r"#/live/\d+$"), timeout=120_000)
+    expect(page.get_by_label("Live state")).to_contain_text("finished (time_limit)")
+    live_id = int(page.url.rsplit("/", 1)[1])
+    ended = call(f"{url}/api/live/{live_id}", "GET")
+    row = call(f"{url}/api/batteries/status?path=batteries/one", "GET")["runs"][0]
+    assert (ended["scenario"], ended["seed"], ended["battery_run"]) == ("line", row["seed"], 1)
+    assert load_run(root / ended["run"]).summary["robots"] == 2  # the row's parameters
+    # an algorithm that raises: its error, as the CLI words it, on the page
+    (root / "algorithms").mkdir(exist_ok=True)
+    (root / "algorithms" / "raises.py").write_text(
+        "def step(robot):\n    raise ValueError('no way forward')\n")
+    run = call(f"{url}/api/live", "POST", {"scenario": "scenarios/two.toml",
+                                           "algorithm": "algorithms/raises.py"})
+    page.goto(f"{url}/#/live/{run['id']}")
+    expect(page.get_by_role("alert")).to_contain_text(  # the file named as in the workspace
+        "error: ValueError in robot 0 at t=0 s, algorithms/raises.py:2: no way forward")
+    expect(page.get_by_label("Live state")).to_contain_text("error")

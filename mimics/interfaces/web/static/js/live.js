@@ -52,7 +52,9 @@ export class LivePage {
   build() {
     this.title = element("p", { class: "hint" }, "No live run open.");
     this.stateLine = element("p", { "aria-label": "Live state" }, "");
-    this.errorBox = element("p", { class: "field-error", role: "alert" });
+    // an error names the file and line of the user's code, then shows that line
+    this.errorBox = element("p", { class: "field-error", role: "alert",
+      style: "white-space: pre-wrap" });
     this.editLine = element("p", { class: "hint", "aria-label": "Last edit" });
     this.replayLink = element("p", {});
     this.legend = element("div", { class: "legend" });
