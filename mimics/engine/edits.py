@@ -177,7 +177,7 @@ class WorldEdits:
             state.deactivation_time[robot] = state.time
             state.velocity[robot] = 0.0
         elif kind == "add_wall":
-            self._add_walls(edit.wall_segments(), name)
+            self._add_walls(edit, name)
         else:
             edit = self._remove_wall(edit, name)
         applied = AppliedEdit(edit, state.time)
@@ -249,9 +249,18 @@ class WorldEdits:
                             f"{self._wall_name(int(wall[0]))} (the robot would touch it there)")
         self.state.goal[robot] = (x, y)
 
-    def _add_walls(self, segments: np.ndarray, name: str) -> None:
+    def _add_walls(self, edit: Edit, name: str) -> None:
         state = self.state
         solid = self._solid_now()
+        segments = edit.wall_segments()
+        if edit.rectangle is not None:  # an obstacle dropped on a robot: it would be inside
+            x0, y0, x1, y1 = edit.rectangle
+            x, y = state.pose[:, 0], state.pose[:, 1]
+            inside = np.flatnonzero(solid & (x0 < x) & (x < x1) & (y0 < y) & (y < y1))
+            if inside.size:
+                robot = int(inside[0])
+                raise EditError(f"{name}: the rectangle would enclose robot {robot} at "
+                                f"({x[robot]:g}, {y[robot]:g})")
         grid = build_segment_grid(segments, self.world_map.bounds)
         _, touched = find_collisions(
             Bodies(np.ascontiguousarray(state.pose[:, :2]), np.ascontiguousarray(state.pose[:, 2]),
