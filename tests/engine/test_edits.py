@@ -16,7 +16,7 @@ import pytest
 
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
-from mimics.world.edits import EditError, edit_from_dict
+from mimics.world.edits import EditError, edit_from_dict, walls_after
 from mimics.world.maps import Map
 from mimics.world.robot_types import PIONEER_2DX
 from mimics.world.scenario import Scenario, Settings
@@ -193,6 +193,10 @@ def test_scheduled_edits_apply_at_their_step_as_live_ones_do():
     timeline = live.scenario.edits
     assert [(e.step, e.kind) for e in timeline] == [(4, "add_wall"), (4, "move_robot"),
                                                    (7, "remove_robot")]
+    walls = walls_after(live.scenario.map.segments, timeline)  # what a replay draws
+    assert walls.tolist() == live.world_map.segments.tolist()
+    assert walls_after(live.scenario.map.segments, timeline, step=3).tolist() == [
+        [WALL_X, -2.0, WALL_X, 2.0]]
     replayed = Simulation(replace(world(rows), edits=timeline), driver, seed=1).run()
     assert replayed.trajectory_digest == live.run_digest()
     assert replayed.status == live.status and replayed.steps == live.state.step

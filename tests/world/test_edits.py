@@ -7,11 +7,20 @@ import math
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
+import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mimics.world.edits import EDIT_KINDS, Edit, EditError, edit_from_dict
+from mimics.world.edits import (
+    EDIT_KINDS,
+    Edit,
+    EditError,
+    edit_from_dict,
+    nearest_wall,
+    point_segment_distances,
+)
 from mimics.world.errors import ScenarioError
 from mimics.world.scenario_files import load_scenario_toml, scenario_to_toml
 from mimics.world.scenario_writer import edits_to_toml
@@ -155,3 +164,20 @@ def test_scenario_file_edit_errors_name_the_file_line_and_field(tmp_path, edits_
         load_scenario_toml(path)
     assert str(error.value).startswith(str(path))
     assert message in str(error.value)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(numbers, numbers, numbers, numbers), min_size=1, max_size=6),
+       numbers, numbers)
+def test_point_to_wall_distances_match_shapely(walls, px, py):
+    segments = np.array(walls)
+    ours = point_segment_distances(px, py, segments)
+    point = shapely.Point(px, py)
+    truth = [point.distance(shapely.LineString([(x1, y1), (x2, y2)])) if (x1, y1) != (x2, y2)
+             else point.distance(shapely.Point(x1, y1)) for x1, y1, x2, y2 in walls]
+    assert ours == pytest.approx(truth, abs=1e-9)
+    nearest = nearest_wall(segments, (px, py))
+    if min(truth) > 1.0:
+        assert nearest is None
+    else:
+        assert nearest is not None and truth[nearest] == pytest.approx(min(truth), abs=1e-9)
