@@ -15,6 +15,7 @@ from typer.testing import CliRunner
 import mimics
 from mimics.interfaces.cli import program as cli
 from mimics.interfaces.stepper import SimulationStepper
+from mimics.records.memory import MemoryRecorder, MemoryRun, save_run
 from mimics.records.recorder import RunRecorder
 from mimics.records.runner import prepare
 
@@ -105,3 +106,21 @@ def test_the_unedited_run_differs(tmp_path, monkeypatch):
     assert plain.exit_code == 0, plain.output
     summary = json.loads((tmp_path / "plain" / "summary.json").read_text())
     assert summary["trajectory_digest"] != mimics.load_run(folder).summary["trajectory_digest"]
+
+
+def test_a_run_edited_in_memory_keeps_its_edits(tmp_path):
+    """Recorded in memory, then saved: the scenario holds the edits, and re-runs equal."""
+    source = tmp_path / "edited.toml"
+    source.write_text(SCENARIO)
+    sim = prepare(source, "go_to_goal", seed=5)
+    recorder = MemoryRecorder()
+    sim.observers.append(recorder)
+    sim.start()
+    for _ in range(10):
+        sim.step()
+    sim.edit({"kind": "add_wall", "segment": [2.0, -2.0, 2.0, 0.5]})
+    run = MemoryRun(recorder, sim.run())
+    assert [(e.step, e.kind) for e in run.scenario.edits] == [(10, "add_wall")]
+    folder = save_run(run, tmp_path / "saved")
+    again = prepare(folder / "scenario.toml", "go_to_goal", seed=5).run()
+    assert again.trajectory_digest == run.summary["trajectory_digest"]
