@@ -45,7 +45,7 @@ from mimics.engine.ranging import WallIndex, shared_wall_index
 from mimics.engine.sensors import measure_positioning
 from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.state import Status
-from mimics.world.edits import REMOVE_REACH, Edit, EditError, edit_from_dict
+from mimics.world.edits import REMOVE_REACH, Edit, EditError, edit_from_dict, nearest_wall
 from mimics.world.maps import Map
 
 if TYPE_CHECKING:
@@ -177,7 +177,7 @@ class WorldEdits:
             state.deactivation_time[robot] = state.time
             state.velocity[robot] = 0.0
         elif kind == "add_wall":
-            self._add_walls(edit.wall_segments(), name)
+            self._add_walls(edit, name)
         else:
             edit = self._remove_wall(edit, name)
         applied = AppliedEdit(edit, state.time)
@@ -249,9 +249,18 @@ class WorldEdits:
                             f"{self._wall_name(int(wall[0]))} (the robot would touch it there)")
         self.state.goal[robot] = (x, y)
 
-    def _add_walls(self, segments: np.ndarray, name: str) -> None:
+    def _add_walls(self, edit: Edit, name: str) -> None:
         state = self.state
         solid = self._solid_now()
+        segments = edit.wall_segments()
+        if edit.rectangle is not None:  # an obstacle dropped on a robot: it would be inside
+            x0, y0, x1, y1 = edit.rectangle
+            x, y = state.pose[:, 0], state.pose[:, 1]
+            inside = np.flatnonzero(solid & (x0 < x) & (x < x1) & (y0 < y) & (y < y1))
+            if inside.size:
+                robot = int(inside[0])
+                raise EditError(f"{name}: the rectangle would enclose robot {robot} at "
+                                f"({x[robot]:g}, {y[robot]:g})")
         grid = build_segment_grid(segments, self.world_map.bounds)
         _, touched = find_collisions(
             Bodies(np.ascontiguousarray(state.pose[:, :2]), np.ascontiguousarray(state.pose[:, 2]),
@@ -273,12 +282,12 @@ class WorldEdits:
                                 f"{f': 0 to {count - 1}' if count else ''})")
             index = edit.wall
         else:
-            px, py = edit.at  # type: ignore[misc]
-            distance = _point_segment_distances(px, py, segments)
-            if not count or distance.min() > REMOVE_REACH:
+            found = nearest_wall(segments, edit.at)  # type: ignore[arg-type]
+            if found is None:
+                px, py = edit.at  # type: ignore[misc]
                 raise EditError(f"{name}.at: no wall within {REMOVE_REACH:g} m of "
                                 f"({px:g}, {py:g})")
-            index = int(np.argmin(distance))
+            index = found
         self._set_walls(np.delete(segments, index, axis=0))
         return replace(edit, wall=index, at=None)
 
@@ -294,15 +303,4 @@ class WorldEdits:
     def _wall_name(self, index: int) -> str:
         x1, y1, x2, y2 = self.world_map.segments[index].tolist()
         return f"wall {index} ({x1:g}, {y1:g})-({x2:g}, {y2:g})"
-
-
-def _point_segment_distances(px: float, py: float, segments: np.ndarray) -> np.ndarray:
-    """Distance from ``(px, py)`` to each segment ``(m, 4)``."""
-    start, end = segments[:, :2], segments[:, 2:]
-    along = end - start
-    length2 = np.einsum("ij,ij->i", along, along)
-    point = np.array([px, py])
-    t = np.clip(np.einsum("ij,ij->i", point - start, along) / np.maximum(length2, 1e-300), 0, 1)
-    nearest = start + t[:, None] * along
-    return np.hypot(*(nearest - point).T)
 

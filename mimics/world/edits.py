@@ -38,7 +38,7 @@ mimics.world.edits.EditError: edit.x: expected a number, got 'abc'
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -233,3 +233,51 @@ def check_edit_fits(edit: Edit, robots: int, bounds: tuple[float, ...], name: st
             xmin <= edit.x <= xmax and ymin <= edit.y <= ymax):
         raise EditError(f"{name}: ({edit.x:g}, {edit.y:g}) is outside the map bounds "
                         f"({xmin:g}, {ymin:g}, {xmax:g}, {ymax:g})")
+
+
+def point_segment_distances(px: float, py: float, segments: np.ndarray) -> np.ndarray:
+    """Distance from the point ``(px, py)`` to each segment of ``segments`` ``(m, 4)``."""
+    segments = np.asarray(segments, dtype=np.float64).reshape(-1, 4)
+    start, along = segments[:, :2], segments[:, 2:] - segments[:, :2]
+    length2 = np.einsum("ij,ij->i", along, along)
+    point = np.array([px, py])
+    t = np.clip(np.einsum("ij,ij->i", point - start, along) / np.maximum(length2, 1e-300),
+                0.0, 1.0)
+    return np.hypot(*(start + t[:, None] * along - point).T)
+
+
+def nearest_wall(segments: np.ndarray, at: tuple[float, float]) -> int | None:
+    """``remove_wall``'s wall for the point ``at``: the nearest within ``REMOVE_REACH``
+    (the lowest index at equal distance), or None."""
+    if not len(segments):
+        return None
+    distance = point_segment_distances(at[0], at[1], segments)
+    index = int(np.argmin(distance))
+    return index if distance[index] <= REMOVE_REACH else None
+
+
+def walls_after(segments: np.ndarray, edits: Iterable[Edit], step: int | None = None
+                ) -> np.ndarray:
+    """The walls once the wall edits among ``edits`` up to ``step`` (None: all) are applied
+    in order, as a run applies them: added walls appended, a removed one taken out by
+    its index (or nearest its point). For drawing an edited run's walls at a step (a
+    replay); an edit a run refused (an ``edit_refused`` event) is assumed applied.
+
+    >>> walls = np.array([[0.0, 0.0, 1.0, 0.0]])
+    >>> edits = [Edit("add_wall", 5, segment=(2.0, 0.0, 2.0, 1.0)), Edit("remove_wall", 9, wall=0)]
+    >>> walls_after(walls, edits, step=5).tolist()
+    [[0.0, 0.0, 1.0, 0.0], [2.0, 0.0, 2.0, 1.0]]
+    >>> walls_after(walls, edits).tolist()
+    [[2.0, 0.0, 2.0, 1.0]]
+    """
+    walls = np.asarray(segments, dtype=np.float64).reshape(-1, 4)
+    for edit in edits:
+        if step is not None and edit.step > step:
+            break
+        if edit.kind == "add_wall":
+            walls = np.vstack([walls, edit.wall_segments()])
+        elif edit.kind == "remove_wall":
+            index = edit.wall if edit.at is None else nearest_wall(walls, edit.at)
+            if index is not None and index < len(walls):
+                walls = np.delete(walls, index, axis=0)
+    return walls
