@@ -199,6 +199,18 @@ def get_frame(request: Request, run_id: int) -> Response:
     return Response(frame, media_type="application/octet-stream")
 
 
+@router.get("/{run_id}/robot")
+def get_robot(request: Request, run_id: int, robot: int) -> dict[str, Any]:
+    """Robot ``robot`` now, for the inspector: ``id``, ``type``, ``state``, ``time``, ``x``,
+    ``y``, ``yaw``, ``v``, ``w``, ``vRef``, ``headingRef``, ``goal``, and ``lines``: its
+    events so far (its per-robot log is written when the run ends), the last 2,000,
+    ``skipped`` counting those left out."""
+    try:
+        return _run(request, run_id).robot(robot)
+    except LiveRefused as exc:
+        raise _refused(exc) from None
+
+
 def _control(request: Request, run_id: int, name: str, argument: Any = None) -> dict[str, Any]:
     try:
         _run(request, run_id).command(name, argument)

@@ -172,6 +172,14 @@ class LiveRun:
 
     # -- commands ---------------------------------------------------------------------------
 
+    def robot(self, i: int) -> dict[str, Any]:
+        """Robot ``i`` now (the inspector's fields and its events so far).
+
+        Raises:
+            LiveRefused: as :meth:`command`; 422 when there is no robot ``i``.
+        """
+        return self._ask("robot", i)["robot"]
+
     def command(self, name: str, argument: Any = None) -> dict[str, Any]:
         """Send ``play``, ``pause``, ``step``, ``stop`` or ``speed``; the run's state after.
 
@@ -179,6 +187,21 @@ class LiveRun:
             LiveRefused: 409 when the run has ended or not started, 504 when the
                 worker does not answer.
         """
+        answer = self._ask(name, argument)
+        with self._lock:
+            if self.state not in ENDED:
+                self.state = {"playing": "running", "paused": "paused"}.get(answer["state"],
+                                                                            self.state)
+                self.speed = answer["speed"]
+                if answer["step"] > self.step:
+                    self.step, self.time = answer["step"], answer["time"]
+        if name == "stop":
+            threading.Thread(target=self._end_if_stuck, daemon=True).start()
+        self._notify()
+        return self.as_dict()
+
+    def _ask(self, name: str, argument: Any) -> dict[str, Any]:
+        """One command and the worker's answer (refusals raised)."""
         with self._control_lock:
             self._check_going()
             try:
@@ -192,17 +215,7 @@ class LiveRun:
                 raise LiveRefused(409, f"live run {self.id} has ended") from None
         if answer.get("error"):
             raise LiveRefused(422, answer["error"])
-        with self._lock:
-            if self.state not in ENDED:
-                self.state = {"playing": "running", "paused": "paused"}.get(answer["state"],
-                                                                            self.state)
-                self.speed = answer["speed"]
-                if answer["step"] > self.step:
-                    self.step, self.time = answer["step"], answer["time"]
-        if name == "stop":
-            threading.Thread(target=self._end_if_stuck, daemon=True).start()
-        self._notify()
-        return self.as_dict()
+        return answer
 
     def edit(self, edit: dict[str, Any]) -> dict[str, Any]:
         """Apply ``edit`` at the next step boundary; the applied edit (with step and time).

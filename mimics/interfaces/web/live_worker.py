@@ -12,7 +12,7 @@ Step, Stop, speed and edits.
 It talks to the server over three pipes:
 
 * ``control``: the server sends ``(command, argument)``, the worker answers each
-  with a dict (``play``, ``pause``, ``step``, ``stop``, ``speed``);
+  with a dict (``play``, ``pause``, ``step``, ``stop``, ``speed``, ``robot``);
 * ``edits``: the server sends an edit dict, the worker answers
   ``("ok", applied)`` or ``("refused", one line)``; edits have a pipe and a thread
   of their own because one waits for the next step boundary;
@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from mimics.interfaces.render import STATUS_COLORS
-from mimics.interfaces.web.live_frames import encode_frames, frame_states
+from mimics.interfaces.web.live_frames import STATE_NAMES, encode_frames, frame_states
 from mimics.world.errors import MimicsError
 from mimics.world.map_files import map_to_dict
 
@@ -184,11 +184,37 @@ class LiveWorker:
                 stepper.stop()
             elif name == "speed":
                 stepper.set_speed(float(argument))
+            elif name == "robot":
+                return {**self.status(), "robot": self.robot(int(argument))}
             else:
                 return {**self.status(), "error": f"unknown command {name!r}"}
         except MimicsError as exc:
             return {**self.status(), "error": str(exc)}
         return self.status()
+
+    def robot(self, i: int) -> dict[str, Any]:
+        """Robot ``i`` now, for the inspector: id, type, state, pose, v, w, references,
+        goal, and its events so far as log lines (its per-robot log is written at the end).
+
+        Raises:
+            MimicsError: when there is no robot ``i``.
+        """
+        sim = self.sim
+        state = sim.state
+        if not 0 <= i < state.n:
+            raise MimicsError(f"robot {i}: the run has robots 0..{state.n - 1}")
+        code = int(frame_states(state.status[i:i + 1], state.in_livelock[i:i + 1])[0])
+        goal = state.goal[i]
+        events = [e for e in list(sim.events) if e.robot == i]
+        return {"id": i, "type": sim.scenario.types[sim.scenario.type_index[i]].name,
+                "state": STATE_NAMES[code], "time": float(state.time),
+                "x": float(state.pose[i, 0]), "y": float(state.pose[i, 1]),
+                "yaw": float(state.pose[i, 2]), "v": float(state.velocity[i, 0]),
+                "w": float(state.velocity[i, 1]), "vRef": float(state.reference[i, 0]),
+                "headingRef": float(state.reference[i, 1]),
+                "goal": None if math.isnan(goal[0]) else [float(goal[0]), float(goal[1])],
+                "lines": [f"{e.time:.2f} s  {e.kind}: {e.detail}" for e in events[-2000:]],
+                "skipped": max(0, len(events) - 2000)}
 
     def _send_quiet_frame(self) -> None:
         """After Pause: the last step taken, unless the step in flight sends its own."""

@@ -150,6 +150,15 @@ def test_the_stream_sends_meta_state_and_frames_and_refuses_other_sites(
         client.post(f"/api/live/{run['id']}/step")
         assert poses_of(socket.receive_bytes())[0] == pytest.approx(0.1)
         assert client.get(f"/api/live/{run['id']}").json()["watchers"] == 1
+    # the inspector's fields of robot 0, now (after one step)
+    robot = client.get(f"/api/live/{run['id']}/robot", params={"robot": 0}).json()
+    assert (robot["id"], robot["type"], robot["state"], robot["goal"]) == (
+        0, "Pioneer2DX", "active", [8.0, 1.5])
+    assert robot["time"] == pytest.approx(0.1) and robot["x"] > 1.0 and robot["v"] > 0
+    assert robot["lines"] == [] and robot["skipped"] == 0
+    missing = client.get(f"/api/live/{run['id']}/robot", params={"robot": 2})
+    assert missing.status_code == 422 and missing.json()["detail"] == (
+        "robot 2: the run has robots 0..1")
     # closing the page does not stop the run
     assert client.get(f"/api/live/{run['id']}").json()["state"] == "paused"
     client.post(f"/api/live/{run['id']}/stop")
