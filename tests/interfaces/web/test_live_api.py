@@ -138,7 +138,8 @@ def test_the_stream_sends_meta_state_and_frames_and_refuses_other_sites(
             client.websocket_connect("/api/live/999/stream"):
         pass
     assert unknown.value.reason == "no live run 999"
-    with client.websocket_connect(path, headers={"Origin": "http://testserver"}) as socket:
+    with client.websocket_connect(path, headers={"Origin": "http://testserver"}) as socket, \
+            client.websocket_connect(path) as other:  # a second page watching the same run
         meta = json.loads(socket.receive_text())
         assert meta["type"] == "meta" and meta["robots"] == 2
         assert meta["goals"] == [[8.0, 1.5], None]
@@ -147,9 +148,12 @@ def test_the_stream_sends_meta_state_and_frames_and_refuses_other_sites(
         sim_time, poses, states = poses_of(socket.receive_bytes())
         assert sim_time == 0.0 and poses[:, :2].tolist() == [[1.0, 1.5], [1.0, 3.0]]
         assert states.tolist() == [0, 0]
+        assert [json.loads(other.receive_text())["type"] for _ in "ms"] == ["meta", "state"]
+        assert poses_of(other.receive_bytes())[0] == 0.0
         client.post(f"/api/live/{run['id']}/step")
         assert poses_of(socket.receive_bytes())[0] == pytest.approx(0.1)
-        assert client.get(f"/api/live/{run['id']}").json()["watchers"] == 1
+        assert poses_of(other.receive_bytes())[0] == pytest.approx(0.1)
+        assert client.get(f"/api/live/{run['id']}").json()["watchers"] == 2
     # the inspector's fields of robot 0, now (after one step)
     robot = client.get(f"/api/live/{run['id']}/robot", params={"robot": 0}).json()
     assert (robot["id"], robot["type"], robot["state"], robot["goal"]) == (
@@ -184,6 +188,9 @@ def test_bad_requests_get_one_line(live_client: TestClient) -> None:
     too_long = client.post("/api/live", json={"scenario": "line", "algorithm": "go_to_goal",
                                               "time": 1e12})
     assert too_long.status_code == 422 and too_long.json()["detail"].startswith("time")
+    huge = client.post("/api/live/1/edit", content=b"{" + b" " * 3_000_000 + b"}",
+                       headers={"Content-Type": "application/json"})
+    assert huge.status_code == 413  # the body limit holds for the live routes too
     foreign = client.post("/api/live", json={"scenario": "line", "algorithm": "go_to_goal"},
                           headers={"Origin": "http://evil.example"})
     assert foreign.status_code == 403
