@@ -1,7 +1,7 @@
 """Edits of a running world (``mimics.world.edits``), applied at a step boundary.
 
-A part of :class:`~mimics.engine.simulation.Simulation` kept on its own, as
-``deactivations.py`` is: :meth:`WorldEdits.edit` applies an edit now, between
+A part of ``mimics.engine.simulation.Simulation`` kept on its own, as
+``deactivations.py`` is: ``WorldEdits.edit`` applies an edit now, between
 two steps (the workbench's live view); the edits a scenario schedules
 (``scenario.edits``) are applied by the simulation itself at the top of the
 step whose number they carry, which is the same point of the run: after step
@@ -12,7 +12,7 @@ scenario recorded at the end re-runs the edited run bit for bit.
 An edit that would put a robot inside a wall or another robot (the engine's
 own collision test, ``collision.find_collisions``), a robot that does not
 exist or was removed, a position or goal off the map or a goal in a wall is
-refused with one :class:`~mimics.world.edits.EditError` line; nothing
+refused with one ``mimics.world.edits.EditError`` line; nothing
 changes then. After an edit the robots' sensors read the edited world: the
 ranger's scan and the positioning of this step are taken again (the same
 noise: it is keyed by step), the robots' index and, for walls, the walls'

@@ -80,7 +80,7 @@ class Simulation(RobotDeactivations, WorldEdits):
         observers: objects with optional ``on_start``, ``on_step``, ``on_edit``, ``on_end``.
 
     The scenario's edits (``scenario.edits``) are applied at their steps, and
-    :meth:`edit` applies one now (``mimics.engine.edits``); ``world_map`` is the
+    ``edit`` applies one now (``mimics.engine.edits``); ``world_map`` is the
     map as edited so far, ``scenario`` the run's recipe (its first map, the edits).
     """
 

@@ -1,11 +1,11 @@
 """Edits of a running world, as plain data: what changes, and at which step.
 
-An :class:`Edit` is one change a user makes to a run while it runs (the
+An ``Edit`` is one change a user makes to a run while it runs (the
 workbench's live view) or schedules in a scenario file (``[[edits]]``
 tables): it applies at a step boundary, after ``step`` steps, before the
 robots act again. The engine applies it (``mimics.engine.edits``); here it is
 only read and checked on its own (kinds, fields, numbers), each mistake one
-:class:`EditError` line naming the field.
+``EditError`` line naming the field.
 
 Kinds and their fields (positions in m, angles in rad):
 
@@ -108,7 +108,7 @@ class Edit:
         return replace(self, step=step)
 
     def to_dict(self) -> dict[str, Any]:
-        """The edit as plain data (what :func:`edit_from_dict` reads back): ``step``,
+        """The edit as plain data (what ``edit_from_dict`` reads back): ``step``,
         ``kind``, then the fields set, in the table's order."""
         data: dict[str, Any] = {"step": self.step, "kind": self.kind}
         for name in ("robot", "x", "y", "yaw", "segment", "rectangle", "wall", "at"):
