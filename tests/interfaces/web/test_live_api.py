@@ -226,3 +226,24 @@ def test_an_algorithm_that_hangs_is_stopped_at_the_wall_limit_as_in_the_cli(
     assert (end["state"], end["status"]) == ("error", "wall_limit")
     assert end["error"] == cli.error.replace(f"{workspace}/", "")
     assert "did not return within the wall limit of 0.5 s" in cli.error
+
+
+def test_stop_ends_the_worker_of_a_step_that_never_returns(
+        live_client: TestClient, workspace: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from mimics.interfaces.web import live_runs
+
+    monkeypatch.setattr(live_runs, "STOP_GRACE", 1.0)
+    (workspace / "algorithms" / "hangs.py").write_text(
+        "def step(robot):\n    while True:\n        pass\n")
+    client = live_client
+    run = client.post("/api/live", json={"scenario": "scenarios/two.toml",
+                                         "algorithm": "algorithms/hangs.py"}).json()
+    assert run["state"] == "running"
+    assert client.post(f"/api/live/{run['id']}/stop").status_code == 200
+    end = wait_for(client, run["id"], "finished", "error")
+    assert end["state"] == "error"
+    assert end["error"] == ("stopped: step 1 did not return within 1 s of Stop; the worker "
+                            "was ended (the run folder keeps what was recorded, without "
+                            "summary.json)")
+    folder = workspace / end["run"]
+    assert (folder / "scenario.toml").is_file() and not (folder / "summary.json").exists()

@@ -66,6 +66,7 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     page.get_by_role("button", name="Pause").click()
     expect(page.get_by_role("button", name="Pause")).to_have_attribute("aria-pressed", "true")
     expect(page.get_by_role("button", name="Resume")).to_have_attribute("aria-pressed", "false")
+    page.wait_for_timeout(300)  # a step in flight at the Pause (under 1 ms for 2 robots) ends
     paused = call(f"{url}/api/live/{run['id']}", "GET")
     page.wait_for_function(f"Math.round({live}.frame.time * 10) === {paused['step']}")
     page.wait_for_timeout(100)
