@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import signal
 import threading
 from multiprocessing.connection import Connection
 from pathlib import Path
@@ -53,6 +54,9 @@ def worker_main(request: dict[str, Any], control: Connection, edits: Connection,
     from mimics.records.recorder import RunRecorder
     from mimics.records.runner import prepare
 
+    # Ctrl-C in the terminal of `mimics ui` reaches the whole process group: the server,
+    # shutting down, stops each live run so that its folder ends complete
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         sim = prepare(request["scenario"], request["algorithm"], seed=request["seed"],
                       time=request["time"], wall_limit=request["wall_limit"],
