@@ -23,15 +23,37 @@ class TomlSource:
     def __init__(self, path: Path, text: str) -> None:
         self.path = path
         self.lines = text.splitlines()
+        self._index: tuple[dict, dict, list] | None = None
 
     def line_of(self, key: tuple[Any, ...]) -> int | None:
-        """Best-effort line of a key path like ``("robots", 2, "x")`` or ``("settings", "dt")``."""
-        table: tuple[Any, ...] = ()
-        aot_seen: dict[str, int] = {}
+        """Best-effort line of a key path like ``("robots", 2, "x")`` or ``("settings", "dt")``.
+
+        The file is indexed once, so naming every robot of a 2,000-robot file stays linear."""
+        if self._index is None:
+            self._index = self._build_index()
+        exact, prefixes, headers = self._index
+        if key in exact:
+            return exact[key]
+        for size in range(len(key), 0, -1):
+            if key[:size] in prefixes:
+                return prefixes[key[:size]]
+        found = None
+        for table, number in headers:
+            if table == key[:len(table)]:
+                found = number
+        return found
+
+    def _build_index(self) -> tuple[dict, dict, list]:
+        """Header lines (exact table paths), assignment and inline-array-item lines, and
+        every header in file order (for the nearest enclosing table)."""
         header = re.compile(r"^\s*(\[\[?)\s*([A-Za-z0-9_.\"' -]+?)\s*\]\]?\s*(#.*)?$")
         assign = re.compile(r"^\s*(\"[^\"]*\"|[A-Za-z0-9_-]+)\s*=")
-        found: int | None = None
-        inline_array: tuple[str, int] | None = None  # (key, line) of "key = [" at top level
+        exact: dict[tuple[Any, ...], int] = {}
+        prefixes: dict[tuple[Any, ...], int] = {}
+        headers: list[tuple[tuple[Any, ...], int]] = []
+        table: tuple[Any, ...] = ()
+        aot_seen: dict[str, int] = {}
+        inline_array: list[Any] | None = None  # [key, items seen] of "key = [" at top level
         for number, line in enumerate(self.lines, start=1):
             head = header.match(line)
             if head and not inline_array:
@@ -41,31 +63,24 @@ class TomlSource:
                     table = (parts[0], aot_seen[parts[0]])
                 else:
                     table = parts
-                if table == key[:len(table)] and len(table) == len(key):
-                    return number
-                if table == key[:len(table)]:
-                    found = number
+                exact.setdefault(table, number)
+                headers.append((table, number))
                 continue
             if inline_array:
                 if line.strip().startswith("]"):
                     inline_array = None
-                    continue
-                name, start = inline_array
-                if line.strip().startswith("{") and key[:1] == (name,) and len(key) > 1:
-                    index = sum(1 for ln in self.lines[start:number - 1]
-                                if ln.strip().startswith("{"))
-                    if index == key[1]:
-                        return number
+                elif line.strip().startswith("{"):
+                    prefixes.setdefault((inline_array[0], inline_array[1]), number)
+                    inline_array[1] += 1
                 continue
             match = assign.match(line)
             if not match:
                 continue
             name = match.group(1).strip('"')
-            if table == () and line.rstrip().endswith("[") and name == key[0]:
-                inline_array = (name, number)
-            if (*table, name) == key[:len(table) + 1] and table == key[:len(table)]:
-                return number
-        return found
+            if table == () and line.rstrip().endswith("["):
+                inline_array = [name, 0]
+            prefixes.setdefault((*table, name), number)
+        return exact, prefixes, headers
 
     def error(self, key: tuple[Any, ...], message: str) -> ScenarioError:
         line = self.line_of(key) if key else None

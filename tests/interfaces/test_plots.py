@@ -2,6 +2,7 @@
 
 import json
 from pathlib import Path
+from typing import Any
 
 import imageio.v3 as iio
 import pytest
@@ -127,3 +128,59 @@ def test_runs_without_a_summary_come_from_the_battery_database(tmp_path: Path,
     assert table["status"].tolist() == ["completed"] * 3 + ["crashed"]
     written, _ = battery_plots(root)
     assert len(written) == 2
+
+
+def boxes(artists: list[Any], renderer: Any) -> list[Any]:
+    return [a.get_window_extent(renderer) for a in artists if a.get_visible()]
+
+
+@pytest.mark.parametrize("algorithms", [1, 2])
+def test_the_outcome_legends_cover_no_bar_and_no_label(tmp_path: Path, algorithms: int) -> None:
+    from mimics.interfaces.plots import plot_outcomes
+
+    root = write_battery(tmp_path / "battery", with_line=False)
+    if algorithms == 1:  # one tall bar per axes: no room left inside them for a legend
+        for summary in root.rglob("summary.json"):
+            if json.loads(summary.read_text())["algorithm"] == "wall_aware":
+                summary.unlink()
+    fig = plot_outcomes(battery_table(root), None)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        legend = ax.get_legend().get_window_extent(renderer)
+        bars = boxes([p for p in ax.patches if p.get_height() > 0], renderer)
+        assert bars
+        labels = boxes([*ax.get_xticklabels(), *ax.texts, ax.title], renderer)
+        assert not [b for b in [*bars, *labels] if legend.overlaps(b)]
+        assert fig.bbox.contains(legend.x0, legend.y0) and fig.bbox.contains(legend.x1,
+                                                                             legend.y1)
+
+
+def test_a_metric_without_data_says_so_instead_of_an_empty_axis(tmp_path: Path) -> None:
+    from mimics.interfaces.plots import plot_time_to_goal
+
+    root = write_battery(tmp_path / "battery", with_line=False)
+    for summary in root.rglob("summary.json"):  # nobody reached a goal
+        data = json.loads(summary.read_text())
+        data.update(reached_goal=0, collisions=data["robots"], time_to_goal={})
+        summary.write_text(json.dumps(data))
+    fig = plot_time_to_goal(battery_table(root), None)
+    texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+    assert any("No robot reached its goal" in t for t in texts), texts
+    assert all(not ax.axison for ax in fig.axes)  # no empty axis drawn
+    out = plot_time_to_goal(battery_table(root), tmp_path / "ttg.png")
+    assert iio.imread(out).shape[:2] == (600, 1000)
+
+
+def test_a_cell_without_data_is_marked_in_the_time_to_goal_plot(tmp_path: Path) -> None:
+    from mimics.interfaces.plots import plot_time_to_goal
+
+    root = write_battery(tmp_path / "battery", with_line=False)
+    for summary in root.rglob("summary.json"):
+        data = json.loads(summary.read_text())
+        if data["algorithm"] == "wall_aware":
+            data.update(reached_goal=0, collisions=data["robots"], time_to_goal={})
+            summary.write_text(json.dumps(data))
+    fig = plot_time_to_goal(battery_table(root), None)
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    assert "no data" in texts and "n=3" in texts

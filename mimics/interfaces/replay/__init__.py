@@ -34,14 +34,16 @@ from mimics.interfaces.replay.drawing import Replayer
 from mimics.interfaces.replay.export import ExportResult, export_replay
 from mimics.interfaces.replay.frames import (
     MAX_FRAMES,
+    MOTION_COLUMNS,
     VIDEO_SUFFIXES,
     ReplayData,
     frame_times,
     open_run,
     replay_data,
+    robot_motion,
 )
 from mimics.interfaces.replay.window import ReplayWindow
 
-__all__ = ["MAX_FRAMES", "VIDEO_SUFFIXES", "BeamCaster", "ExportResult", "ReplayData",
-           "ReplayWindow", "Replayer", "export_replay", "frame_times", "open_run",
-           "replay_data"]
+__all__ = ["MAX_FRAMES", "MOTION_COLUMNS", "VIDEO_SUFFIXES", "BeamCaster", "ExportResult",
+           "ReplayData", "ReplayWindow", "Replayer", "export_replay", "frame_times", "open_run",
+           "replay_data", "robot_motion"]

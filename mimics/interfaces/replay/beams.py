@@ -50,6 +50,30 @@ class BeamCaster:
         types = self.types
         if status[robot] != Status.ACTIVE or types.beam_count[robot] == 0:
             return None
+        ids = np.array([robot], dtype=np.int64)
+        offsets = types.beam_offsets[ids]
+        ranges = self._ranges(ids, offsets, pose, status)
+        return beam_segments(np.asarray(pose[robot, :2], dtype=np.float64), float(pose[robot, 2]),
+                             types.beam_offsets[robot], ranges[0])
+
+    def all_beams(self, pose: np.ndarray, status: np.ndarray, every: int = 1) -> np.ndarray:
+        """Beam segments ``(m, 2, 2)`` of every active robot with a ranger, in one scan:
+        every ``every``-th beam of each robot (1: all of them)."""
+        types = self.types
+        ids = np.flatnonzero((np.asarray(status) == Status.ACTIVE) & (types.beam_count > 0))
+        if ids.size == 0:
+            return np.zeros((0, 2, 2))
+        offsets = np.ascontiguousarray(types.beam_offsets[ids][:, ::max(1, int(every))])
+        ranges = self._ranges(ids.astype(np.int64), offsets, pose, status)
+        pose64 = np.asarray(pose, dtype=np.float64)
+        # beam_offsets pads robots with fewer beams by NaN: beam_segments drops those
+        return np.concatenate([beam_segments(pose64[r, :2], float(pose64[r, 2]), offsets[k],
+                                             ranges[k]) for k, r in enumerate(ids)])
+
+    def _ranges(self, ids: np.ndarray, offsets: np.ndarray, pose: np.ndarray,
+                status: np.ndarray) -> np.ndarray:
+        """The ranges ``(len(ids), b)`` of robots ``ids``' beams at ``offsets``."""
+        types = self.types
         pose = np.ascontiguousarray(pose, dtype=np.float64)
         if self.scenario.settings.inactive_as_obstacles:
             solid = status != Status.ESCAPED
@@ -58,16 +82,15 @@ class BeamCaster:
         robots = self._robot_index(np.ascontiguousarray(pose[:, :2]),
                                    np.ascontiguousarray(pose[:, 2]), types.half_length,
                                    types.half_width, solid, cell=self.robot_cell)
-        ids = np.array([robot], dtype=np.int64)
         query = self._query(origins=np.ascontiguousarray(pose[ids, :2]),
                             headings=np.ascontiguousarray(pose[ids, 2]),
-                            offsets=np.ascontiguousarray(types.beam_offsets[ids]),
+                            offsets=np.ascontiguousarray(offsets),
                             max_range=types.max_range[ids], robot=ids)
         threads = numba.get_num_threads()
-        numba.set_num_threads(1)  # one scan: a thread pool only adds launch latency
+        if ids.size == 1:
+            numba.set_num_threads(1)  # one scan: a thread pool only adds launch latency
         try:
             ranges, _ = self._cast(query, self.walls, robots)
         finally:
             numba.set_num_threads(threads)
-        return beam_segments(pose[robot, :2], pose[robot, 2], types.beam_offsets[robot],
-                             np.asarray(ranges)[0])
+        return np.asarray(ranges)

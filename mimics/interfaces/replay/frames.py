@@ -22,6 +22,8 @@ from mimics.world.scenario import Scenario
 VIDEO_SUFFIXES = (".mp4", ".mkv", ".mov", ".avi")
 _EPS = 1e-9
 _TRAJECTORY_COLUMNS = ("time", "step", "robot", "x", "y", "theta", "status")
+#: What the inspector shows of one robot besides its pose: speed, turn rate, references.
+MOTION_COLUMNS = ("v", "w", "v_ref", "heading_ref")
 _STOP_KINDS = {"reached_goal": Status.REACHED_GOAL, "collision": Status.COLLIDED,
                "escaped": Status.ESCAPED, "exception": Status.ERROR}
 
@@ -170,6 +172,42 @@ def replay_data(run: Any) -> ReplayData:
     if "seed" in summary:
         title += f" / seed {summary['seed']}"
     return ReplayData(times, pose, status, livelock, scenario, title or scenario.name)
+
+
+def robot_motion(run: Any, robot: int, times: np.ndarray) -> np.ndarray:
+    """One robot's :data:`MOTION_COLUMNS` at each recorded step of ``times`` (the
+    :attr:`ReplayData.times` of the same run): ``(T, 4)``, each step holding the robot's last
+    row at or before it, as the replay's poses do; NaN before its first row.
+
+    Raises:
+        MimicsError: when the trajectory cannot be read or lacks the columns.
+    """
+    reader = getattr(run, "read_trajectory", None)
+    try:
+        if callable(reader):  # only this robot's rows and the columns shown
+            traj = reader(columns=["time", *MOTION_COLUMNS], robots=[int(robot)])
+        else:
+            traj = run.trajectory[run.trajectory["robot"] == robot]
+    except MimicsError:
+        raise
+    except Exception as exc:  # a truncated or corrupt file, whatever the reader raised
+        raise MimicsError(f"the run's trajectory cannot be read: {exc}") from exc
+    missing = [c for c in MOTION_COLUMNS if c not in traj.columns]
+    if missing:
+        raise MimicsError(f"the run's trajectory lacks the column(s) {', '.join(missing)}")
+    motion = np.full((len(times), len(MOTION_COLUMNS)), np.nan)
+    if len(traj) == 0:
+        return motion
+    row_times = traj["time"].to_numpy(np.float64)
+    at = np.clip(np.searchsorted(times, row_times - _EPS), 0, len(times) - 1)
+    motion[at] = traj[list(MOTION_COLUMNS)].to_numpy(np.float64)
+    have = np.zeros(len(times), dtype=bool)
+    have[at] = True
+    source = np.where(have, np.arange(len(times)), -1)
+    np.maximum.accumulate(source, out=source)
+    filled = motion[np.maximum(source, 0)]
+    filled[source < 0] = np.nan
+    return filled
 
 
 def _events(run: Any) -> Any:

@@ -17,12 +17,19 @@ then     uint8[T, n]       state: ``Status`` code, 7 for a robot in livelock
 (:func:`mimics.interfaces.web.live_frames.encode_frames` writes it, for the live
 stream too.) A long run is thinned to every k-th recorded step (always keeping the last)
 so that the body stays under :data:`FRAME_BYTES`; ``/api/runs/meta`` tells k.
+
+The inspector's routes work on those frames: ``/api/runs/robot`` gives one
+robot's speed, turn rate and references at every frame sent (from
+trajectory.parquet's ``v``, ``w``, ``v_ref``, ``heading_ref``),
+``/api/runs/beams`` one robot's beams at a frame and ``/api/runs/all_beams``
+every robot's, and ``/api/runs/log?until=T`` a robot's log lines up to time T.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+import re
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -32,8 +39,16 @@ from fastapi import APIRouter, HTTPException, Request
 from fastapi.responses import FileResponse, Response
 from pydantic import BaseModel, Field
 
+from mimics.engine.state import Status
 from mimics.interfaces.render import STATUS_COLORS
-from mimics.interfaces.replay import BeamCaster, ReplayData, export_replay, replay_data
+from mimics.interfaces.replay import (
+    MOTION_COLUMNS,
+    BeamCaster,
+    ReplayData,
+    export_replay,
+    replay_data,
+    robot_motion,
+)
 from mimics.interfaces.web.live_frames import encode_frames, frame_states
 from mimics.interfaces.web.security import Workspace
 from mimics.records.layout import SCENARIO_TOML, SUMMARY_JSON
@@ -43,6 +58,9 @@ from mimics.world.map_files import map_to_dict
 router = APIRouter(prefix="/api/runs", tags=["runs"])
 FRAME_BYTES = 64_000_000  # largest frames body; Hospital x 2,000 robots x 600 s fits thinned
 EVENT_LIMIT = 20_000  # events sent for the time bar and the logs
+LOG_LINES = 2000  # log lines sent: the last ones up to the time asked
+ALL_BEAMS = 60_000  # beams sent for every robot at once: each robot's are thinned to fit
+_LOG_ROW = re.compile(r"^(-?[0-9.]+(?:[eE][-+]?[0-9]+)?);")  # a data row of a robot's log
 VIDEO_NAME = "replay.mp4"
 
 
@@ -80,12 +98,23 @@ def _caster(folder: Path, stamp: float) -> BeamCaster:
     return BeamCaster(_replay(folder, stamp)[0].scenario)
 
 
+def _stamp(folder: Path) -> float:
+    marker = folder / SUMMARY_JSON
+    return marker.stat().st_mtime if marker.exists() else 0.0
+
+
 def replay_of(workspace: Workspace, path: str) -> tuple[ReplayData, Any, int]:
     """The cached replay of a run folder (re-read when its summary changes)."""
     folder = run_folder(workspace, path)
-    marker = folder / SUMMARY_JSON
-    stamp = marker.stat().st_mtime if marker.exists() else 0.0
-    return _replay(folder, stamp)
+    return _replay(folder, _stamp(folder))
+
+
+def _frame_step(data: ReplayData, stride: int, frame: int) -> int:
+    """The recorded step shown at frame ``frame`` of the frames sent, else 400."""
+    index = _frames(data, stride)
+    if not 0 <= frame < len(index):
+        raise HTTPException(400, f"frame {frame} is not in the run (0..{len(index) - 1})")
+    return int(index[frame])
 
 
 def _frames(data: ReplayData, stride: int) -> np.ndarray:
@@ -139,6 +168,7 @@ def meta(request: Request, path: str) -> dict[str, Any]:
             "goals": [None if math.isnan(g[0]) else [float(g[0]), float(g[1])]
                       for g in goals.tolist()],
             "beams": [int(data.scenario.robot_type(i).ranger.beams) for i in range(data.n)],
+            "types": [data.scenario.robot_type(i).name for i in range(data.n)],
             "events": rows, "colors": STATUS_COLORS,
             "video": (run.path / VIDEO_NAME).is_file()}
 
@@ -153,37 +183,104 @@ def frames(request: Request, path: str) -> Response:
     return Response(body, media_type="application/octet-stream")
 
 
+@router.get("/robot")
+def robot(request: Request, path: str, robot: int) -> dict[str, Any]:
+    """Robot ``robot``'s speed ``v`` (m/s), turn rate ``w`` (rad/s) and the references its
+    code returned (``v_ref`` m/s, ``heading_ref`` rad) at each frame sent (null before its
+    first row)."""
+    workspace: Workspace = request.app.state.workspace
+    data, _events, stride = replay_of(workspace, path)
+    if not 0 <= robot < data.n:
+        raise HTTPException(400, f"robot {robot}: the run has robots 0..{data.n - 1}")
+    run = load_run(run_folder(workspace, path))
+    motion = robot_motion(run, robot, data.times)[_frames(data, stride)]
+    return {"robot": robot, "type": data.scenario.robot_type(robot).name,
+            **{name: [None if math.isnan(v) else float(v) for v in motion[:, k]]
+               for k, name in enumerate(MOTION_COLUMNS)}}
+
+
 @router.get("/beams")
 def beams(request: Request, path: str, robot: int, frame: int) -> dict[str, Any]:
     """Robot ``robot``'s laser beams at frame ``frame``, recomputed from the logged poses
     (the replay's :class:`~mimics.interfaces.replay.BeamCaster`; noise-free)."""
     workspace: Workspace = request.app.state.workspace
     data, _events, stride = replay_of(workspace, path)
-    index = _frames(data, stride)
-    if not 0 <= robot < data.n or not 0 <= frame < len(index):
+    if not 0 <= robot < data.n:
         raise HTTPException(400, f"robot {robot} or frame {frame} is not in the run")
-    k = int(index[frame])
-    marker = run_folder(workspace, path) / SUMMARY_JSON
-    caster = _caster(run_folder(workspace, path),
-                     marker.stat().st_mtime if marker.exists() else 0.0)
-    segments = caster.beams(robot, data.pose[k], data.status[k])
+    k = _frame_step(data, stride, frame)
+    folder = run_folder(workspace, path)
+    segments = _caster(folder, _stamp(folder)).beams(robot, data.pose[k], data.status[k])
     return {"segments": [] if segments is None else segments.reshape(-1, 4).tolist()}
 
 
+@router.get("/all_beams")
+def all_beams(request: Request, path: str, frame: int) -> dict[str, Any]:
+    """Every active robot's beams at frame ``frame`` (the same caster as ``/beams``, one
+    scan); ``every``: each robot's every k-th beam, so that at most :data:`ALL_BEAMS` come."""
+    workspace: Workspace = request.app.state.workspace
+    data, _events, stride = replay_of(workspace, path)
+    k = _frame_step(data, stride, frame)
+    folder = run_folder(workspace, path)
+    caster = _caster(folder, _stamp(folder))
+    total = int(caster.types.beam_count[data.status[k] == Status.ACTIVE].sum())
+    every = max(1, math.ceil(total / ALL_BEAMS))
+    segments = caster.all_beams(data.pose[k], data.status[k], every)
+    return {"segments": np.round(segments.reshape(-1, 4), 4).tolist(), "every": every}
+
+
+def _slack(until: float) -> float:
+    """How far past ``until`` a row still counts as at it: the page's frame times are
+    float32 (2.1 s comes as 2.0999999), a millionth of the time is below any step."""
+    return 1e-6 * max(1.0, abs(until))
+
+
+def log_until(lines: list[str], until: float | None) -> tuple[list[str], int]:
+    """A robot log's lines up to simulated time ``until`` (all when None): the header, then
+    the last :data:`LOG_LINES` rows at or before ``until`` (a quoted message's continued
+    lines stay with its row), then the closing lines once every row is shown. Also returns
+    how many earlier rows were left out."""
+    header: list[str] = []
+    rows: list[list[str]] = []
+    closing: list[str] = []
+    quotes = 0  # odd: the row goes on over the next line (a quoted line break)
+    for line in lines:
+        if quotes % 2:
+            rows[-1].append(line)
+            quotes += line.count('"')
+        elif _LOG_ROW.match(line):
+            rows.append([line])
+            quotes = line.count('"')
+        elif rows:
+            closing.append(line)
+        else:
+            header.append(line)
+    times = [float(_LOG_ROW.match(row[0]).group(1)) for row in rows]  # type: ignore[union-attr]
+    shown = len(rows) if until is None else sum(t <= until + _slack(until) for t in times)
+    first = max(0, shown - LOG_LINES)
+    body = [line for row in rows[first:shown] for line in row]
+    return header + body + (closing if shown == len(rows) else []), first
+
+
 @router.get("/log")
-def log(request: Request, path: str, robot: int) -> dict[str, Any]:
-    """Robot ``robot``'s lines: its per-robot text log when written, else its events."""
+def log(request: Request, path: str, robot: int, until: float | None = None) -> dict[str, Any]:
+    """Robot ``robot``'s lines up to simulated time ``until`` (all when not given): its
+    per-robot text log when written, else its events; ``skipped``: earlier lines left out."""
     workspace: Workspace = request.app.state.workspace
     run = load_run(run_folder(workspace, path))
     if not 0 <= robot < run.robot_count:
         raise HTTPException(400, f"robot {robot}: the run has robots 0..{run.robot_count - 1}")
     log_file = run.log_path(robot)
     if log_file.is_file():
-        lines = log_file.read_text(encoding="utf-8", errors="replace").splitlines()
-        return {"source": "log", "lines": lines[:2000]}
+        lines, skipped = log_until(
+            log_file.read_text(encoding="utf-8", errors="replace").splitlines(), until)
+        return {"source": "log", "lines": lines, "skipped": skipped}
     events = run.events
-    mine = events[events["robot"] == robot].head(2000)
-    return {"source": "events",
+    mine = events[events["robot"] == robot]
+    if until is not None:
+        mine = mine[mine["time"] <= until + _slack(until)]
+    skipped = max(0, len(mine) - LOG_LINES)
+    mine = mine.tail(LOG_LINES)
+    return {"source": "events", "skipped": skipped,
             "lines": [f"{t:.2f} s  {k}: {d}" for t, k, d in
                       zip(mine["time"], mine["kind"], mine["detail"], strict=True)]}
 

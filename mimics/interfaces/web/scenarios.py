@@ -1,4 +1,5 @@
-"""The Scenarios page's API: open, place robots, save, and run a scenario file.
+"""The Scenarios page's API: open, place robots, save, and run a scenario file; open a
+built-in scenario as the start of a new file.
 
 A scenario is saved as the TOML file ``mimics run`` reads, built from the
 page's robots and checked by :func:`mimics.world.scenario_files.scenario_from_toml_text`
@@ -19,14 +20,14 @@ import tomli_w
 from fastapi import APIRouter, HTTPException, Request
 from pydantic import BaseModel, Field
 
-from mimics.catalog import list_scenarios
+from mimics.catalog import list_scenarios, load_scenario
 from mimics.interfaces.web.algorithms import algorithm_ref
 from mimics.interfaces.web.jobs import Job
 from mimics.interfaces.web.maps import map_json, open_map, refuse_overwrite
 from mimics.interfaces.web.security import Workspace
 from mimics.interfaces.web.wording import paths_for_page, scenario_for_page
 from mimics.world.errors import MimicsError
-from mimics.world.map_files import BUILTIN_MAPS
+from mimics.world.map_files import BUILTIN_MAPS, map_from_dict
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES
 from mimics.world.scenario import Settings
 from mimics.world.scenario_files import (
@@ -36,6 +37,14 @@ from mimics.world.scenario_files import (
 )
 
 router = APIRouter(prefix="/api/scenarios", tags=["scenarios"])
+
+
+class InlineMap(BaseModel):
+    """A map written into the scenario file itself (a built-in scenario's generated map)."""
+
+    name: str = "map"
+    bounds: list[float] = Field(min_length=4, max_length=4)
+    segments: list[list[float]] = Field(max_length=20_000)
 
 
 class RobotBody(BaseModel):
@@ -49,11 +58,12 @@ class RobotBody(BaseModel):
 
 
 class ScenarioBody(BaseModel):
-    """A scenario to save under ``scenarios/`` (``.toml``)."""
+    """A scenario to save under ``scenarios/`` (``.toml``): its map is a workspace map file,
+    a built-in map name, or an inline map."""
 
     path: str
     name: str = "scenario"
-    map: str
+    map: str | InlineMap
     robots: list[RobotBody] = Field(min_length=1, max_length=100_000)
     types: dict[str, dict[str, Any]] = Field(default_factory=dict)
     settings: dict[str, float | bool] = Field(default_factory=dict)
@@ -64,7 +74,7 @@ class ScenarioBody(BaseModel):
 class PlaceBody(BaseModel):
     """Random placement of ``count`` robots of ``type`` in ``region`` on ``map``."""
 
-    map: str
+    map: str | InlineMap
     type: str
     count: int = Field(ge=1, le=5000)
     region: list[float] | None = Field(default=None, min_length=4, max_length=4)
@@ -116,9 +126,17 @@ def get_scenario(request: Request, path: str) -> dict[str, Any]:
     real = scenario_file(workspace, path)
     scenario = load_scenario_toml(real)
     raw = tomllib.loads(real.read_text(encoding="utf-8"))
-    map_ref = raw.get("map") if isinstance(raw.get("map"), str) else None
+    raw_map = raw.get("map")
+    map_ref = raw_map if isinstance(raw_map, str) else None
     if map_ref is not None and map_ref not in BUILTIN_MAPS:
         map_ref = workspace.relative((real.parent / map_ref).resolve())
+    inline = isinstance(raw_map, dict) and "segments" in raw_map
+    return {"path": path, **_editable(scenario, map_ref, inline),
+            "custom_types": raw.get("types", {})}
+
+
+def _editable(scenario: Any, map_ref: str | None, inline: bool) -> dict[str, Any]:
+    """A scenario as the page edits it: name, map, robots, types, settings."""
     robots = [{"type": scenario.robot_type(i).name, "x": x, "y": y, "yaw": yaw,
                "goal": _nan_free(scenario.goals[i].tolist())}
               for i, (x, y, yaw, _v) in enumerate(scenario.stages.tolist())]
@@ -126,15 +144,44 @@ def get_scenario(request: Request, path: str) -> dict[str, Any]:
     settings = {f.name: getattr(scenario.settings, f.name) for f in fields(Settings)}
     settings = {k: v for k, v in settings.items() if not (isinstance(v, float)
                                                           and not math.isfinite(v))}
-    return {"path": path, "name": scenario.name, "map": map_ref,
-            "map_data": map_json(scenario.map, map_ref or ""), "robots": robots,
-            "types": types, "custom_types": raw.get("types", {}), "settings": settings}
+    data = map_json(scenario.map, map_ref or "")
+    return {"name": scenario.name, "map": map_ref, "map_data": data,
+            "map_inline": ({k: data[k] for k in ("name", "bounds", "segments")}
+                           if inline else None),
+            "robots": robots, "types": types, "settings": settings}
+
+
+@router.get("/builtin")
+def get_builtin(name: str) -> dict[str, Any]:
+    """A built-in scenario (its default parameters) as the page edits it, to start a new
+    file from: a generated map comes inline (``map_inline``); types that differ from the
+    built-in ones of their name come whole in ``custom_types``."""
+    known = dict(list_scenarios())
+    if name not in known:
+        raise HTTPException(400, f"scenario {name!r}: expected one of {', '.join(known)}")
+    try:
+        scenario = load_scenario(name)
+    except MimicsError as exc:  # a Stage map whose data is not on this machine
+        raise HTTPException(422, f"built-in scenario {name}: {exc}") from None
+    source = str(scenario.map.source)
+    map_ref = source if source in BUILTIN_MAPS else None
+    custom = {}
+    for robot_type in scenario.types:
+        if BUILTIN_ROBOT_TYPES.get(robot_type.name) != robot_type:
+            whole = asdict(robot_type)
+            whole.pop("name")
+            custom[robot_type.name] = whole
+    return {"path": None, **_editable(scenario, map_ref, map_ref is None),
+            "custom_types": custom}
 
 
 def scenario_text(workspace: Workspace, body: ScenarioBody) -> tuple[Any, str]:
     """The real path and TOML text of the scenario the page sent."""
     real = scenario_file(workspace, body.path, must_exist=False)
-    if body.map in BUILTIN_MAPS:
+    map_ref: str | dict[str, Any]
+    if isinstance(body.map, InlineMap):
+        map_ref = body.map.model_dump()
+    elif body.map in BUILTIN_MAPS:
         map_ref = body.map
     else:
         map_real = workspace.resolve(body.map, must_exist=True)
@@ -179,7 +226,13 @@ def place(request: Request, body: PlaceBody) -> dict[str, Any]:
     if body.type not in BUILTIN_ROBOT_TYPES:
         raise HTTPException(400, f"type {body.type!r}: expected one of "
                                  f"{', '.join(BUILTIN_ROBOT_TYPES)}")
-    the_map = open_map(request, body.map)
+    if isinstance(body.map, InlineMap):
+        try:
+            the_map = map_from_dict(body.map.model_dump(), "map")
+        except MimicsError as exc:
+            raise HTTPException(422, str(exc)) from None
+    else:
+        the_map = open_map(request, body.map)
     others = np.array(body.others, dtype=float).reshape(-1, 2) if body.others else None
     poses = random_placement(body.count, BUILTIN_ROBOT_TYPES[body.type], the_map,
                              np.random.default_rng(body.seed),

@@ -37,3 +37,17 @@ def test_the_list_follows_the_battery_and_an_empty_filter_says_so(
     expect(table.locator("tbody")).to_have_text(
         "No run of the 2 matches the filter (only misbehaving runs).")
     assert (root / "batteries" / "tiny" / "battery.db").is_file()
+    # its plots: thumbnails that open full size (nobody reached a goal in 0.3 s: the time to
+    # goal figure says so, tests/interfaces/test_plots.py checks the figure's text)
+    page.get_by_role("button", name="Plots").click()
+    for name in ("outcomes.png", "time_to_goal.png"):
+        image = page.get_by_role("img", name=f"{name} of batteries/tiny")
+        expect(image).to_be_visible(timeout=30_000)
+        page.wait_for_function(f"""() => [...document.querySelectorAll('figure.thumbnail img')]
+            .some((img) => img.alt.startsWith('{name}') && img.naturalWidth > 0)""")
+    page.get_by_role("img", name="outcomes.png of batteries/tiny").click()
+    dialog = page.get_by_role("dialog", name="Plot")
+    expect(dialog).to_be_visible()
+    assert dialog.get_by_role("img").bounding_box()["width"] > 800
+    page.keyboard.press("Escape")
+    expect(dialog).to_be_hidden()

@@ -4,6 +4,7 @@
 import { api, element, guarded, say } from "./api.js";
 import { EvidenceView } from "./evidence.js";
 import { startLive } from "./live.js";
+import { enlargeable } from "./plot_view.js";
 
 const COLUMNS = ["id", "algorithm", "scenario", "parameters", "seed", "state", "status",
   "reached_goal", "collisions", "deadlocks", "livelocks", "escaped", "exceptions", "sim_time",
@@ -261,8 +262,8 @@ export class BatteryPage {
     if (!this.current) return;
     const stamp = Date.now();
     this.plots.replaceChildren(...["outcomes.png", "time_to_goal.png"].map((name) =>
-      element("img", { alt: `${name} of ${this.current}`,
-        src: `/api/batteries/plot?${new URLSearchParams({ path: this.current, name })}&t=${stamp}` })));
+      enlargeable(element("img", { alt: `${name} of ${this.current}`,
+        src: `/api/batteries/plot?${new URLSearchParams({ path: this.current, name })}&t=${stamp}` }))));
   }
 
   leave() { clearTimeout(this.timer); }

@@ -1,7 +1,11 @@
 // The Runs page: replay a run folder (binary frames), play/pause/scrub, speed, colours by
-// state, trails, the selected robot's beams and log, events on the time bar, video export.
+// state, trails, the inspector (a clicked robot's values, beams and log up to now), events on
+// the time bar, video export, the trajectories plot.
 import { api, element, guarded, say, waitJob } from "./api.js";
+import { createInspector, nearestRobot } from "./inspector.js";
 import { showLiveRuns } from "./live.js";
+import { enlargeable } from "./plot_view.js";
+import { fetchMotion, replaySource } from "./replay_inspector.js";
 import { STATE_NAMES, WorldView, drawGoals, drawHeadings, drawIds, drawRobots, drawTrails }
   from "./view.js";
 
@@ -38,14 +42,13 @@ export class RunPage {
     this.playing = false;
     this.selected = -1;
     this.beams = [];
+    this.motion = null; // the selected robot's v, w and references per frame (/api/runs/robot)
     this.build();
   }
 
   build() {
     this.list = element("ul", { class: "files", "aria-label": "Runs" });
     this.summary = element("div", { class: "hint" });
-    this.logBox = element("div", { class: "log", "aria-label": "Robot log" });
-    this.robotLabel = element("p", {}, "Click a robot to see its beams and log.");
     this.exportBar = element("progress", { max: "1", value: "0", "aria-label": "Export progress" });
     this.videoLink = element("p", {});
     this.plotBox = element("div", { class: "plots" });
@@ -54,8 +57,7 @@ export class RunPage {
     const side = element("div", { class: "side" },
       element("h2", {}, "Live runs"), this.liveList,
       element("h2", {}, "Runs"), this.list, element("h2", {}, "Run"), this.summary,
-      this.legend, element("h2", {}, "Selected robot"), this.robotLabel, this.logBox,
-      element("h2", {}, "Video"),
+      this.legend, element("h2", {}, "Video"),
       element("button", { type: "button", onclick: () => this.exportVideo() }, "Export video"),
       this.exportBar, this.videoLink,
       element("h2", {}, "Plot"),
@@ -83,11 +85,13 @@ export class RunPage {
       const box = this.timebar.getBoundingClientRect();
       this.seekTime(((e.clientX - box.left) / box.width) * this.meta.duration);
     });
+    this.inspectorPanel = element("div", { class: "inspector", "aria-label": "Inspector" });
+    this.inspector = createInspector(this.inspectorPanel, replaySource(this));
     this.root.replaceChildren(side, element("div", { class: "stage" },
       element("div", { class: "canvas-box" }, this.canvas), this.timebar,
       element("div", { class: "controls" }, this.playButton, this.pauseButton, this.scrub,
         this.clock, element("label", {}, "speed ", this.speed),
-        element("label", {}, this.trails, " trails"))));
+        element("label", {}, this.trails, " trails"))), this.inspectorPanel);
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
     this.view.drawStatic = (c, view) => {
       if (!this.meta) return;
@@ -128,7 +132,8 @@ export class RunPage {
     this.colors = STATE_NAMES.map((name) => meta.colors[name]);
     this.selected = -1;
     this.beams = [];
-    this.logBox.textContent = "";
+    this.motion = null;
+    this.inspector.select(-1);
     this.plotBox.replaceChildren();
     this.videoLink.replaceChildren(...(meta.video ? [this.videoAnchor()] : []));
     this.scrub.max = String(this.data.frames - 1);
@@ -196,45 +201,48 @@ export class RunPage {
     this.frame = k;
     this.scrub.value = String(k);
     this.clock.textContent = `t = ${this.time.toFixed(2)} s`;
-    if (fetchBeams) this.fetchBeams(); else this.beams = [];
+    // while playing, beams follow one request at a time (drawn a frame or two late)
+    if (fetchBeams || this.inspector.allBeams || this.selected >= 0) this.fetchBeams();
     this.view.redraw();
+    this.inspector.update();
   }
 
   pick(event) {
     if (!this.data || event.button !== 0 || event.shiftKey) return;
     const [x, y] = this.view.eventWorld(event);
-    const base = this.frame * this.data.robots * 3;
-    let best = -1;
-    let bestDistance = Math.max(0.5, 15 / this.view.scale);
-    for (let i = 0; i < this.data.robots; i++) {
-      const d = Math.hypot(this.data.poses[base + 3 * i] - x, this.data.poses[base + 3 * i + 1] - y);
-      if (d < bestDistance) { bestDistance = d; best = i; }
-    }
+    const { robots, poses } = this.data;
+    const best = nearestRobot(poses.subarray(this.frame * robots * 3, (this.frame + 1) * robots * 3),
+      robots, x, y, Math.max(0.5, 15 / this.view.scale));
     this.selected = best;
-    this.robotLabel.textContent = best < 0 ? "Click a robot to see its beams and log."
-      : `robot ${best}`;
-    this.logBox.textContent = "";
-    this.beams = [];
+    if (!this.inspector.allBeams) this.beams = [];
+    this.inspector.select(best);
     this.view.redraw();
     if (best >= 0) {
       this.fetchBeams();
-      guarded(async () => {
-        const log = await api.get("/api/runs/log", { path: this.meta.path, robot: best });
-        this.logBox.textContent = log.lines.join("\n")
-          || "(no lines: no per-robot log was written and the robot had no events)";
-      });
+      fetchMotion(this, best);
     }
   }
 
+  // The beams drawn: every robot's when the inspector's toggle is on, else the selected one's;
+  // one request at a time, then one for the frame shown by then.
   async fetchBeams() {
-    if (!this.data || this.selected < 0 || !this.meta.beams[this.selected]) return;
-    const [robot, frame] = [this.selected, this.frame];
-    const data = await guarded(() => api.get("/api/runs/beams",
-      { path: this.meta.path, robot, frame }));
-    if (data && robot === this.selected && frame === this.frame) {
+    if (!this.data) return;
+    const all = this.inspector.allBeams;
+    if (!all && (this.selected < 0 || !this.meta.beams[this.selected])) return;
+    if (this.beamsPending) { this.beamsWanted = true; return; }
+    const [robot, frame, path] = [this.selected, this.frame, this.meta.path];
+    this.beamsPending = true;
+    this.beamsWanted = false;
+    const data = await guarded(() => (all
+      ? api.get("/api/runs/all_beams", { path, frame })
+      : api.get("/api/runs/beams", { path, robot, frame })));
+    this.beamsPending = false;
+    if (data && all === this.inspector.allBeams && (all || robot === this.selected)
+        && path === this.meta.path) {
       this.beams = data.segments;
       this.view.redraw();
     }
+    if (this.beamsWanted || frame !== this.frame) this.fetchBeams();
   }
 
   paint(c, view) {
@@ -317,9 +325,11 @@ export class RunPage {
     if (this.meta.path === path) this.videoLink.replaceChildren(this.videoAnchor());
   }
 
+  // The plot as a thumbnail in the side panel; a click shows it over the whole page.
   showPlot() {
     if (!this.meta) return;
-    this.plotBox.replaceChildren(element("img", { alt: `trajectories of ${this.meta.path}`,
-      src: `/api/runs/plot?${new URLSearchParams({ path: this.meta.path })}` }));
+    this.plotBox.replaceChildren(enlargeable(element("img", {
+      alt: `trajectories of ${this.meta.path}`,
+      src: `/api/runs/plot?${new URLSearchParams({ path: this.meta.path })}` })));
   }
 }

@@ -1,5 +1,6 @@
 // The Scenarios page: pick a map, place robots (one, line, grid, random), drag starts and
-// goals, choose the robot type and sensors, time limit, save, run.
+// goals, choose the robot type and sensors, time limit, save, run; start from a built-in
+// scenario (opened as a new, unsaved file).
 import {
   api, clearError, element, fileList, guarded, mayDiscard, parseNumbers, saveFile, say,
   shownError, waitJob,
@@ -8,6 +9,7 @@ import {
   dragRobot, faultOf, paintScenario, placeAt, robotAt,
 } from "./scenario_canvas.js";
 import { startLive } from "./live.js";
+import { INLINE, openBuiltin, showInlineMap, showScenario } from "./scenario_files.js";
 import { WorldView } from "./view.js";
 
 const TOOLS = ["One", "Line", "Grid", "Random", "Move", "Remove"];
@@ -27,6 +29,7 @@ export class ScenarioEditor {
     this.types = {};
     this.map = null;
     this.mapRef = "";
+    this.inlineMap = null; // a map written into the scenario file (a built-in scenario's own)
     this.tool = "Line";
     this.points = [];
     this.robotTypes = {};
@@ -43,6 +46,7 @@ export class ScenarioEditor {
       "aria-pressed": String(name === this.tool), onclick: () => this.setTool(name) }, name));
     this.fileListNode = element("ul", { class: "files", "aria-label": "Scenario files" });
     this.mapSelect = element("select", { "aria-label": "Map", onchange: () => this.pickMap() });
+    this.builtinSelect = element("select", { "aria-label": "Built-in scenario" });
     this.typeSelect = element("select", { "aria-label": "Robot type",
       onchange: () => this.showType() });
     this.beamsInput = number("Beams", "180");
@@ -79,6 +83,9 @@ export class ScenarioEditor {
     this.info = element("span", {});
     const side = element("div", { class: "side" },
       element("h2", {}, "Scenarios"), this.fileListNode,
+      element("div", { class: "row" }, this.builtinSelect,
+        element("button", { type: "button", onclick: () => openBuiltin(this) },
+          "Open built-in")),
       element("h2", {}, "Map"), this.mapSelect,
       element("h2", {}, "Robot type and sensors"), this.typeSelect,
       element("div", { class: "row" }, element("label", {}, "beams ", this.beamsInput),
@@ -135,12 +142,17 @@ export class ScenarioEditor {
     if (!scenarios || !maps || !algorithms) return;
     this.files = scenarios.files;
     fileList(this.fileListNode, this.files, (p) => this.open(p));
-    this.robotTypes = scenarios.robot_types;
+    this.robotTypes = { ...this.robotTypes, ...scenarios.robot_types };
+    const chosenBuiltin = this.builtinSelect.value;
+    this.builtinSelect.replaceChildren(...scenarios.builtin.map((b) => element("option",
+      { value: b.name, title: b.description }, b.name)));
+    if (chosenBuiltin) this.builtinSelect.value = chosenBuiltin;
     const current = this.mapSelect.value;
     const mapNames = [...maps.files.map((f) => f.path), ...maps.builtin];
     this.mapSelect.replaceChildren(element("option", { value: "" }, "(choose a map)"),
       ...mapNames.map((p) => element("option", { value: p }, p)));
     this.mapSelect.value = mapNames.includes(current) ? current : "";
+    showInlineMap(this);
     if (!this.typeSelect.options.length) {
       this.typeSelect.replaceChildren(...Object.keys(this.robotTypes).map((name) =>
         element("option", { value: name }, name)));
@@ -182,7 +194,8 @@ export class ScenarioEditor {
 
   async pickMap() {
     const path = this.mapSelect.value;
-    if (!path) return;
+    if (!path || path === INLINE) return;
+    this.inlineMap = null;
     const data = await guarded(() => api.get("/api/maps/file", { path }));
     if (!data) return;
     if (this.mapRef !== path) this.dirty = true;
@@ -197,27 +210,9 @@ export class ScenarioEditor {
     if (!mayDiscard(this, "this scenario")) return;
     const data = await guarded(() => api.get("/api/scenarios/file", { path }));
     if (!data) return;
-    this.robots = data.robots;
-    this.types = data.custom_types || {};
-    for (const [name, type] of Object.entries(data.types)) {
-      if (!this.robotTypes[name]) this.robotTypes[name] = type;
-    }
-    this.map = data.map_data;
-    this.mapRef = data.map || "";
-    if (this.mapRef && ![...this.mapSelect.options].some((o) => o.value === this.mapRef)) {
-      this.mapSelect.append(element("option", { value: this.mapRef }, this.mapRef));
-    }
-    this.mapSelect.value = this.mapRef;
-    this.nameInput.value = data.name;
-    this.pathInput.value = path;
-    this.timeInput.value = String(data.settings.time_limit);
-    this.toleranceInput.value = String(data.settings.goal_tolerance);
-    this.deadlockInput.value = String(data.settings.deadlock_window);
-    this.view.fit(this.map.bounds);
-    this.view.invalidate();
+    showScenario(this, data, path);
     this.dirty = false;
     this.ownPath = path;
-    this.showInfo();
     say(`opened ${path}: ${this.robots.length} robots`);
   }
 
@@ -306,7 +301,7 @@ export class ScenarioEditor {
     const type = this.currentType();
     const base = this.types[type]?.base || type;
     const data = await guarded(() => api.post("/api/scenarios/place", {
-      map: this.mapRef, type: base, count: Math.round(Number(this.countInput.value)), region,
+      map: this.inlineMap || this.mapRef, type: base, count: Math.round(Number(this.countInput.value)), region,
       min_spacing: Number(this.spacingInput.value) || null,
       seed: Math.floor(Math.random() * 1e9), others: this.robots.map((r) => [r.x, r.y]) }));
     if (data) this.add(data.poses);
@@ -346,7 +341,8 @@ export class ScenarioEditor {
   paint(c, view) { paintScenario(this, c, view); }
 
   showInfo() {
-    this.info.textContent = `${this.robots.length} robots on ${this.mapRef || "no map"}`;
+    const mapName = this.mapRef || (this.inlineMap ? this.inlineMap.name : "no map");
+    this.info.textContent = `${this.robots.length} robots on ${mapName}`;
     this.view.redraw();
   }
 
@@ -354,14 +350,14 @@ export class ScenarioEditor {
     const used = new Set(this.robots.map((r) => r.type));
     const types = Object.fromEntries(Object.entries(this.types).filter(([k]) => used.has(k)));
     return { path: this.pathInput.value.trim(), name: this.nameInput.value.trim() || "scenario",
-      map: this.mapRef, robots: this.robots, types,
+      map: this.inlineMap || this.mapRef, robots: this.robots, types,
       settings: { time_limit: Number(this.timeInput.value),
         goal_tolerance: Number(this.toleranceInput.value),
         deadlock_window: Number(this.deadlockInput.value) } };
   }
 
   async save() {
-    if (!this.mapRef) { say("choose a map first", true); return undefined; }
+    if (!this.mapRef && !this.inlineMap) { say("choose a map first", true); return undefined; }
     const data = await saveFile("/api/scenarios/file", this.body(), this.ownPath,
       this.files);
     this.fault = data ? { robots: [], walls: [] } : faultOf(shownError(), this.robots.length);
