@@ -78,12 +78,21 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     page.get_by_role("button", name="Step").click()
     page.wait_for_function(f"Math.round({live}.frame.time * 10) === {paused['step'] + 1}")
     expect(page.get_by_label("Simulated time")).to_contain_text(f"step {paused['step'] + 1}")
-    # a drag moves robot 1 (it stands still, no goal) to (5, 4.5)
+    # the inspector: a click on robot 0 shows its values now, from the worker
+    inspector = page.get_by_label("Inspector")
+    x0, y0 = page.evaluate(f"Array.from({live}.frame.poses.slice(0, 2))")
+    drag(page, (x0, y0), (x0, y0))  # a click: selection only
+    expect(inspector.locator('[data-field="type"]')).to_have_text("Pioneer2DX")
+    expect(inspector.locator('[data-field="x"]')).to_have_text(f"{x0:.3f} m")
+    expect(inspector.locator('[data-field="v"]')).not_to_have_text("n/a")
+    # a drag moves robot 1 (it stands still, no goal) to (5, 4.5); the inspector follows it
     x, y = page.evaluate(f"Array.from({live}.frame.poses.slice(3, 5))")
     drag(page, (x, y), (5.0, 4.5))
     expect(page.get_by_label("Last edit")).to_contain_text(f"step {paused['step'] + 1}")
     moved = page.evaluate(f"Array.from({live}.frame.poses.slice(3, 5))")
     assert abs(moved[0] - 5.0) < 0.1 and abs(moved[1] - 4.5) < 0.1
+    expect(inspector.locator('[data-field="type"]')).to_have_text("Pioneer2DX_b30")
+    expect(page.get_by_role("log", name="Robot log")).to_contain_text("edit: move robot 1")
     # a wall drawn across the room's lower half, clear of the robots
     page.get_by_label("Draw wall").check()
     walls = page.evaluate(f"{live}.meta.map.segments.length")
@@ -95,7 +104,12 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     expect(page.get_by_role("alert")).to_contain_text("edit refused")
     assert take_refusals(page, 422) == 1
     assert page.evaluate(f"{live}.meta.map.segments.length") == walls + 1
-    # Resume, then Stop: the folder is complete, with the two edits
+    # nothing selected any more (no inspector request may meet the run's end), Resume, Stop:
+    # the folder is complete, with the two edits
+    page.get_by_label("Select / drag robot").check()
+    drag(page, (9.5, 5.5), (9.5, 5.5))
+    expect(inspector.locator('[data-field="type"]')).to_be_hidden()
+    page.wait_for_timeout(300)
     page.get_by_role("button", name="Resume").click()
     expect(page.get_by_role("button", name="Resume")).to_have_attribute("aria-pressed", "true")
     page.get_by_role("button", name="Stop").click()

@@ -3,6 +3,8 @@
 // Step, Stop, the speed, and edits by mouse (move a robot, set a goal, add or remove a wall,
 // remove a robot). Leaving the page closes the socket; the run goes on.
 import { api, element, guarded, say } from "./api.js";
+import { createInspector } from "./inspector.js";
+import { liveSource } from "./live_inspector.js";
 import { parseFrames } from "./runs.js";
 import { STATE_NAMES, WorldView, drawGoals, drawHeadings, drawIds, drawRobots, drawTrails }
   from "./view.js";
@@ -84,11 +86,16 @@ export class LivePage {
     this.trails = element("input", { type: "checkbox", checked: true, "aria-label": "Trails",
       onchange: () => this.view.redraw() });
     this.clock = element("span", { role: "timer", "aria-label": "Simulated time" }, "t = 0.00 s");
+    // the Runs page's inspector: a clicked robot's values and its events so far, as it runs
+    this.inspectorPanel = element("div", { class: "inspector", "aria-label": "Inspector" });
+    this.inspector = createInspector(this.inspectorPanel, liveSource(this));
+    const beams = this.inspectorPanel.querySelector('[aria-label="Every robot\'s beams"]');
+    if (beams) beams.closest("label").hidden = true; // a live run's beams are not sent
     this.root.replaceChildren(side, element("div", { class: "stage" },
       element("div", { class: "canvas-box" }, this.canvas),
       element("div", { class: "controls" }, this.pauseButton, this.resumeButton, this.stepButton,
         this.stopButton, element("label", {}, "speed ", this.speed), this.clock,
-        element("label", {}, this.trails, " trails"))));
+        element("label", {}, this.trails, " trails"))), this.inspectorPanel);
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
     this.view.drawStatic = (c, view) => {
       if (!this.meta) return;
@@ -121,6 +128,8 @@ export class LivePage {
     this.frames = 0;
     this.past = [];
     this.selected = -1;
+    this.details = null;
+    this.inspector.select(-1);
     this.errorBox.textContent = "";
     this.editLine.textContent = "";
     this.replayLink.replaceChildren();
@@ -153,6 +162,9 @@ export class LivePage {
       this.frames += 1;
       this.showClock();
       this.view.redraw();
+      if (this.inspector.selected >= 0 && this.inspector.selected < parsed.robots) {
+        this.inspector.update();
+      }
       return;
     }
     const message = JSON.parse(data);
@@ -229,6 +241,8 @@ export class LivePage {
       this.editLine.textContent = `step ${applied.step}: ${applied.detail || applied.kind}`;
       this.errorBox.textContent = "";
       say(`edit applied at step ${applied.step}`);
+      // the selected robot's values and lines again (paused, the time did not move)
+      if (this.inspector.selected >= 0) this.inspector.select(this.inspector.selected);
       return applied;
     } catch (error) {
       this.errorBox.textContent = `edit refused: ${error.message}`;
@@ -258,6 +272,7 @@ export class LivePage {
     const robot = this.robotAt(x, y);
     if (this.tool === "move") {
       this.selected = robot;
+      this.inspector.select(robot);
       if (robot >= 0) {
         this.drag = { kind: "robot", robot, from: [x, y], to: [x, y] };
         this.canvas.setPointerCapture(event.pointerId);
