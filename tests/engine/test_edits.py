@@ -8,11 +8,14 @@ next scan by amounts worked out by hand. Refused edits change nothing.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import replace
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
@@ -213,3 +216,51 @@ def test_a_scheduled_edit_refused_at_its_step_is_an_event_and_the_run_goes_on():
     assert len(refused) == 1 and "would touch robot 0" in refused[0].detail
     assert result.status == "time_limit"
 
+
+
+coordinate = st.floats(-9.0, 9.0, allow_nan=False).map(lambda v: round(v, 3))
+
+
+@st.composite
+def live_edits(draw: st.DrawFn) -> dict:
+    kind = draw(st.sampled_from(["move_robot", "add_wall", "remove_wall", "set_goal",
+                                 "remove_robot"]))
+    robot = draw(st.integers(0, 3))  # robot 3 does not exist: refused
+    if kind == "move_robot":
+        return {"kind": kind, "robot": robot, "x": draw(coordinate), "y": draw(coordinate),
+                "yaw": draw(st.floats(-3.0, 3.0))}
+    if kind == "set_goal":
+        return {"kind": kind, "robot": robot, "x": draw(coordinate), "y": draw(coordinate)}
+    if kind == "remove_robot":
+        return {"kind": kind, "robot": robot}
+    if kind == "remove_wall":
+        return {"kind": kind, "wall": draw(st.integers(0, 3))}
+    x, y = draw(coordinate), draw(coordinate)
+    return {"kind": kind, "segment": [x, y, x + draw(st.floats(0.1, 3.0)), y]}
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 25), live_edits()), max_size=6))
+def test_any_live_edits_rerun_from_their_timeline_to_the_same_digest(plan):
+    """Whatever is edited when (refusals included), the recorded timeline run again
+    gives the live run's digest, events and final walls."""
+    rows = [[-3.0, 0.0, 0.0, 0.0, 6.0, 1.0], [-3.0, 2.0, 0.0, 0.0, 6.0, -1.0],
+            [0.0, -4.0, 1.5, 0.0, 0.0, 4.0]]
+    live = Simulation(world(rows, time_limit=3.0), driver, seed=2)
+    live.start()
+    for at_step, edit in sorted(plan, key=lambda item: item[0]):
+        while live.state.step < at_step and live.step():
+            pass
+        if live.status != "running":
+            break
+        with contextlib.suppress(EditError):  # refused: nothing changed, nothing recorded
+            live.edit(edit)
+    while live.step():
+        pass
+    again = Simulation(replace(world(rows, time_limit=3.0), edits=live.scenario.edits), driver,
+                       seed=2)
+    result = again.run()
+    assert result.trajectory_digest == live.run_digest()
+    assert again.world_map.segments.tolist() == live.world_map.segments.tolist()
+    assert [(e.time, e.robot, e.kind, e.detail) for e in result.events] == \
+        [(e.time, e.robot, e.kind, e.detail) for e in live.events]
