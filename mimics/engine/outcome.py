@@ -158,6 +158,7 @@ class RunResult:
             "robot_collisions": int(np.sum(collided & (self.collided_with >= 0))),
             "wall_collisions": int(np.sum(collided & (self.collided_with == -1))),
             "escaped": self.count(Status.ESCAPED),
+            "removed": self.count(Status.REMOVED),
             "deadlocks": int(self.ever_deadlocked.sum()),
             "livelocks": int(self.ever_livelocked.sum()),
             "exceptions": sum(1 for e in self.events if e.kind == "exception"),

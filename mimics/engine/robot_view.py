@@ -195,8 +195,8 @@ class Robot:
 
     @property
     def map(self) -> Map:
-        """The static map."""
-        return self._sim.scenario.map
+        """The map: its walls as edited so far (``mimics.engine.edits``)."""
+        return self._sim.world_map
 
     @property
     def memory(self) -> dict[str, Any]:
@@ -335,8 +335,8 @@ class Team:
 
     @property
     def map(self) -> Map:
-        """The static map."""
-        return self._sim.scenario.map
+        """The map: its walls as edited so far (``mimics.engine.edits``)."""
+        return self._sim.world_map
 
     @property
     def memory(self) -> dict[str, Any]:

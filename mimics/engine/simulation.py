@@ -19,7 +19,6 @@ from __future__ import annotations
 import time
 import zlib
 from collections.abc import Callable, Sequence
-from functools import cached_property
 from typing import Any, Literal, Protocol
 
 import numpy as np
@@ -28,10 +27,11 @@ from mimics.engine.compile_clock import compile_seconds
 from mimics.engine.controllers import Controller, TeamController, UserFailure, controller_from
 from mimics.engine.deactivations import RobotDeactivations
 from mimics.engine.dynamics import move_robots
+from mimics.engine.edits import WorldEdits
 from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.noise_streams import AlgorithmStreams, RangerNoise, StepStreams
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state, run_digest
-from mimics.engine.ranging import Scanner, WallIndex, shared_wall_index
+from mimics.engine.ranging import Scanner
 from mimics.engine.robot_index import RobotIndex, index_cell, index_robots
 from mimics.engine.sensors import (
     comms_matrix,
@@ -39,7 +39,6 @@ from mimics.engine.sensors import (
     odometry_is_exact,
     update_odometry,
 )
-from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.step_checks import check_moved
@@ -48,7 +47,8 @@ from mimics.engine.watchdog import StepTimeout, Watchdog, describe_timeout
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
-_ESCAPED = int(Status.ESCAPED)  # a plain int: comparing arrays with an IntEnum is slow
+# plain ints: comparing arrays with an IntEnum is slow
+_ESCAPED, _REMOVED = int(Status.ESCAPED), int(Status.REMOVED)
 
 Policy = Literal["abort", "deactivate"]
 POLICIES = ("abort", "deactivate")
@@ -59,10 +59,11 @@ class Observer(Protocol):
 
     def on_start(self, sim: Simulation) -> None: ...
     def on_step(self, sim: Simulation) -> None: ...
+    def on_edit(self, sim: Simulation, applied: Any) -> None: ...
     def on_end(self, sim: Simulation, result: RunResult) -> None: ...
 
 
-class Simulation(RobotDeactivations):
+class Simulation(RobotDeactivations, WorldEdits):
     """One run of one algorithm on one scenario with one seed.
 
     Args:
@@ -76,7 +77,11 @@ class Simulation(RobotDeactivations):
         wall_limit: wall-clock seconds after which the run stops (status ``wall_limit``);
             user code still running then is stopped (``mimics.engine.watchdog``).
         stop_when: a predicate on the simulation that ends the run when true.
-        observers: objects with optional ``on_start``, ``on_step``, ``on_end``.
+        observers: objects with optional ``on_start``, ``on_step``, ``on_edit``, ``on_end``.
+
+    The scenario's edits (``scenario.edits``) are applied at their steps, and
+    ``edit`` applies one now (``mimics.engine.edits``); ``world_map`` is the
+    map as edited so far, ``scenario`` the run's recipe (its first map, the edits).
     """
 
     def __init__(self, scenario: Scenario, algorithm: Any, seed: int = 0,
@@ -109,8 +114,7 @@ class Simulation(RobotDeactivations):
         self.timing = TimingStats()
         types = self.types
         # collisions need the walking grid; the ranger's near lists wait for a scan (walls)
-        self.wall_grid = build_segment_grid(as_segments(scenario.map.segments),
-                                            scenario.map.bounds)
+        self._start_edits(scenario)
         self._robot_cell = index_cell(types.max_range, types.half_length, types.half_width)
         # fixed for the run: computed once, not at every step
         self._robot_radius = np.hypot(types.half_length, types.half_width)
@@ -179,6 +183,8 @@ class Simulation(RobotDeactivations):
             self.start()
         if self.status != "running":
             return False
+        if self._applied_edits < len(self.scenario.edits) and not self._apply_due_edits():
+            return False  # the edits removed the last robot
         state = self.state
         active = state.active
         ids = active.nonzero()[0]  # = flatnonzero, without its Python wrappers
@@ -236,14 +242,6 @@ class Simulation(RobotDeactivations):
         the seed (``AlgorithmStreams``)."""
         return self._user_rngs.get(robot)
 
-    @cached_property
-    def walls(self) -> WallIndex:
-        """The walls indexed for the ranger (built when a scan is first traced)."""
-        scenario = self.scenario
-        return shared_wall_index(scenario.map.segments, scenario.map.bounds,
-                                float(np.max(self.types.max_range, initial=0.0)),
-                                grid=self.wall_grid)
-
     def comms_table(self) -> np.ndarray:
         """The communication matrix of this step (built once, on first use)."""
         if self._comms is None:
@@ -257,7 +255,8 @@ class Simulation(RobotDeactivations):
         """Robots that others can hit and see."""
         state = self.state
         if self.scenario.settings.inactive_as_obstacles:
-            return state.status != _ESCAPED
+            status = state.status
+            return (status != _ESCAPED) & (status != _REMOVED)
         return state.active
 
     def _robot_index(self) -> RobotIndex:

@@ -41,6 +41,7 @@ class Status(IntEnum):
     ESCAPED = 3
     DEADLOCK = 4
     ERROR = 5
+    REMOVED = 6  # taken out of the run by an edit (``mimics.engine.edits``)
 
     @property
     def label(self) -> str:

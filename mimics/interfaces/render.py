@@ -43,6 +43,7 @@ STATUS_COLORS: dict[str, str] = {
     "deadlock": "#ff7f0e",
     "livelock": "#9467bd",
     "error": "#e377c2",
+    "removed": "#d9d9d9",
 }
 BACKGROUND = "#ffffff"
 WALL_COLOR = "#222222"

@@ -20,6 +20,22 @@ status ``"stopped"`` (observers see ``on_end`` as for any run).
 True
 >>> sim.status, seen[-1] == sim.state.step
 ('time_limit', True)
+
+Edits of the running world (``mimics.engine.edits``) go through the stepper's
+thread: :meth:`SimulationStepper.edit` waits until the edit is applied at the
+next step boundary (at once when paused) and returns it as plain data, or
+raises the one-line refusal:
+
+>>> sim = prepare("line", "go_to_goal", robots=2, time=1.0, seed=1)
+>>> stepper = SimulationStepper(sim, lambda s: None, speed=math.inf)
+>>> stepper.edit({"kind": "move_robot", "robot": 0, "x": 1.0, "y": 1.0, "yaw": 0.5})
+{'step': 0, 'kind': 'move_robot', 'robot': 0, 'x': 1.0, 'y': 1.0, 'yaw': 0.5, 'time': 0.0, \
+'detail': 'move robot 0 to (1, 1, yaw 0.5)'}
+>>> stepper.edit({"kind": "remove_robot", "robot": 7})
+Traceback (most recent call last):
+...
+mimics.world.edits.EditError: edit.robot: no robot 7 (the run has 2: 0 to 1)
+>>> stepper.close()
 """
 
 from __future__ import annotations
@@ -27,12 +43,24 @@ from __future__ import annotations
 import math
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from mimics.world.errors import MimicsError
 
 STATES = ("paused", "playing", "ended")
+
+
+class _EditRequest:
+    """An edit waiting for the stepper's thread, and what became of it."""
+
+    def __init__(self, edit: Mapping[str, Any]) -> None:
+        self.edit = dict(edit)
+        self.done = threading.Event()
+        self.applied: dict[str, Any] | None = None
+        self.refusal: BaseException | None = None
+        self.taken = False  # the stepper's thread is applying it
+        self.cancelled = False  # its caller stopped waiting before that: never apply it
 
 
 class SimulationStepper:
@@ -67,6 +95,7 @@ class SimulationStepper:
         self._steps_asked = 0  # single steps asked while paused
         self._stop_asked = False
         self._closed = False
+        self._edits: list[_EditRequest] = []  # asked, not yet applied
         user_stop = sim.stop_when
         # Stop ends the run through the engine's own criterion: status "stopped"
         sim.stop_when = lambda s: self._stop_asked or bool(user_stop and user_stop(s))
@@ -103,6 +132,34 @@ class SimulationStepper:
         self.speed = check_speed(speed)
         with self._wake:
             self._wake.notify_all()
+
+    def edit(self, edit: Mapping[str, Any], timeout: float = 30.0) -> dict[str, Any]:
+        """Apply an edit of the world (``mimics.world.edits``: ``{"kind": "add_wall",
+        "segment": [x1, y1, x2, y2]}``...) at the next step boundary, at once when
+        paused; waits for it (any thread) and returns it as applied: its fields, the
+        ``step`` and ``time`` it was applied at and a ``detail`` line.
+
+        Raises:
+            MimicsError: one line: the edit is malformed or refused, the run has ended,
+                or the stepper's thread did not take it within ``timeout`` seconds.
+        """
+        request = _EditRequest(edit)
+        with self._wake:
+            if self.state == "ended" or self._closed:
+                raise MimicsError("edit: the run has ended; nothing to edit")
+            self._edits.append(request)
+            self._wake.notify_all()
+        if not request.done.wait(timeout):
+            with self._wake:
+                if not request.taken:
+                    request.cancelled = True
+                    raise MimicsError(f"edit: not applied within {timeout:g} s (the "
+                                      "simulation is busy in a step)")
+            request.done.wait()  # being applied now: a moment
+        if request.refusal is not None:
+            raise request.refusal
+        assert request.applied is not None
+        return request.applied
 
     def close(self) -> None:
         """Leave the thread (the run is left where it is, not ended)."""
@@ -143,13 +200,18 @@ class SimulationStepper:
             anchor: tuple[float, float] | None = None  # (wall, sim time) when pacing began
             last_frame = 0.0
             while sim.status == "running":
+                if self._apply_edits(sim):
+                    continue  # the edits may have ended the run, or more came
                 with self._wake:
                     while (self.state == "paused" and not self._steps_asked
-                           and not self._stop_asked and not self._closed):
+                           and not self._stop_asked and not self._closed
+                           and not self._edits):
                         anchor = None
                         self._wake.wait()
                     if self._closed:
                         return
+                    if self._edits:
+                        continue
                     single = self.state == "paused" and self._steps_asked > 0
                     speed = self.speed
                 sim.step()
@@ -180,7 +242,36 @@ class SimulationStepper:
             with self._wake:
                 self.state = "ended"
                 self._steps_asked = 0
+                left, self._edits = self._edits, []
                 self._wake.notify_all()
+            for request in left:
+                request.refusal = MimicsError("edit: the run has ended; nothing to edit")
+                request.done.set()
+
+    def _apply_edits(self, sim: Any) -> bool:
+        """Apply the edits asked for (in the stepper's thread, between steps); True if
+        there were any (a frame then shows them when paused)."""
+        with self._wake:
+            requests, self._edits = self._edits, []
+        if not requests:
+            return False
+        for request in requests:
+            with self._wake:
+                if request.cancelled:
+                    continue
+                request.taken = True
+            try:
+                request.applied = sim.edit(request.edit).to_dict()
+            except MimicsError as refusal:
+                request.refusal = refusal
+            except BaseException as exc:  # a bug: the caller hears of it, the thread ends
+                request.refusal = exc
+                raise
+            finally:
+                request.done.set()
+        if self.state == "paused" or sim.status != "running":
+            self.on_frame(sim)
+        return True
 
 
 def check_speed(speed: float) -> float:

@@ -11,15 +11,21 @@ step        int32   step at which it was recorded (rows of that step in
 robot       int32   the engine's robot index, from 0
 kind        string  reached_goal, collision, escaped, deadlock, deadlock_end,
                     livelock, livelock_end, exception, user_message,
-                    system_message
+                    system_message, edit, edit_refused
 detail      string  the engine's text ("Collision with robot 2", "Deadlock",
-                    "Exception: ZeroDivisionError: division by zero"), or the
-                    message itself
+                    "Exception: ZeroDivisionError: division by zero"), the
+                    message itself, or an edit's description ("add wall
+                    segment [1, 0, 1, 2]") or refusal
 other       int32   collisions: the robot hit, -1 for a wall; else -2
 start       float64 deadlock and livelock: when the stall began; else NaN
 traceback   string  exceptions: the user code's traceback (its frames only);
                     else empty
 =========== ======= ======================================================
+
+``edit`` rows are the edits of the world applied during the run
+(``mimics.engine.edits``), at the step boundary they were applied at: the step
+after which they apply, its time, the robot edited (-1 for a wall). A timed
+edit of the scenario that the world refused then is an ``edit_refused`` row.
 
 ``user_message`` rows hold what a robot's code wrote with ``robot.log(...)``
 during that step. The engine's system messages are the details of its events

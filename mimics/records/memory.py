@@ -114,6 +114,7 @@ class MemoryRecorder(RunRecorder):
         if self._closed:
             return
         began = time.perf_counter()
+        self.scenario = sim.scenario  # with the edits made during the run, if any
         self._add_last_step(sim)
         self.close()
         self.trajectory = self._trajectory.writer.merged

@@ -155,6 +155,7 @@ class RunRecorder:
         self.compression = compression
         self.extra = dict(extra or {})
         self.run_info: dict[str, Any] = {}
+        self._recorded_edits: tuple[Any, ...] = ()  # the edits in scenario.toml as written
         self.summary_path: Path | None = None
         self._trajectory = TrajectoryBuffer(self._writer(TRAJECTORY_PARTS, TRAJECTORY_SCHEMA))
         self._events = EventBuffer(self._writer(EVENTS_PARTS, EVENTS_SCHEMA))
@@ -186,6 +187,7 @@ class RunRecorder:
             "uuid": str(uuid.uuid4()),
         }
         self._write_scenario(sim.scenario)
+        self._recorded_edits = sim.scenario.edits
         everyone = np.arange(sim.state.n)
         if self.record_scans:
             layout = ScanLayout.from_scenario(sim.scenario)
@@ -221,11 +223,17 @@ class RunRecorder:
             now = time.perf_counter()
         self._step_time += now - began
 
+    def on_edit(self, sim: Simulation, applied: Any) -> None:
+        """Take an edit's event now, with the step it was applied at."""
+        self._events.collect(sim.events, sim.state, np.zeros(0, dtype=np.int64))
+
     def on_end(self, sim: Simulation, result: RunResult) -> None:
         """Merge the parts, write the robot logs, summary.txt and summary.json (last)."""
         if self._closed:
             return
         began = time.perf_counter()
+        if sim.scenario.edits != self._recorded_edits:  # edits made during the run
+            self._write_scenario(sim.scenario)
         self._add_last_step(sim)
         logs = self.robot_logs == "on" or (self.robot_logs == "auto"
                                            and sim.state.n <= AUTO_ROBOT_LOGS)
@@ -256,6 +264,7 @@ class RunRecorder:
             "deadlock_episodes": counts.get("deadlock", 0),
             "livelock_episodes": counts.get("livelock", 0),
             "user_messages": counts.get("user_message", 0),
+            "edits": counts.get("edit", 0),
             "records": {"trajectory_rows": self._trajectory_rows,
                         "recorded_steps": self._trajectory.steps, "every": self.every,
                         "events": self._event_rows, "robot_logs": logs,

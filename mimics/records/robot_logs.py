@@ -81,7 +81,7 @@ SOURCE_COLUMNS = ("time", "x", "y", "theta", "v", "w", "x_meas", "y_meas", "thet
 DEACTIVATION = "Deactivation: "
 STATUS_KIND = {Status.REACHED_GOAL: "reached_goal", Status.COLLIDED: "collision",
                Status.ESCAPED: "escaped", Status.DEADLOCK: "deadlock",
-               Status.ERROR: "exception"}
+               Status.ERROR: "exception", Status.REMOVED: "edit"}
 _SPECIAL = (";", '"', "\n", "\r")
 WRITERS = 2  # threads that format and write the logs
 GROUPS = 4  # groups of robots per batch: more than the threads, so writing overlaps formatting

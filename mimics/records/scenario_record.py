@@ -9,7 +9,10 @@ the library of a later version), and ``[map]`` with its name, bounds and every
 wall segment inline (the map is recoverable from the run folder alone). On
 top, a ``[run]`` table holds what is not the scenario: seed, algorithm, policy,
 time and wall limits, mimics version, creation time and uuid of the run, the
-map's source and the scenario's parameters (``[run.parameters]``). Floats are
+map's source and the scenario's parameters (``[run.parameters]``). The edits of
+the world made during the run (``mimics.world.edits``: scheduled in the
+scenario, or made live) follow as ``[[edits]]`` tables, each with its step, in
+the order they were applied. Floats are
 written in their shortest exact form, so reading gives back the very same
 numbers; :func:`read_scenario_record` reads the file without re-checking the
 start state (a run may start with robots touching, deactivated at time 0).
@@ -38,10 +41,12 @@ from typing import Any
 import numpy as np
 import tomli_w
 
+from mimics.world.edits import edit_from_dict
 from mimics.world.errors import MimicsError
 from mimics.world.maps import Map
 from mimics.world.robot_types import robot_type_from_dict
 from mimics.world.scenario import Scenario, Settings
+from mimics.world.scenario_writer import edits_to_toml
 
 
 def write_scenario_record(path: Path, scenario: Scenario, run: dict[str, Any]) -> None:
@@ -76,6 +81,7 @@ def write_scenario_record(path: Path, scenario: Scenario, run: dict[str, Any]) -
               "# wall segments [x1, y1, x2, y2] (m)", "segments = ["]
     lines += [f"  {_numbers(s)}," for s in world.segments.tolist()]
     lines.append("]")
+    lines += edits_to_toml(scenario.edits)
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text("\n".join(lines) + "\n")
     os.replace(tmp, path)
@@ -132,9 +138,11 @@ def _scenario_from(data: dict[str, Any]) -> Scenario:
                       dtype=np.float64).reshape(-1, 4)
     goals = np.array([r.get("goal", [math.nan, math.nan]) for r in robots], dtype=np.float64)
     type_index = np.array([names.index(r["type"]) for r in robots], dtype=np.int64)
+    edits = tuple(edit_from_dict(entry, f"edits[{k}]")
+                  for k, entry in enumerate(data.get("edits", [])))
     return Scenario(map=world, types=types, type_index=type_index, stages=stages,
                     goals=goals.reshape(-1, 2), settings=Settings.from_dict(data["settings"]),
-                    name=data["name"], parameters=dict(run.get("parameters", {})))
+                    name=data["name"], parameters=dict(run.get("parameters", {})), edits=edits)
 
 
 def _toml_ready(values: dict[str, Any]) -> dict[str, Any]:

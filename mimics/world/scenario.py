@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from mimics.world.edits import Edit, check_edit_fits
 from mimics.world.errors import ScenarioError
 from mimics.world.limits import MAX_ROBOTS, MAX_STEPS
 from mimics.world.maps import Map
@@ -94,6 +95,8 @@ class Scenario:
         stages: ``(n, 4)`` initial ``[x, y, yaw, v]`` per robot.
         goals: ``(n, 2)`` goal per robot; a row of NaN means no goal.
         settings: time step, limits and detection thresholds.
+        edits: changes to the world at given steps (``mimics.world.edits``), in the
+            order they apply (sorted by step, stably).
     """
 
     map: Map
@@ -104,6 +107,7 @@ class Scenario:
     settings: Settings = field(default_factory=Settings)
     name: str = "scenario"
     parameters: dict[str, Any] = field(default_factory=dict)
+    edits: tuple[Edit, ...] = ()
 
     def __post_init__(self) -> None:
         stages = np.array(self.stages, dtype=np.float64).reshape(-1, 4)
@@ -135,8 +139,12 @@ class Scenario:
             i = int(np.flatnonzero(half_goal)[0])
             raise ScenarioError(f"scenario {self.name!r}: robot {i} has a half-defined goal "
                                 f"{goals[i].tolist()} (give both x and y, or neither)")
+        edits = tuple(sorted(self.edits, key=lambda edit: edit.step))
+        for k, edit in enumerate(edits):
+            check_edit_fits(edit, n, self.map.bounds, f"scenario {self.name!r}: edits[{k}]")
         for arr in (stages, goals, type_index):
             arr.setflags(write=False)
+        object.__setattr__(self, "edits", edits)
         object.__setattr__(self, "stages", stages)
         object.__setattr__(self, "goals", goals)
         object.__setattr__(self, "type_index", type_index)

@@ -27,6 +27,11 @@ A scenario file::
     [settings]                     # any field of mimics.world.scenario.Settings
     time_limit = 120.0
 
+    [[edits]]                      # a change to the world after `step` steps
+    step = 100                     # (mimics.world.edits: move_robot, add_wall,
+    kind = "add_wall"              # remove_wall, set_goal, remove_robot)
+    rectangle = [4.0, 0.5, 4.5, 1.5]
+
 Robots may also be one-line inline tables, ``robots = [{ type = "Pioneer2DX",
 x = 1.0, y = 1.0 }, ...]``, the form :func:`save_scenario_toml` writes (in
 :mod:`mimics.world.scenario_writer`).
@@ -95,7 +100,14 @@ from mimics.world.errors import ScenarioError, read_input_text
 from mimics.world.placement import random_placement
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES
 from mimics.world.scenario import Scenario, Settings
-from mimics.world.scenario_parts import RobotRows, read_map, read_robot, read_settings, read_types
+from mimics.world.scenario_parts import (
+    RobotRows,
+    read_edits,
+    read_map,
+    read_robot,
+    read_settings,
+    read_types,
+)
 from mimics.world.scenario_writer import save_scenario_toml, scenario_to_toml
 from mimics.world.start_state import (
     TOUCH_EPS,
@@ -112,7 +124,8 @@ __all__ = ["TOUCH_EPS", "Bodies", "load_scenario_toml", "overlapping_robots", "r
            "touching_walls", "validate_scenario"]
 
 # "run" is the [run] table of a recorded scenario.toml; it is ignored on load.
-TOP_KEYS = ("name", "description", "fixed", "map", "types", "robots", "settings", "run")
+TOP_KEYS = ("name", "description", "fixed", "map", "types", "robots", "settings", "edits",
+            "run")
 SWEEPABLE = ("robots", "seed")
 
 
@@ -174,9 +187,10 @@ def scenario_from_toml_text(text: str, path: str | Path, *, run_seed: int | None
     used = list(dict.fromkeys(robots.types))
     type_index = np.array([used.index(t) for t in robots.types], dtype=np.int64)
     rows = np.array(robots.rows, dtype=np.float64)
+    edits = read_edits(src, data.get("edits", []), len(rows), the_map.bounds)
     scenario = Scenario(map=the_map, types=tuple(known[t] for t in used), type_index=type_index,
                         stages=rows[:, :4], goals=rows[:, 4:], settings=settings, name=name,
-                        parameters=dict(overrides))
+                        parameters=dict(overrides), edits=edits)
     lines = {index: src.line_of(("robots", index)) for index in set(robots.entries)}
     labels = [f"{label} (line {lines[index]})" if lines[index] else label
               for label, index in zip(robots.labels, robots.entries, strict=True)]

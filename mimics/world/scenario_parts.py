@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from mimics.world.edits import Edit, check_edit_fits, edit_from_dict
 from mimics.world.errors import MimicsError, ScenarioError
 from mimics.world.limits import MAX_ROBOTS, MAX_SEED
 from mimics.world.map_files import load_map, map_from_dict
@@ -252,3 +253,19 @@ def read_settings(src: TomlSource, data: Any, overrides: dict[str, Any]) -> Sett
         except ScenarioError as exc:
             raise fail(str(exc).split(": ", 1)[-1]) from None
     return Settings(**merged)
+
+
+def read_edits(src: TomlSource, data: Any, robots: int, bounds: tuple[float, ...]
+               ) -> tuple[Edit, ...]:
+    """The ``[[edits]]`` tables (``mimics.world.edits``), each checked against the
+    scenario's robots and bounds; errors name the file, the line and the field."""
+    if not isinstance(data, list):
+        raise src.error(("edits",), f"expected a list of edit tables ([[edits]]), got {data!r}")
+    edits = []
+    for index, entry in enumerate(data):
+        line = src.line_of(("edits", index))
+        where = f"{src.path}{f', line {line}' if line else ''}: edits[{index}]"
+        edit = edit_from_dict(entry, where)
+        check_edit_fits(edit, robots, bounds, where)
+        edits.append(edit)
+    return tuple(edits)

@@ -74,7 +74,18 @@ def scenario_to_toml(scenario: Scenario, map_ref: str | dict[str, str] | None = 
                 f"bounds = {_toml_value(list(the_map.bounds))}", "segments = ["]
         out += [f"  {_toml_value(row)}," for row in the_map.segments.tolist()]
         out.append("]")
+    out += edits_to_toml(scenario.edits)
     return "\n".join(out) + "\n"
+
+
+def edits_to_toml(edits: tuple[Any, ...]) -> list[str]:
+    """Lines of ``[[edits]]`` tables, one per edit in order (none: no lines); each
+    float in its shortest exact form, so that reading gives the same numbers."""
+    out: list[str] = []
+    for edit in edits:
+        out += ["", "[[edits]]"]
+        out += [f"{name} = {_toml_value(value)}" for name, value in edit.to_dict().items()]
+    return out
 
 
 def save_scenario_toml(scenario: Scenario, path: str | Path,

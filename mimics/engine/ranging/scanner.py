@@ -123,6 +123,14 @@ class Scanner:
         if flight is not None:
             flight.finish()
 
+    def walls_changed(self) -> None:
+        """The run's walls changed (an edit): the trace under way ends, and what robots
+        standing still could see is forgotten (their sight lists hold the old walls)."""
+        self.drop()
+        types = self._types
+        self._still = StillScans(types.max_range, types.beam_count,
+                                 np.minimum(types.half_length, types.half_width))
+
     def _query(self) -> tuple[RangerQuery, WallIndex, RobotIndex, SightLists]:
         """The last sensing's beams, walls, robots and sight lists (waits for the ray
         kernel's compile if another process is at it)."""

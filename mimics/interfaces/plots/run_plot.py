@@ -22,6 +22,7 @@ FINAL_MARKS: dict[int, tuple[str, str]] = {
     Status.ESCAPED: ("^", "escaped"),
     Status.DEADLOCK: ("s", "deadlock"),
     Status.ERROR: ("D", "error"),
+    Status.REMOVED: ("+", "removed"),
     Status.ACTIVE: (".", "active at end"),
 }
 

@@ -32,6 +32,7 @@ COLOURS = {
     Status.ACTIVE: (0.12, 0.47, 0.71, 0.8), Status.REACHED_GOAL: (0.17, 0.63, 0.17, 0.8),
     Status.COLLIDED: (0.84, 0.15, 0.16, 0.8), Status.ESCAPED: (0.5, 0.5, 0.5, 0.8),
     Status.DEADLOCK: (1.0, 0.5, 0.05, 0.8), Status.ERROR: (0.58, 0.4, 0.74, 0.8),
+    Status.REMOVED: (0.85, 0.85, 0.85, 0.8),
 }
 CUBE, CYLINDER = 1, 3  # visualization_msgs/Marker types
 

@@ -15,8 +15,9 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse, JSONResponse
 from fastapi.staticfiles import StaticFiles
 
-from mimics.interfaces.web import algorithms, batteries, maps, runs, scenarios
+from mimics.interfaces.web import algorithms, batteries, live, maps, runs, scenarios
 from mimics.interfaces.web.jobs import Jobs
+from mimics.interfaces.web.live_runs import LiveRuns
 from mimics.interfaces.web.security import (
     DEFAULT_BODY_LIMIT,
     DEFAULT_UPLOAD_LIMIT,
@@ -48,15 +49,18 @@ def create_app(workspace: str | Path, *, allow_uploads: bool = False, host: str 
         battery_workers: worker processes of each battery started from the page.
     """
     app = FastAPI(title="mimics workbench", version="1",
-                  description="The JSON API of `mimics ui`: maps, scenarios, batteries, runs. "
+                  description="The JSON API of `mimics ui`: maps, scenarios, batteries, runs, live "
+                              "runs (their frames over the WebSocket /api/live/{id}/stream). "
                               "Paths are relative to the workspace.")
     app.state.workspace = Workspace(workspace)
     app.state.allow_uploads = allow_uploads
     app.state.upload_limit = upload_limit
     app.state.battery_workers = battery_workers
     app.state.jobs = Jobs()
-    app.middleware("http")(guard_middleware(hosts or served_hosts(host, port), body_limit,
-                                            upload_limit))
+    app.state.live = LiveRuns()  # live runs, each in a worker process (web/live.py)
+    app.state.served_hosts = hosts or served_hosts(host, port)
+    app.router.on_shutdown.append(app.state.live.close)  # their folders end complete
+    app.middleware("http")(guard_middleware(app.state.served_hosts, body_limit, upload_limit))
 
     @app.exception_handler(MimicsError)
     async def bad_input(request: Request, exc: MimicsError) -> JSONResponse:
@@ -68,7 +72,7 @@ def create_app(workspace: str | Path, *, allow_uploads: bool = False, host: str 
         # one sentence for the page, not pydantic's list ("List should have at least...")
         return JSONResponse({"detail": validation_for_page(exc.errors())}, status_code=422)
 
-    for module in (maps, scenarios, algorithms, batteries, runs):
+    for module in (maps, scenarios, algorithms, batteries, runs, live):
         app.include_router(module.router)
 
     @app.get("/api/jobs/{job_id}", tags=["jobs"])

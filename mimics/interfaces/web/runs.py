@@ -11,10 +11,11 @@ bytes    type              content
 4..7     uint32            n, robots
 8..      float32[T]        simulated time of each frame (s)
 then     float32[T, n, 3]  x, y, theta of every robot in every frame
-then     uint8[T, n]       state: ``Status`` code, 6 for a robot in livelock
+then     uint8[T, n]       state: ``Status`` code, 7 for a robot in livelock
 ======== ================= ==============================================
 
-A long run is thinned to every k-th recorded step (always keeping the last)
+(:func:`mimics.interfaces.web.live_frames.encode_frames` writes it, for the live
+stream too.) A long run is thinned to every k-th recorded step (always keeping the last)
 so that the body stays under :data:`FRAME_BYTES`; ``/api/runs/meta`` tells k.
 
 The inspector's routes work on those frames: ``/api/runs/robot`` gives one
@@ -29,7 +30,6 @@ from __future__ import annotations
 import functools
 import math
 import re
-import struct
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -49,6 +49,7 @@ from mimics.interfaces.replay import (
     replay_data,
     robot_motion,
 )
+from mimics.interfaces.web.live_frames import encode_frames, frame_states
 from mimics.interfaces.web.security import Workspace
 from mimics.records.layout import SCENARIO_TOML, SUMMARY_JSON
 from mimics.records.run_folder import load_run
@@ -57,7 +58,6 @@ from mimics.world.map_files import map_to_dict
 router = APIRouter(prefix="/api/runs", tags=["runs"])
 FRAME_BYTES = 64_000_000  # largest frames body; Hospital x 2,000 robots x 600 s fits thinned
 EVENT_LIMIT = 20_000  # events sent for the time bar and the logs
-LIVELOCK_CODE = 6
 LOG_LINES = 2000  # log lines sent: the last ones up to the time asked
 ALL_BEAMS = 60_000  # beams sent for every robot at once: each robot's are thinned to fit
 _LOG_ROW = re.compile(r"^(-?[0-9.]+(?:[eE][-+]?[0-9]+)?);")  # a data row of a robot's log
@@ -178,11 +178,8 @@ def frames(request: Request, path: str) -> Response:
     """The replay in the binary layout of the module docstring."""
     data, _events, stride = replay_of(request.app.state.workspace, path)
     index = _frames(data, stride)
-    status = data.status[index].astype(np.uint8)
-    status[data.livelock[index] & (status == 0)] = LIVELOCK_CODE
-    body = b"".join([struct.pack("<II", len(index), data.n),
-                     data.times[index].astype("<f4").tobytes(),
-                     data.pose[index].astype("<f4").tobytes(), status.tobytes()])
+    body = encode_frames(data.times[index], data.pose[index],
+                         frame_states(data.status[index], data.livelock[index]))
     return Response(body, media_type="application/octet-stream")
 
 

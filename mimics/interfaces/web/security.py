@@ -10,13 +10,18 @@ DNS-rebinding attack can make a foreign name point at 127.0.0.1. So:
   rebound name is not served, not even for reading), and a request that
   changes state (POST, PUT, PATCH, DELETE) also when its ``Origin`` (when
   sent) is another host: a foreign page cannot post here;
-* request bodies are limited in size (413).
+* request bodies are limited in size (413);
+* a WebSocket (the live stream) is refused on the same terms: its ``Host`` must
+  be served and its ``Origin``, which browsers always send, must be this server
+  (:func:`websocket_refusal`), since a foreign page may open a WebSocket to any
+  address and the HTTP middleware does not see WebSocket requests.
 """
 
 from __future__ import annotations
 
 from collections.abc import Awaitable, Callable
 from pathlib import Path, PurePosixPath
+from typing import Any
 from urllib.parse import urlsplit
 
 from fastapi import HTTPException, Request, Response
@@ -117,6 +122,18 @@ def guard_middleware(served_hosts: set[str], body_limit: int, upload_limit: int
         return await call_next(request)
 
     return guard
+
+
+def websocket_refusal(headers: Any, served_hosts: set[str]) -> str | None:
+    """Why a WebSocket handshake with ``headers`` is refused, or None when it is not: a
+    Host not served, or an Origin that is another host (a page of another site)."""
+    host = _host_of(headers.get("host", ""))
+    if host not in served_hosts:
+        return f"refused: Host {host!r} is not this server"
+    origin = headers.get("origin")
+    if origin is not None and _host_of(origin) not in served_hosts:
+        return f"refused: Origin {origin!r} is not this server"
+    return None
 
 
 def served_hosts(host: str, port: int) -> set[str]:

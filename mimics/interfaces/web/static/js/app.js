@@ -1,17 +1,22 @@
-// The workbench's router: one page per hash (#/maps, #/scenarios, #/batteries, #/runs).
+// The workbench's router: one page per hash (#/maps, #/scenarios, #/batteries, #/runs,
+// #/live/ID for a live run).
 import { BatteryPage } from "./batteries.js";
+import { LivePage } from "./live.js";
 import { MapEditor } from "./maps.js";
 import { RunPage } from "./runs.js";
 import { ScenarioEditor } from "./scenarios.js";
 
-const PAGES = { maps: MapEditor, scenarios: ScenarioEditor, batteries: BatteryPage, runs: RunPage };
+const PAGES = { maps: MapEditor, scenarios: ScenarioEditor, batteries: BatteryPage, runs: RunPage,
+  live: LivePage };
 const instances = {};
 let shown = null;
 
 function route() {
-  const [name, query = ""] = window.location.hash.replace(/^#\/?/, "").split("?");
+  const [path, query = ""] = window.location.hash.replace(/^#\/?/, "").split("?");
+  const [name, id] = path.split("/"); // #/live/3: the live page of live run 3
   const page = PAGES[name] ? name : "maps";
   const params = new URLSearchParams(query);
+  if (id) params.set("id", id);
   for (const key of Object.keys(PAGES)) {
     document.getElementById(`page-${key}`).hidden = key !== page;
   }

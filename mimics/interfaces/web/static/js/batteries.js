@@ -3,6 +3,7 @@
 // the evidence: intervals per cell, the paired comparison, the stopping rule's progress.
 import { api, element, guarded, say } from "./api.js";
 import { EvidenceView } from "./evidence.js";
+import { startLive } from "./live.js";
 import { enlargeable } from "./plot_view.js";
 
 const COLUMNS = ["id", "algorithm", "scenario", "parameters", "seed", "state", "status",
@@ -232,19 +233,29 @@ export class BatteryPage {
     const head = element("tr", {}, ...COLUMNS.map((c) => element("th", {
       scope: "col", "aria-sort": c === key ? (this.sortDown ? "descending" : "ascending") : "none",
       onclick: () => { this.sortDown = c === key ? !this.sortDown : false; this.sortKey = c;
-        this.showTable(); } }, c.replace(/_/g, " "))));
+        this.showTable(); } }, c.replace(/_/g, " "))), element("th", { scope: "col" }, "live"));
     const body = rows.map((r) => element("tr", {
       class: `${r.misbehaving ? "misbehaving" : ""} ${r.folder ? "clickable" : ""}`,
       title: r.error || "",
       onclick: () => { if (r.folder) window.location.hash = `#/runs?path=${encodeURIComponent(r.folder)}`; },
     }, ...COLUMNS.map((c) => element("td", {}, c === "state" && r.misbehaving
-      ? `⚠ ${r[c]}` : formatCell(r[c])))));
+      ? `⚠ ${r[c]}` : formatCell(r[c]))), this.liveCell(r)));
     if (!body.length && this.rows.length) {  // the filter hides every run: say so
-      body.push(element("tr", {}, element("td", { colspan: String(COLUMNS.length),
+      body.push(element("tr", {}, element("td", { colspan: String(COLUMNS.length + 1),
         class: "empty" }, `No run of the ${this.rows.length} matches the filter`
         + `${this.onlyBad.checked ? " (only misbehaving runs)" : ""}.`)));
     }
     this.table.replaceChildren(element("thead", {}, head), element("tbody", {}, ...body));
+  }
+
+  // A row's "Run live" button: the same run (scenario, parameters, algorithm, seed) again,
+  // live, in a new run folder under runs/.
+  liveCell(row) {
+    return element("td", {}, element("button", { type: "button",
+      "aria-label": `Run live: run ${row.id}`, onclick: (event) => {
+        event.stopPropagation(); // not the row's click (its replay)
+        startLive({ battery: this.current, run: row.id });
+      } }, "Run live"));
   }
 
   showPlots() {

@@ -12,7 +12,7 @@
 // The page gives `source`, an object with:
 //   robotAt(i)  -> { id, type, state, time, x, y, yaw, v, w, vRef, headingRef, goal }
 //                  robot i at the current time: state a name ("active", "reached_goal",
-//                  "collided", "escaped", "deadlock", "error", "livelock"), time in s,
+//                  "collided", "escaped", "deadlock", "error", "removed", "livelock"), time in s,
 //                  pose in m and rad, v (m/s), w (rad/s), vRef (m/s) and headingRef (rad)
 //                  null when not known, goal [x, y] or null (no goal)
 //   logLines(i, time) -> Promise of { lines: [string], skipped: number }   (optional)
@@ -22,9 +22,9 @@
 // nearestRobot(frame, count, x, y, within) finds the robot a click at world (x, y) means.
 import { element } from "./api.js";
 
-// A robot's state by its code in the frames (the engine's Status; 6: active, in a livelock).
-export const STATE_NAMES = ["active", "reached_goal", "collided", "escaped", "deadlock", "error",
-  "livelock"];
+// A robot's state by its code in the frames (the engine's Status, 6 removed by an edit;
+// 7: active, in a livelock): one list, in view.js
+export { STATE_NAMES } from "./view.js";
 
 // The fields shown, in order: [key, label, format of robotAt(i)].
 const FIELDS = [

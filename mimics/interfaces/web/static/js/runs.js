@@ -2,19 +2,17 @@
 // state, trails, the inspector (a clicked robot's values, beams and log up to now), events on
 // the time bar, video export, the trajectories plot.
 import { api, element, guarded, say, waitJob } from "./api.js";
-import { STATE_NAMES, createInspector, nearestRobot } from "./inspector.js";
+import { createInspector, nearestRobot } from "./inspector.js";
+import { showLiveRuns } from "./live.js";
 import { enlargeable } from "./plot_view.js";
 import { fetchMotion, replaySource } from "./replay_inspector.js";
-import { WorldView, drawRobots } from "./view.js";
+import { STATE_NAMES, WorldView, drawGoals, drawHeadings, drawIds, drawRobots, drawTrails }
+  from "./view.js";
 
 const SPEEDS = [0.1, 0.25, 0.5, 1, 2, 5, 10, 25, 50, 100];
 const EVENT_COLORS = { collision: "#d62728", deadlock: "#ff7f0e", livelock: "#9467bd",
   exception: "#e377c2", escaped: "#8c8c8c", reached_goal: "#2ca02c" };
 const TRAIL_FRAMES = 40;
-const GOAL_COLOR = "#7a7a7a"; // the exported video's colours (interfaces/render.py)
-const HEADING_COLOR = "#ffffff";
-const MAX_IDS = 200; // robot ids are written when at most this many robots...
-const ID_MIN_PX = 10; // ...and a robot is at least this many pixels long
 
 // Parse the body of /api/runs/frames (layout in runs.py): times, poses, states.
 export function parseFrames(buffer) {
@@ -55,7 +53,9 @@ export class RunPage {
     this.videoLink = element("p", {});
     this.plotBox = element("div", { class: "plots" });
     this.legend = element("div", { class: "legend" });
+    this.liveList = element("ul", { class: "files", "aria-label": "Live runs" });
     const side = element("div", { class: "side" },
+      element("h2", {}, "Live runs"), this.liveList,
       element("h2", {}, "Runs"), this.list, element("h2", {}, "Run"), this.summary,
       this.legend, element("h2", {}, "Video"),
       element("button", { type: "button", onclick: () => this.exportVideo() }, "Export video"),
@@ -102,6 +102,7 @@ export class RunPage {
   }
 
   async refresh() {
+    showLiveRuns(this.liveList); // live runs of this server, above the run folders
     const data = await guarded(() => api.get("/api/runs"));
     if (!data) return;
     this.list.replaceChildren(...data.runs.map((run) => element("li", {},
@@ -252,20 +253,9 @@ export class RunPage {
     if (this.trails.checked && k > 0) {
       const first = Math.max(0, k - TRAIL_FRAMES);
       const step = Math.max(1, Math.floor((k - first) / 12));
-      c.strokeStyle = "rgba(31, 119, 180, 0.35)";
-      c.lineWidth = 1;
-      c.beginPath();
-      const { scale, offsetX, offsetY } = view;
-      for (let i = 0; i < robots; i++) {
-        for (let f = first; f <= k; f += step) {
-          const at = (f * robots + i) * 3;
-          const px = offsetX + poses[at] * scale;
-          const py = offsetY - poses[at + 1] * scale;
-          if (f === first) c.moveTo(px, py); else c.lineTo(px, py);
-        }
-        c.lineTo(offsetX + frame[3 * i] * scale, offsetY - frame[3 * i + 1] * scale);
-      }
-      c.stroke();
+      const past = [];
+      for (let f = first; f <= k; f += step) past.push(poses.subarray(f * robots * 3));
+      drawTrails(c, view, past, frame, robots);
     }
     if (this.beams.length) view.drawSegments(this.beams, "rgba(214, 39, 40, 0.45)", 1);
     const stateBase = k * robots;
@@ -283,51 +273,15 @@ export class RunPage {
     }
   }
 
-  // Goals as grey crosses, as in the exported video (part of the cached static layer).
-  paintGoals(c, view) {
-    const size = 4;
-    c.strokeStyle = GOAL_COLOR;
-    c.lineWidth = 1.5;
-    c.beginPath();
-    for (const goal of this.meta.goals) {
-      if (!goal) continue;
-      const [px, py] = view.toScreen(goal[0], goal[1]);
-      c.moveTo(px - size, py - size);
-      c.lineTo(px + size, py + size);
-      c.moveTo(px - size, py + size);
-      c.lineTo(px + size, py - size);
-    }
-    c.stroke();
-  }
+  // Goals, headings and ids as in the exported video (view.js; goals in the static layer).
+  paintGoals(c, view) { drawGoals(c, view, this.meta.goals); }
 
-  // Each robot's heading: a white line from its centre to its front, as in the video.
   paintHeadings(c, view, frame, robots) {
-    const { scale, offsetX, offsetY } = view;
-    c.strokeStyle = HEADING_COLOR;
-    c.lineWidth = Math.max(1, Math.min(2, this.halfWidth[0] * scale * 0.3));
-    c.beginPath();
-    for (let i = 0; i < robots; i++) {
-      const x = frame[3 * i];
-      const y = frame[3 * i + 1];
-      const t = frame[3 * i + 2];
-      const l = this.halfLength[i];
-      c.moveTo(offsetX + x * scale, offsetY - y * scale);
-      c.lineTo(offsetX + (x + l * Math.cos(t)) * scale, offsetY - (y + l * Math.sin(t)) * scale);
-    }
-    c.stroke();
+    drawHeadings(c, view, frame, robots, this.halfLength, this.halfWidth);
   }
 
-  // Robot ids (0-based, as in the logs and the inspector) beside the robots, when they fit.
   paintIds(c, view, frame, robots) {
-    if (robots > MAX_IDS || 2 * Math.max(...this.halfLength) * view.scale < ID_MIN_PX) return;
-    c.fillStyle = "#111";
-    c.font = "11px system-ui, sans-serif";
-    c.textBaseline = "bottom";
-    for (let i = 0; i < robots; i++) {
-      const [px, py] = view.toScreen(frame[3 * i], frame[3 * i + 1]);
-      const r = Math.max(this.halfLength[i], this.halfWidth[i]) * view.scale;
-      c.fillText(String(i), px + r, py - r);
-    }
+    drawIds(c, view, frame, robots, this.halfLength, this.halfWidth);
   }
 
   drawTimebar() {

@@ -8,6 +8,7 @@ import {
 import {
   dragRobot, faultOf, paintScenario, placeAt, robotAt,
 } from "./scenario_canvas.js";
+import { startLive } from "./live.js";
 import { INLINE, openBuiltin, showInlineMap, showScenario } from "./scenario_files.js";
 import { WorldView } from "./view.js";
 
@@ -113,7 +114,9 @@ export class ScenarioEditor {
         "Save scenario"),
       element("h2", {}, "Run"), element("label", {}, "algorithm ", this.algorithmSelect),
       element("label", {}, "seed ", this.seedInput),
-      element("button", { type: "button", onclick: () => this.run() }, "Run"), this.progress);
+      element("button", { type: "button", onclick: () => this.run() }, "Run"),
+      element("button", { type: "button", onclick: () => this.runLive() }, "Run live"),
+      this.progress);
     this.canvas = element("canvas", { "aria-label": "Scenario canvas" });
     this.root.replaceChildren(side, element("div", { class: "stage" },
       element("div", { class: "canvas-box" }, this.canvas),
@@ -366,6 +369,14 @@ export class ScenarioEditor {
       this.refresh();
     }
     return data;
+  }
+
+  async runLive() { // save, then start a live run of the file and open its page (#/live/ID)
+    const saved = await this.save();
+    if (saved) {
+      await startLive({ scenario: saved.path, algorithm: this.algorithmSelect.value,
+        seed: Math.round(Number(this.seedInput.value)) });
+    }
   }
 
   async run() {

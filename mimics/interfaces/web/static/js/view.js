@@ -208,3 +208,79 @@ export function drawRobots(c, view, poses, halfLength, halfWidth, colorOf, count
     c.fill();
   }
 }
+
+// What the replay and the live page draw over the robots, as the exported video does
+// (interfaces/render.py): state names in code order (the frames' uint8 states), goals as
+// grey crosses, headings as white lines, ids beside the robots, trails as blue lines.
+export const STATE_NAMES = ["active", "reached_goal", "collided", "escaped", "deadlock", "error",
+  "removed", "livelock"];
+const GOAL_COLOR = "#7a7a7a";
+const HEADING_COLOR = "#ffffff";
+const MAX_IDS = 200; // robot ids are written when at most this many robots...
+const ID_MIN_PX = 10; // ...and a robot is at least this many pixels long
+
+// Goals [[x, y] or null, ...] as crosses.
+export function drawGoals(c, view, goals) {
+  const size = 4;
+  c.strokeStyle = GOAL_COLOR;
+  c.lineWidth = 1.5;
+  c.beginPath();
+  for (const goal of goals) {
+    if (!goal) continue;
+    const [px, py] = view.toScreen(goal[0], goal[1]);
+    c.moveTo(px - size, py - size);
+    c.lineTo(px + size, py + size);
+    c.moveTo(px - size, py + size);
+    c.lineTo(px + size, py - size);
+  }
+  c.stroke();
+}
+
+// Each robot's heading: a line from its centre to its front.
+export function drawHeadings(c, view, frame, robots, halfLength, halfWidth) {
+  const { scale, offsetX, offsetY } = view;
+  c.strokeStyle = HEADING_COLOR;
+  c.lineWidth = Math.max(1, Math.min(2, halfWidth[0] * scale * 0.3));
+  c.beginPath();
+  for (let i = 0; i < robots; i++) {
+    const x = frame[3 * i];
+    const y = frame[3 * i + 1];
+    const t = frame[3 * i + 2];
+    const l = halfLength[i];
+    c.moveTo(offsetX + x * scale, offsetY - y * scale);
+    c.lineTo(offsetX + (x + l * Math.cos(t)) * scale, offsetY - (y + l * Math.sin(t)) * scale);
+  }
+  c.stroke();
+}
+
+// Robot ids (0-based, as in the logs) beside the robots, when they fit.
+export function drawIds(c, view, frame, robots, halfLength, halfWidth) {
+  if (robots > MAX_IDS || 2 * Math.max(...halfLength) * view.scale < ID_MIN_PX) return;
+  c.fillStyle = "#111";
+  c.font = "11px system-ui, sans-serif";
+  c.textBaseline = "bottom";
+  for (let i = 0; i < robots; i++) {
+    const [px, py] = view.toScreen(frame[3 * i], frame[3 * i + 1]);
+    const r = Math.max(halfLength[i], halfWidth[i]) * view.scale;
+    c.fillText(String(i), px + r, py - r);
+  }
+}
+
+// Trails through earlier poses: `past` is a list of pose arrays (x, y, theta per robot),
+// oldest first; each robot's line ends at its pose in `frame`.
+export function drawTrails(c, view, past, frame, robots) {
+  if (!past.length) return;
+  const { scale, offsetX, offsetY } = view;
+  c.strokeStyle = "rgba(31, 119, 180, 0.35)";
+  c.lineWidth = 1;
+  c.beginPath();
+  for (let i = 0; i < robots; i++) {
+    past.forEach((poses, f) => {
+      const px = offsetX + poses[3 * i] * scale;
+      const py = offsetY - poses[3 * i + 1] * scale;
+      if (f === 0) c.moveTo(px, py); else c.lineTo(px, py);
+    });
+    c.lineTo(offsetX + frame[3 * i] * scale, offsetY - frame[3 * i + 1] * scale);
+  }
+  c.stroke();
+}
