@@ -76,7 +76,7 @@ class BeamCaster:
         types = self.types
         pose = np.ascontiguousarray(pose, dtype=np.float64)
         if self.scenario.settings.inactive_as_obstacles:
-            solid = status != Status.ESCAPED
+            solid = (status != Status.ESCAPED) & (status != Status.REMOVED)
         else:
             solid = status == Status.ACTIVE
         robots = self._robot_index(np.ascontiguousarray(pose[:, :2]),
