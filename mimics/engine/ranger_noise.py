@@ -29,9 +29,9 @@ without a branch, so that the compiler runs it over eight beams at once
 (AVX-512 here), and flags the beams that hit but fall outside the
 rectangles; the second draws those few through the whole ziggurat. Rows go
 in chunks to the calling thread and a helper thread
-(:mod:`mimics.engine.helper_threads`), as the ray kernel's do. About 1.8 ns a
-beam on one thread (2.9 ns one beam at a time), so the Hospital's 360,000
-beams take about 0.35 ms of a step on two threads.
+(:mod:`mimics.engine.helper_threads`), as the ray kernel's do. On one thread
+the Hospital's 360,000 beams take 0.77 to 0.88 ms (1.10 to 1.13 ms one beam at a
+time) and the Cave's 18,000 0.043 to 0.045 ms (0.061 ms): benchmarks/NOTES.md.
 """
 
 from __future__ import annotations
