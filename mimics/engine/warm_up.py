@@ -117,7 +117,8 @@ def compile_ray_helpers() -> None:
     cull_hidden(np.zeros((0, 4)), np.zeros(2), np.ones(2, np.int64), 1.0, start, items, MARGIN)
     beam_fans(np.zeros((1, 1)))
     none, counts = np.zeros(0), np.zeros(0, np.int64)
-    _add_noise(np.zeros((0, 1)), np.zeros((0, 1), np.int64), none, none, counts, np.uint64(0))
+    _add_noise(np.zeros((0, 1)), np.zeros((0, 1), np.int64), none, none, counts, np.uint64(0),
+               *solo_arrays(0), LEAD, 0)
 
 
 def compile_still_kernels() -> None:

@@ -21,6 +21,7 @@ from mimics.world.maps import Map
 from mimics.world.robot_types import PIONEER_2DX, PositioningNoise, RangerSpec, RobotType
 from mimics.world.scenario import Scenario
 from mimics.world.streams import stream_seed
+from tests.threads import thread_count
 
 SIGMA = 0.02
 EYE = RobotType("eye", width=0.2, length=0.2, kv=0.5, kw=1.0, tau_v=0.5, tau_w=0.2,
@@ -140,9 +141,9 @@ def reference_draw(seed: int, step: int, robot: int, beam: int) -> tuple[float, 
     def unit() -> float:
         return (word() >> 11) / 2.0 ** 53
 
-    while True:
-        first = word()
-        layer, negative, bits = first & 0xFF, (first >> 8) & 1, (first >> 9) & (2 ** 52 - 1)
+    while True:  # (a name of its own: rebinding ``first`` would move beam_words' start)
+        drawn = word()
+        layer, negative, bits = drawn & 0xFF, (drawn >> 8) & 1, (drawn >> 9) & (2 ** 52 - 1)
         x = bits * WIDTH[layer]
         if bits < INNER[layer]:
             return (-x if negative else x), "rectangle"
@@ -200,6 +201,60 @@ def test_the_noise_is_the_clipped_sum_and_spares_pads_no_returns_and_noise_free_
     assert ranges.tobytes() == expected.tobytes()
     assert (ranges[0, :3] == 0.0).any() and (ranges[2] == 1.0).any() and (ranges[2] < 1.0).any()
     assert np.isnan(ranges[1, 6:]).all() and (ranges[4, ::2] == 3.0).all()
+
+
+def reference_noise(seed: int, step: int, robots: np.ndarray, ranges: np.ndarray,
+                    owners: np.ndarray, max_range: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+    """The documented generator over whole arrays: every beam's first word and its
+    rectangle draw in NumPy's wrapping uint64 arithmetic, the beams outside the
+    rectangles by :func:`reference_draw`, then ``clip(r + sigma z, 0, range)`` on the
+    beams that hit of the rows with noise."""
+    key = int(stream_seed(seed, "ranger").generate_state(1, np.uint64)[0])
+
+    def mix(z: np.ndarray) -> np.ndarray:
+        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+        return z ^ (z >> np.uint64(31))
+
+    golden = np.uint64(_GOLDEN)
+    step_state = np.uint64(_mix((key + (step + 1) * _GOLDEN) & _WORD))
+    with np.errstate(over="ignore"):
+        robot_state = mix(step_state + (robots.astype(np.uint64) + np.uint64(1)) * golden)
+        beam = np.arange(1, ranges.shape[1] + 1, dtype=np.uint64)
+        word = mix(robot_state[:, None] + beam[None, :] * golden)
+    layer = (word & np.uint64(0xFF)).astype(np.int64)
+    bits = ((word >> np.uint64(9)) & np.uint64(2 ** 52 - 1)).astype(np.int64)
+    x = bits.astype(np.float64) * np.asarray(WIDTH)[layer]
+    z = np.where((word >> np.uint64(8)) & np.uint64(1), -x, x)
+    for row, beam_index in zip(*np.nonzero(bits >= np.asarray(INNER)[layer]), strict=True):
+        z[row, beam_index] = reference_normal(seed, step, int(robots[row]), int(beam_index))
+    noisy = np.minimum(np.maximum(ranges + sigma[:, None] * z, 0.0), max_range[:, None])
+    return np.where((owners != NO_RETURN) & (sigma[:, None] != 0.0), noisy, ranges)
+
+
+def test_the_threaded_kernel_gives_the_reference_numbers_at_the_hospitals_size() -> None:
+    """2,000 rows of 181 beams (a width that is no whole number of the kernel's flag words),
+    on one thread and with a helper, bit for bit the reference's: about 3,600 draws outside
+    the rectangles, rows of sigma 0, pads, no-return beams, readings clipped at both ends."""
+    rng = np.random.default_rng(17)
+    rows, width = 2000, 181
+    robots = rng.permutation(3000)[:rows]
+    max_range = rng.choice([2.0, 8.0, 30.0], rows)
+    sigma = rng.choice([0.0, 0.01, 0.3], rows, p=[0.1, 0.6, 0.3])
+    ranges = rng.uniform(0.0, 1.0, (rows, width)) * max_range[:, None]
+    ranges[:, :4] = 0.0  # at the lower clip
+    ranges[:, 4:8] = max_range[:, None]  # at the upper clip
+    owners = rng.integers(-1, 50, (rows, width))
+    owners[rng.random((rows, width)) < 0.15] = NO_RETURN
+    pads = rng.random(rows) < 0.2  # robots of a type with fewer beams
+    ranges[pads, 170:], owners[pads, 170:] = np.nan, NO_RETURN
+    expected = reference_noise(6, 41, robots, ranges, owners, max_range, sigma)
+    for threads in (1, 2):
+        noisy = ranges.copy()
+        with thread_count(threads):
+            RangerNoise(6).add(noisy, owners, max_range, sigma, 41, robots)
+        assert noisy.tobytes() == expected.tobytes(), threads
+    assert (expected[:, :4] == 0.0).any() and (expected[:, 4:8] == max_range[:, None]).any()
 
 
 def test_the_ziggurats_layers_have_equal_areas() -> None:

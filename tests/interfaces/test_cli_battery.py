@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 from typer.testing import CliRunner
 
-from mimics.interfaces.cli import battery as cli_battery
+from mimics.interfaces.cli import battery_new as cli_battery_new
 from mimics.interfaces.cli.battery import app
 
 GOOD = '''
@@ -115,10 +115,11 @@ def test_new_run_last_status_report_resume(tmp_path: Path) -> None:
 
 def test_new_asks_for_what_the_options_do_not_give(tmp_path: Path,
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(cli_battery, "stdin_is_terminal", lambda: True)
+    monkeypatch.setattr(cli_battery_new, "stdin_is_terminal", lambda: True)
     algorithms = [name for name, _ in __import__("mimics.catalog").catalog.list_algorithms()]
     number = algorithms.index("go_to_goal") + 1
-    answers = "\n".join([f"{number}", "line", "robots=1,3", "5", "2.5", "60", "deactivate"])
+    # (the empty answer: no stopping rule, a fixed number of seeds)
+    answers = "\n".join([f"{number}", "line", "robots=1,3", "", "5", "2.5", "60", "deactivate"])
     path = tmp_path / "b.toml"
     result = invoke("new", "-o", path, input=answers + "\n")
     assert result.exit_code == 0, result.output
@@ -126,6 +127,63 @@ def test_new_asks_for_what_the_options_do_not_give(tmp_path: Path,
     assert data["battery"] == {"algorithms": ["go_to_goal"], "seeds": 5, "time": 2.5,
                                "timeout": 60.0, "policy": "deactivate", "robot_logs": "off"}
     assert data["scenarios"] == [{"name": "line", "robots": [1, 3]}]
+
+
+def test_new_writes_a_stopping_rule_that_runs(tmp_path: Path) -> None:
+    """--until gives the file a [battery.until] table in place of its seeds; the battery
+    file runs, its cells stopping at max_seeds here (2 seeds, a target none can meet)."""
+    saved = tmp_path / "rule.toml"
+    result = invoke("new", "--no-input", "-o", saved, "-a", "go_to_goal", "-s", "line",
+                    "-p", "robots=1", "--until", "path_length:0.000001", "--min-seeds", "2",
+                    "--max-seeds", "2", "--time", "1", "--timeout", "20")
+    assert result.exit_code == 0, result.output + result.stderr
+    assert "2 runs in the first round" in result.output and "path_length" in result.output
+    data = tomllib.loads(saved.read_text())
+    assert "seeds" not in data["battery"]
+    assert data["battery"]["until"] == {"metric": "path_length", "half_width": 1e-06,
+                                        "min_seeds": 2, "max_seeds": 2}
+    out = tmp_path / "rule1"
+    result = invoke("run", "--last", "--out", out, "--workers", "1", "--no-progress")
+    assert result.exit_code == 0, result.output + result.stderr
+    assert "2 runs: 2 done" in result.output
+    # the defaults of the bounds: those of a [battery.until] table without them
+    invoke("new", "--no-input", "-o", saved, "--force", "-a", "go_to_goal", "-s", "line",
+           "--until", "time_to_goal:0.5")
+    assert tomllib.loads(saved.read_text())["battery"]["until"] == {
+        "metric": "time_to_goal", "half_width": 0.5, "min_seeds": 10, "max_seeds": 500}
+
+
+def test_new_offers_the_stopping_rule_when_asking(tmp_path: Path,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(cli_battery_new, "stdin_is_terminal", lambda: True)
+    answers = "\n".join(["go_to_goal", "line", "", "success:0.1", "20", "200", "", "", ""])
+    path = tmp_path / "asked.toml"
+    result = invoke("new", "-o", path, input=answers + "\n")
+    assert result.exit_code == 0, result.output
+    assert "Stop each cell when its answer is known?" in result.output
+    battery = tomllib.loads(path.read_text())["battery"]
+    assert battery["until"] == {"metric": "success", "half_width": 0.1, "min_seeds": 20,
+                                "max_seeds": 200}
+    assert "seeds" not in battery and battery["timeout"] == 300.0
+
+
+@pytest.mark.parametrize(("options", "expected"), [
+    (("--seeds", "5", "--until", "success:0.1"), "--seeds: not with --until"),
+    (("--min-seeds", "5",), "--min-seeds: only with --until"),
+    (("--until", "speed:0.1"), "--until metric: expected one of"),
+    (("--until", "success:-1"), "--until half_width: expected a positive number"),
+    (("--until", "success:0.1", "--min-seeds", "40", "--max-seeds", "20"),
+     "--min-seeds: 40 is more than max_seeds 20"),
+    (("--until", "success:0.1", "--max-seeds", "1"), "--max-seeds: expected a whole number"),
+])
+def test_new_refuses_a_bad_stopping_rule_in_one_line(tmp_path: Path, options: tuple[str, ...],
+                                                     expected: str) -> None:
+    path = tmp_path / "bad.toml"
+    result = invoke("new", "--no-input", "-o", path, "-a", "go_to_goal", "-s", "line", *options)
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mimics: error: ") and expected in lines[0]
+    assert not path.exists()
 
 
 UNTIL = GOOD.replace("seeds = 2\n", "") + '''

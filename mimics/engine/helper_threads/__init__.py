@@ -3,6 +3,7 @@
 ``threads.py`` starts and parks the helpers and hands them a kernel run
 (:class:`Flight`); ``chunks.py`` is the compiled side: how a kernel takes its
 chunks in turn, and how the caller and the helpers meet at its end. The ray
-kernel (``mimics.engine.ranging``) and the collision checks
-(``mimics.engine.step_checks``) both run on them.
+kernel (``mimics.engine.ranging``), the collision checks
+(``mimics.engine.step_checks``) and the ranger's noise (``mimics.engine.ranger_noise``)
+run on them.
 """

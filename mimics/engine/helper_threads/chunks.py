@@ -13,8 +13,8 @@ as its last arguments and loops::
 
 These helpers are inlined into the kernels that use them, and Numba's disk
 cache looks at a kernel's own file only: after an edit here, delete the
-cached kernels (``find mimics -name '*.nb[ic]' -delete``), or ``ray_kernel.py``
-and ``step_checks.py`` keep running the old code. An installed release is
+cached kernels (``find mimics -name '*.nb[ic]' -delete``), or ``ray_kernel.py``,
+``step_checks.py`` and ``ranger_noise.py`` keep running the old code. An installed release is
 never stale (every file is rewritten).
 """
 
@@ -166,4 +166,40 @@ def _await_chunks(share: np.ndarray, first: int, stop: int) -> None:
     """Wait until chunks ``first`` to ``stop - 1`` are done, or a helper has failed."""
     for chunk in range(first, stop):
         while not _is_done(share, chunk) and atomic_load(share, FAILED) == 0:
+            relax()
+
+
+# A kernel only ever called with ``Helpers.run`` (roles LEAD and HELPER, never started,
+# looked at or helped from the back) can loop on these instead, which compile in a
+# fraction of the time of the whole set above (0.6 s less for the ranger's noise):
+#
+#     begin_run(control, share, role)
+#     chunk = next_chunk(share)
+#     while chunk < chunks:
+#         ...  # compute the chunk
+#         chunk = next_chunk(share)
+#     end_run(share, role)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def begin_run(control: np.ndarray, share: np.ndarray, role: int) -> None:
+    """:func:`begin` for a ``run`` call."""
+    if role == LEAD:
+        atomic_add(share, BEGUN, 1)
+        atomic_add(control, CALLS, 1)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def next_chunk(share: np.ndarray) -> int:
+    """The next chunk of a ``run`` call (the chunks' count or more: none left)."""
+    return atomic_add(share, NEXT, 1)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def end_run(share: np.ndarray, role: int) -> None:
+    """:func:`end` for a ``run`` call: its caller closes it and waits for the helpers
+    that joined."""
+    if role == LEAD:
+        joined = atomic_add(share, JOINED, CLOSED)
+        while atomic_load(share, FINISHED) != joined:
             relax()
