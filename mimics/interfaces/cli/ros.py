@@ -104,13 +104,17 @@ def ros_command(
         folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed)
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
                                 map_resolution=map_resolution, watchdog=watchdog)
+        folders: list[Path] = []  # more than one after a reset (/mimics/reset)
         with kernels_compiled_ahead():
             result = run_ros(scenario, folder, options=options, params=params, time=time,
                              seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
                              observers=(live,) if live is not None else (),
-                             record_scans=record_scans)
+                             record_scans=record_scans, folders=folders)
     except MimicsError as exc:
         raise fail(str(exc)) from None
+    for earlier in folders[:-1]:
+        print(f"reset: the run in {earlier} ended (status stopped) and started again")
+    folder = folders[-1] if folders else folder
     print_summary(result.summary(), folder)
     if video is not None:
         export_video(folder, video)

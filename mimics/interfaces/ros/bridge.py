@@ -38,6 +38,7 @@ if TYPE_CHECKING:
     from mimics.engine.outcome import RunResult
     from mimics.engine.simulation import Simulation
     from mimics.interfaces.ros.inbox import Inbox
+    from mimics.interfaces.ros.services import RunControl
     from mimics.records.recorder import RobotLogs
 
 NODE_NAME = "mimics"
@@ -82,12 +83,18 @@ class RosBridge:
         from mimics.interfaces.ros.frames import FramePublisher
         from mimics.interfaces.ros.goals import GoalPublisher
         from mimics.interfaces.ros.grid_map import MapPublisher
+        from mimics.interfaces.ros.markers import MarkerPublisher
         from mimics.interfaces.ros.odometry import OdometryPublisher
+        from mimics.interfaces.ros.parameters import set_run_parameters, use_sim_time
         from mimics.interfaces.ros.scans import ScanPublisher
 
         self.options = options
         self.inbox = inbox
+        self.control: RunControl | None = None  # pause, step, reset (services.py)
         n, beams = sim.state.n, sim.types.beam_count
+        use_sim_time()  # before the first /clock
+        set_run_parameters(sim, options.lockstep)
+        self.markers = MarkerPublisher()
         self.map = MapPublisher(sim.scenario.map, options.map_resolution)
         self.goals = GoalPublisher(sim.state.goal)
         self.frames = FramePublisher(beams)
@@ -134,6 +141,11 @@ class RosBridge:
         self._publish(sim)
 
     def on_step(self, sim: Simulation) -> None:
+        if self.control is not None:
+            publish, held = self.control.gate()  # paused: held here, before publishing
+            self._wall_start += held  # realtime: simulated time stood still meanwhile
+            if not publish:  # a reset ends the run (its stop_when)
+                return
         self._publish(sim)
 
     def on_end(self, sim: Simulation, result: RunResult) -> None:
@@ -148,6 +160,9 @@ class RosBridge:
         self.odometry.publish(sim, ids)
         self.scans.publish(sim, ids)
         self.frames.publish(sim, ids)
+        self.markers.publish(sim)
+        if self.control is not None:
+            self.control.published(state.step, state.time)
         if not self.options.lockstep:  # realtime: the next step happens dt later
             pause = self._wall_start + state.time + self._dt - wall.monotonic()
             if pause > 0:
@@ -155,9 +170,12 @@ class RosBridge:
 
     def close(self) -> None:
         """Withdraw every topic and subscription."""
+        from mimics.interfaces.ros.parameters import clear_run_parameters
+
         for part in (self.commands, self.odometry, self.scans, self.frames, self.clock,
-                     self.goals, self.map):
+                     self.goals, self.map, self.markers):
             part.close()
+        clear_run_parameters()
 
 
 def join_ros() -> None:
@@ -181,7 +199,7 @@ def join_ros() -> None:
 def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
             params: dict[str, Any] | None = None, time: float | None = None, seed: int = 0,
             robot_logs: RobotLogs = "auto", observers: tuple[Any, ...] = (),
-            record_scans: bool = False) -> RunResult:
+            record_scans: bool = False, folders: list[Path] | None = None) -> RunResult:
     """Run ``scenario`` as a ROS node driven by ROS controllers; record it into ``folder``.
 
     Args:
@@ -194,6 +212,11 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
         robot_logs: per-robot text logs, as for ``mimics run``.
         observers: more observers of the run (a live view, say), as for ``prepare``.
         record_scans: also record the laser scans, as ``mimics run --record-scans``.
+        folders: a list that receives each run's folder in order: ``folder``,
+            then one per reset (``/mimics/reset``, :mod:`~mimics.interfaces.ros.services`).
+
+    Returns:
+        The outcome of the last run (the one after the last reset, if any).
 
     Raises:
         MimicsError: when ROS is not installed, no master answers, a scenario
@@ -207,6 +230,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     from mimics.catalog import load_scenario
     from mimics.interfaces.ros.inbox import Inbox
     from mimics.interfaces.ros.references import RosReferences
+    from mimics.interfaces.ros.services import RunControl, RunServices
     from mimics.records.runner import prepare, run_to_folder
 
     # One engine thread: the ROS round trip dominates each step, and parallel
@@ -223,15 +247,33 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     join_ros()
     bridge = RosBridge(sim, inbox, options)
     references.publishers = bridge.commands.publishers_connected
+    control = bridge.control = RunControl(options.timeout + 5.0)
+    services = RunServices(control)
+    extra = {"ros": {"mode": "lockstep" if options.lockstep else "realtime",
+                     "timeout": options.timeout, "watchdog": options.watchdog,
+                     "map_resolution": options.map_resolution}}
+    first = folder = Path(folder)
     try:
         bridge.wait_for_nodes(np.flatnonzero(sim.state.active))
-        sim.observers.append(bridge)
-        return run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans,
-                             extra={"ros": {"mode": "lockstep" if options.lockstep
-                                            else "realtime",
-                                            "timeout": options.timeout,
-                                            "watchdog": options.watchdog,
-                                            "map_resolution": options.map_resolution}})
+        while True:
+            sim.observers.append(bridge)
+            sim.stop_when = control.reset_asked  # a reset ends the run (status "stopped")
+            control.run_started(folder)
+            if folders is not None:
+                folders.append(folder)
+            result = run_to_folder(sim, folder, robot_logs=robot_logs,
+                                   record_scans=record_scans, extra=extra)
+            if not control.reset_asked():
+                return result
+            # a reset: the same scenario and seed from the start, in a new folder
+            folder = control.next_reset_folder(first)
+            references = RosReferences(inbox, built.stages[:, 2], options.timeout,
+                                       options.timeout_option, options.watchdog,
+                                       bridge.commands.publishers_connected)
+            sim = prepare(built, references.controller(), time=time, seed=seed,
+                          observers=observers)
     finally:
+        control.run_ended()
+        services.close()
         bridge.close()
         rospy.signal_shutdown("mimics: the run has ended")

@@ -1,0 +1,77 @@
+"""The run on the parameter server, for ROS tools and nodes that look there.
+
+Before anything is published, ``/use_sim_time`` is set to true (nodes that
+start afterwards follow ``/clock``; set it yourself, in the launch file, for
+nodes started earlier), then under ``/mimics``:
+
+==================================== ========================================================
+parameter                            value
+==================================== ========================================================
+``/mimics/robots``                   the robot count
+``/mimics/scenario``                 the scenario's name
+``/mimics/dt``                       seconds of simulated time per step
+``/mimics/lockstep``                 true in lockstep, false in realtime
+``/mimics/robot_i/type``             robot ``i``'s type name (``pioneer_3at``, ...)
+``/mimics/robot_i/footprint``        ``[length, width]`` in metres (length along the heading)
+``/mimics/robot_i/max_speed``        top speed, m/s (commands beyond it are clipped)
+``/mimics/robot_i/max_turn_rate``    top turn rate, rad/s
+``/mimics/robot_i/ranger/range``     the ranger's range in metres (absent: no ranger)
+``/mimics/robot_i/ranger/fov``       its field of view in radians
+``/mimics/robot_i/ranger/beams``     its number of beams
+==================================== ========================================================
+
+``robot_i`` is the robot's index from 0, as in its topics. The ``/mimics``
+tree is deleted when the run ends; ``/use_sim_time`` is left set.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import rospy
+
+from mimics.interfaces.ros.conversion import robot_namespace
+
+if TYPE_CHECKING:
+    from mimics.engine.simulation import Simulation
+
+ROOT = "/mimics"
+
+
+def run_parameters(sim: Simulation, lockstep: bool) -> dict[str, Any]:
+    """The ``/mimics`` tree of a run, as a dictionary (keys without the leading ``/mimics/``)."""
+    scenario = sim.scenario
+    tree: dict[str, Any] = {"robots": int(scenario.robot_count), "scenario": scenario.name,
+                            "dt": float(scenario.settings.dt), "lockstep": bool(lockstep)}
+    for robot in range(scenario.robot_count):
+        kind = scenario.robot_type(robot)
+        entry: dict[str, Any] = {"type": kind.name,
+                                 "footprint": [float(kind.length), float(kind.width)],
+                                 "max_speed": float(kind.kv), "max_turn_rate": float(kind.kw)}
+        ranger = kind.ranger
+        if ranger.beams > 0:
+            entry["ranger"] = {"range": float(ranger.range), "fov": float(ranger.fov),
+                               "beams": int(ranger.beams)}
+        tree[robot_namespace(robot)] = entry
+    return tree
+
+
+def use_sim_time() -> None:
+    """Set ``/use_sim_time`` to true (before the first ``/clock``)."""
+    rospy.set_param("/use_sim_time", True)
+
+
+def set_run_parameters(sim: Simulation, lockstep: bool) -> None:
+    """Put the run's ``/mimics`` tree on the parameter server (replacing an earlier one)."""
+    if rospy.has_param(ROOT):
+        rospy.delete_param(ROOT)
+    rospy.set_param(ROOT, run_parameters(sim, lockstep))
+
+
+def clear_run_parameters() -> None:
+    """Remove the ``/mimics`` tree (the run has ended); quiet when the master has gone."""
+    try:
+        if rospy.has_param(ROOT):
+            rospy.delete_param(ROOT)
+    except Exception:  # the master stopped first: nothing left to clean
+        return
