@@ -121,3 +121,27 @@ def ros_command(
     if result.status == "error" and "LockstepTimeout" in result.error:
         fail(result.error)
         raise typer.Exit(1)
+
+
+def ros_files_command(
+    out: Annotated[Path, typer.Option(help="Folder to write the package mimics_launch into "
+                                           "(created; its parent must exist).")],
+    robots: Annotated[int, typer.Option(help="Robots whose scans the RViz config shows.")] = 4,
+) -> None:
+    """Write a roslaunch package (launch file, RViz config) that runs mimics ros with RViz.
+
+    Writes OUT/mimics_launch/: package.xml, launch/mimics.launch (master,
+    mimics ros SCENARIO, RViz), rviz/mimics.rviz (/map, /robot_i/scan, tf,
+    /mimics/markers) and scripts/mimics_ros. Put OUT on ROS_PACKAGE_PATH, then
+    `roslaunch mimics_launch mimics.launch scenario:=line args:="--robots 4"`.
+    Replaces no file. See docs/how-to/ros.md.
+    """
+    from mimics.interfaces.ros.launch_files import write_ros_files
+
+    try:
+        written = write_ros_files(out, robots)
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    for path in written:
+        print(f"wrote {path}")
+    print(f"then: export ROS_PACKAGE_PATH={out.resolve()}:$ROS_PACKAGE_PATH")

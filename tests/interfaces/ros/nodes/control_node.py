@@ -3,9 +3,10 @@
 Every robot's odometry is answered with a constant Twist (``SPEED``, ``RATE``),
 so a lockstep run is the same whatever the timing. One ``--mode`` per test:
 
-* ``observe``: on the first ``/clock`` it reads ``/use_sim_time`` and the
-  ``/mimics`` tree; it keeps every ``/mimics/markers`` message. At exit
-  (SIGINT) it prints one JSON line: ``{"sim_time_at_first_clock", "params",
+* ``observe``: on the first ``/clock`` it reads ``/use_sim_time``, the
+  ``/mimics`` tree and the topics published; it keeps every
+  ``/mimics/markers`` message. At exit (SIGINT) it prints one JSON line:
+  ``{"sim_time_at_first_clock", "params", "topics",
   "markers": [[stamp_ns, [[ns, id, frame, x, y, type, text], ...]], ...]}``.
 * ``control``: once ``/clock`` reaches ``--at`` it calls ``/mimics/pause``,
   waits ``--quiet`` wall seconds, keeps the clocks that came during a second
@@ -48,7 +49,7 @@ def answer_every_robot(robots):
 
 
 def observe(args):
-    found = {"sim_time_at_first_clock": None, "params": None, "markers": []}
+    found = {"sim_time_at_first_clock": None, "params": None, "topics": [], "markers": []}
     lock = threading.Lock()
 
     def on_clock(_message):
@@ -56,6 +57,7 @@ def observe(args):
             if found["params"] is None:
                 found["sim_time_at_first_clock"] = rospy.get_param("/use_sim_time", None)
                 found["params"] = rospy.get_param("/mimics", None)
+                found["topics"] = sorted(name for name, _ in rospy.get_published_topics())
 
     def on_markers(message):
         rows = [[m.ns, m.id, m.header.frame_id, m.pose.position.x, m.pose.position.y,
