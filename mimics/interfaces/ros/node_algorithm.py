@@ -173,9 +173,10 @@ multiprocessing.util.Finalize(None, _close_current, exitpriority=200)
 class NodeDefaults:
     """The bridge settings of ``ros:`` runs in this process.
 
-    ``mimics run --ros-timeout`` sets ``timeout`` and ``timeout_option``;
-    elsewhere (a battery, the Python API) the defaults hold and time-out
-    messages cite no option.
+    ``mimics run --ros-timeout`` sets ``timeout`` and ``timeout_option``, and
+    so does a battery file's ``ros_timeout`` (:meth:`RosScheme.configure`);
+    elsewhere (the Python API) the defaults hold and time-out messages cite
+    no option.
     """
 
     timeout: float = 10.0
@@ -243,6 +244,11 @@ class RosScheme:
         except ValueError:
             words = command.split()
         return f"ros-{Path(words[0]).stem}" if words else "ros"
+
+    def configure(self, timeout: float | None, option: str | None) -> None:
+        """A battery's ``ros_timeout`` (None: the default, 10 s), cited as ``option``."""
+        DEFAULTS.timeout = NodeDefaults.timeout if timeout is None else timeout
+        DEFAULTS.timeout_option = option if timeout is not None else None
 
     def algorithm(self, command: str) -> tuple[str, Any]:
         """The display name and a fresh controller (a relative program: from the current folder)."""
