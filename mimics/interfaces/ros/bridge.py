@@ -85,14 +85,13 @@ class RosBridge:
         from mimics.interfaces.ros.grid_map import MapPublisher
         from mimics.interfaces.ros.markers import MarkerPublisher
         from mimics.interfaces.ros.odometry import OdometryPublisher
-        from mimics.interfaces.ros.parameters import set_run_parameters, use_sim_time
+        from mimics.interfaces.ros.parameters import set_run_parameters
         from mimics.interfaces.ros.scans import ScanPublisher
 
         self.options = options
         self.inbox = inbox
         self.control: RunControl | None = None  # pause, step, reset (services.py)
         n, beams = sim.state.n, sim.types.beam_count
-        use_sim_time()  # before the first /clock
         set_run_parameters(sim, options.lockstep)
         self.markers = MarkerPublisher()
         self.map = MapPublisher(sim.scenario.map, options.map_resolution)
@@ -137,6 +136,11 @@ class RosBridge:
             wall.sleep(0.02)
 
     def on_start(self, sim: Simulation) -> None:
+        from mimics.interfaces.ros.parameters import use_sim_time
+
+        # before the first /clock, once the nodes the run waits for have started: a node
+        # that waits on ROS time before it subscribes would otherwise wait forever
+        use_sim_time()
         self._wall_start = wall.monotonic()
         self._publish(sim)
 

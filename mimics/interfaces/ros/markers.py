@@ -1,12 +1,14 @@
 """``/mimics/markers``: live ``visualization_msgs/MarkerArray`` of footprints, goals and ids.
 
 Published with every step's observations (lockstep and realtime alike),
-stamped with simulated time: per robot, its footprint at its true pose in
-``map`` coloured by status (namespace ``footprint``), its index as text above
-it (``id``) and its goal (``goal``, robots with a goal only); the ids of a
-marker are the robot indices. The markers are those of the export, built by
-the same functions (:mod:`mimics.interfaces.rosexport.markers`) with
-``rospy``'s message classes (:class:`RospyMessages`).
+stamped with simulated time, while something subscribes (else not even
+built: three markers per robot and step would cost a 100-robot lockstep
+run). Per robot: its footprint at its true pose in ``map``, coloured by
+status (namespace ``footprint``), its index as text above it (``id``) and
+its goal (``goal``, robots with a goal only); a marker's id is its robot's
+index. The markers are those of the export, built by the same functions
+(:mod:`mimics.interfaces.rosexport.markers`) with ``rospy``'s message
+classes (:class:`RospyMessages`).
 """
 
 from __future__ import annotations
@@ -56,7 +58,9 @@ class MarkerPublisher:
         self._publisher = rospy.Publisher(MARKERS_TOPIC, MarkerArray, queue_size=2)
 
     def publish(self, sim: Simulation) -> None:
-        """The markers of the current step."""
+        """The markers of the current step (built only when something subscribes)."""
+        if self._publisher.get_num_connections() == 0:
+            return
         state, scenario, build = sim.state, sim.scenario, self._messages
         stamp = round(state.time * 1e9)
         markers = []

@@ -1,8 +1,13 @@
 """The run on the parameter server, for ROS tools and nodes that look there.
 
-Before anything is published, ``/use_sim_time`` is set to true (nodes that
-start afterwards follow ``/clock``; set it yourself, in the launch file, for
-nodes started earlier), then under ``/mimics``:
+When the bridge starts, the run's ``/mimics`` tree is set; just before the
+first ``/clock`` (once the controller nodes the run waits for have
+connected), ``/use_sim_time`` is set to true: nodes and tools started from
+then on (RViz, ``rosbag record``) follow ``/clock``, while the nodes already
+running keep the time base they started with (ROS reads the parameter once,
+at a node's start). Set earlier (in a launch file), a node that waits on ROS
+time (``rospy.sleep``, ``ros::Rate``) before it subscribes would wait for a
+clock that only starts once it has subscribed. The ``/mimics`` tree:
 
 ==================================== ========================================================
 parameter                            value

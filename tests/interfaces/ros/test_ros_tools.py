@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import pytest
 
 from mimics.scenarios.line import scenario as line
 from tests.interfaces.ros.helpers import NODES, SYSTEM_PYTHON, with_node
@@ -71,12 +72,14 @@ def test_sim_time_parameters_and_markers(ros_env, tmp_path):
         assert all(m[5] == CYLINDER for m in goals)
 
 
-def test_pause_holds_time_step_advances_one_resume_goes_on_reset_restarts(ros_env,
-                                                                            tmp_path):
+@pytest.mark.parametrize("mode", ["--lockstep", "--realtime"])
+def test_pause_holds_time_step_advances_one_resume_goes_on_reset_restarts(ros_env, tmp_path,
+                                                                            mode):
     folder = tmp_path / "run"
+    seconds = 20 if mode == "--lockstep" else 3  # realtime: 3 s of wall time after the reset
     bridge, output = with_node(ros_env, node("control", "--robots", "2", "--at", "0.5",
                                              "--reset-at", "1.0"),
-                               "line", "--robots", "2", "--time", "20", *FACING,
+                               "line", "--robots", "2", "--time", str(seconds), mode, *FACING,
                                "--out", str(folder))
     assert bridge.returncode == 0, bridge.stderr
     report = last_json_line(output)
@@ -97,7 +100,9 @@ def test_pause_holds_time_step_advances_one_resume_goes_on_reset_restarts(ros_en
     assert str(again) in bridge.stdout
     first, second = summary(folder), summary(again)
     assert first["status"] == "stopped"
-    assert second["status"] == "time_limit" and second["steps"] == 200
+    assert second["status"] == "time_limit" and second["steps"] == seconds * 10
+    if mode == "--realtime":
+        return  # realtime takes the latest command: not a repeatable run
     # the same start state and seed: the steps both runs made are the same
     old = pd.read_parquet(folder / "trajectory.parquet").drop(columns="user_time")
     new = pd.read_parquet(again / "trajectory.parquet").drop(columns="user_time")
