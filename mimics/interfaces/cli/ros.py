@@ -53,8 +53,11 @@ def ros_command(
     listens to cmd (std_msgs/Float64MultiArray [speed_ref, heading_ref(,
     stamp)]) and cmd_vel (geometry_msgs/Twist). Also /map (latched
     nav_msgs/OccupancyGrid), /clock and tf2 frames map -> robot_i/odom ->
-    robot_i/base_link -> robot_i/laser. Needs ROS 1 (Debian's python3-rospy
-    and message packages) and a running master (ROS_MASTER_URI). See
+    robot_i/base_link -> robot_i/laser, live markers on /mimics/markers, the
+    run's parameters under /mimics (and /use_sim_time), and std_srvs/Trigger
+    services /mimics/pause, resume, step and reset (a reset starts the run
+    again in RUN-reset-1, ...). Needs ROS 1 (Debian's python3-rospy and
+    message packages) and a running master (ROS_MASTER_URI). See
     docs/how-to/ros.md.
     """
     from mimics.interfaces.cli.run_summary import (
