@@ -12,8 +12,8 @@ Also here: the export's time base. Exported stamps are
 :data:`EXPORT_EPOCH_NS` plus the simulated time: ROS reads a zero time as
 "unset" (``rospy.Time.now()`` before the first ``/clock``; ``Time(0)`` in a
 tf lookup means "the latest"; C++ rosbag refuses to write a message before
-``ros::TIME_MIN``, 1 ns; rosbag2 records with ``--use-sim-time`` skip
-messages stamped 0), so a run starting at 0 makes its first step ambiguous.
+``ros::TIME_MIN``, 1 ns; MCAP writers have taken a log time of 0 for "none",
+foxglove/mcap#502), so a run starting at 0 makes its first step ambiguous.
 
 >>> nanoseconds(0.3) - EXPORT_EPOCH_NS
 300000000
