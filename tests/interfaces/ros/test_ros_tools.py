@@ -76,7 +76,9 @@ def test_sim_time_parameters_and_markers(ros_env, tmp_path):
 def test_pause_holds_time_step_advances_one_resume_goes_on_reset_restarts(ros_env, tmp_path,
                                                                             mode):
     folder = tmp_path / "run"
-    seconds = 20 if mode == "--lockstep" else 3  # realtime: 3 s of wall time after the reset
+    # lockstep: long enough for the pause to land before the end on a loaded machine (the
+    # steps go as fast as the node answers); realtime: 3 s of wall time after the reset
+    seconds = 60 if mode == "--lockstep" else 3
     bridge, output = with_node(ros_env, node("control", "--robots", "2", "--at", "0.5",
                                              "--reset-at", "1.0"),
                                "line", "--robots", "2", "--time", str(seconds), mode, *FACING,

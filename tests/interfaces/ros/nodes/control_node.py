@@ -98,11 +98,11 @@ def control(args):
         raise SystemExit(1)
 
     rospy.Subscriber("/clock", Clock, on_clock, tcp_nodelay=True)
-    answer_every_robot(args.robots)
     services = {}
     for name in ("pause", "resume", "step", "reset"):
-        rospy.wait_for_service(f"/mimics/{name}", timeout=30)
+        rospy.wait_for_service(f"/mimics/{name}", timeout=60)
         services[name] = rospy.ServiceProxy(f"/mimics/{name}", Trigger)
+    answer_every_robot(args.robots)  # only now: the run cannot start without our answers
     report = {"refused_step": list(_call(services["step"]))}
     at = round(args.at * 1e9)
     wait_clock(lambda ns: ns >= at)
