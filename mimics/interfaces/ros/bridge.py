@@ -91,6 +91,8 @@ class RosBridge:
         self.options = options
         self.inbox = inbox
         self.control: RunControl | None = None  # pause, step, reset (services.py)
+        self._sim_time_before: object = None  # /use_sim_time before the first run
+        self._sim_time_set = False
         n, beams = sim.state.n, sim.types.beam_count
         set_run_parameters(sim, options.lockstep)
         self.markers = MarkerPublisher()
@@ -140,7 +142,9 @@ class RosBridge:
 
         # before the first /clock, once the nodes the run waits for have started: a node
         # that waits on ROS time before it subscribes would otherwise wait forever
-        use_sim_time()
+        before = use_sim_time()
+        if not self._sim_time_set:  # the first run (a reset starts another)
+            self._sim_time_before, self._sim_time_set = before, True
         self._wall_start = wall.monotonic()
         self._publish(sim)
 
@@ -174,12 +178,14 @@ class RosBridge:
 
     def close(self) -> None:
         """Withdraw every topic and subscription."""
-        from mimics.interfaces.ros.parameters import clear_run_parameters
+        from mimics.interfaces.ros.parameters import clear_run_parameters, restore_sim_time
 
         for part in (self.commands, self.odometry, self.scans, self.frames, self.clock,
                      self.goals, self.map, self.markers):
             part.close()
         clear_run_parameters()
+        if self._sim_time_set:
+            restore_sim_time(self._sim_time_before)
 
 
 def join_ros() -> None:

@@ -25,8 +25,10 @@ parameter                            value
 ``/mimics/robot_i/ranger/beams``     its number of beams
 ==================================== ========================================================
 
-``robot_i`` is the robot's index from 0, as in its topics. The ``/mimics``
-tree is deleted when the run ends; ``/use_sim_time`` is left set.
+``robot_i`` is the robot's index from 0, as in its topics. When the run
+ends, the ``/mimics`` tree is deleted and ``/use_sim_time`` put back as it
+was: a node started for the next run on the same master (a battery's
+``ros:`` runs share their worker's) starts as the first run's did.
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
 
 ROOT = "/mimics"
+SIM_TIME = "/use_sim_time"
 
 
 def run_parameters(sim: Simulation, lockstep: bool) -> dict[str, Any]:
@@ -61,9 +64,27 @@ def run_parameters(sim: Simulation, lockstep: bool) -> dict[str, Any]:
     return tree
 
 
-def use_sim_time() -> None:
-    """Set ``/use_sim_time`` to true (before the first ``/clock``)."""
-    rospy.set_param("/use_sim_time", True)
+_UNSET = object()  # /use_sim_time was not on the server
+
+
+def use_sim_time() -> object:
+    """Set ``/use_sim_time`` to true (before the first ``/clock``); returns what it was."""
+    before = rospy.get_param(SIM_TIME, _UNSET)
+    rospy.set_param(SIM_TIME, True)
+    return before
+
+
+def restore_sim_time(before: object) -> None:
+    """Put ``/use_sim_time`` back as :func:`use_sim_time` found it; quiet when the master
+    has gone."""
+    try:
+        if before is _UNSET:
+            if rospy.has_param(SIM_TIME):
+                rospy.delete_param(SIM_TIME)
+        else:
+            rospy.set_param(SIM_TIME, before)
+    except Exception:  # the master stopped first: nothing left to restore
+        return
 
 
 def set_run_parameters(sim: Simulation, lockstep: bool) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +39,12 @@ def test_sim_time_parameters_and_markers(ros_env, tmp_path):
     assert bridge.returncode == 0, bridge.stderr
     found = last_json_line(output)
     assert found["sim_time_at_first_clock"] is True  # set before the first /clock
+    # and put back as it was (unset) at the end, with the /mimics tree removed
+    left = subprocess.run(
+        [SYSTEM_PYTHON, "-c", "import json, rosgraph; m = rosgraph.Master('/check'); "
+         "print(json.dumps([m.hasParam('/use_sim_time'), m.hasParam('/mimics')]))"],
+        env=ros_env, capture_output=True, text=True, check=True, timeout=60)
+    assert json.loads(left.stdout) == [False, False]
     params = found["params"]
     scenario = line(robots=3, random_yaw=False)
     assert (params["robots"], params["scenario"], params["dt"], params["lockstep"]) == (
