@@ -34,3 +34,29 @@ robots = 2
     assert summary["status"] == "error"
     assert "within 1.5 s (ros_timeout in the battery file)" in summary["error"]
     assert "t=0.3 s" in summary["error"]  # the node died answering step 3
+
+
+def test_a_node_waiting_on_ros_time_before_subscribing_runs_in_every_battery_run(tmp_path):
+    """/use_sim_time is set only once the node has connected and put back after each run:
+    a node that sleeps on ROS time before it subscribes starts alike in every run of a
+    worker (left set, the second run's node would wait for a clock that waits for it)."""
+    require("ros")
+    shutil.copy(NODES / "control_node.py", tmp_path / "control_node.py")
+    battery = tmp_path / "battery.toml"
+    battery.write_text('''[battery]
+algorithms = ["ros:control_node.py --mode sleepy --robots {robots}"]
+seeds = 2
+time = 0.5
+ros_timeout = 20
+
+[[scenarios]]
+name = "line"
+robots = 2
+''')
+    done = subprocess.run([sys.executable, "-m", "mimics", "battery", "run", str(battery),
+                           "--out", str(tmp_path / "out"), "--workers", "1"],
+                          capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0, done.stdout + done.stderr
+    runs = sorted((tmp_path / "out" / "runs").iterdir())
+    assert [json.loads((run / "summary.json").read_text())["status"] for run in runs] == [
+        "time_limit", "time_limit"]

@@ -15,6 +15,8 @@ so a lockstep run is the same whatever the timing. One ``--mode`` per test:
   to pass ``--reset-at`` and calls ``/mimics/reset``, then waits for the
   clock to jump back. Prints one JSON line: each service's ``[success,
   message]`` and the clocks seen (the first five after the jump back).
+* ``sleepy``: sleeps 0.05 s of ROS time before it subscribes (as many nodes
+  wait for something at their start), then answers as the others.
 
 Run with the system's Python: ``/usr/bin/python3 control_node.py --mode observe --robots 2``.
 """
@@ -130,6 +132,12 @@ def control(args):
     rospy.spin()
 
 
+def sleepy(args):
+    rospy.sleep(0.05)  # ROS time: waits for a /clock when the node started with use_sim_time
+    answer_every_robot(args.robots)
+    rospy.spin()
+
+
 def _call(proxy):
     response = proxy()
     return [response.success, response.message]
@@ -137,14 +145,14 @@ def _call(proxy):
 
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("--mode", choices=["observe", "control"], required=True)
+    parser.add_argument("--mode", choices=["observe", "control", "sleepy"], required=True)
     parser.add_argument("--robots", type=int, default=2)
     parser.add_argument("--at", type=float, default=0.5)
     parser.add_argument("--reset-at", type=float, default=1.0)
     parser.add_argument("--quiet", type=float, default=0.5)
     args = parser.parse_args(rospy.myargv()[1:])
     rospy.init_node("control_test")
-    (observe if args.mode == "observe" else control)(args)
+    {"observe": observe, "control": control, "sleepy": sleepy}[args.mode](args)
 
 
 if __name__ == "__main__":
