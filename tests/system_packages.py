@@ -35,10 +35,14 @@ PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
     "chromium": (_has_command("chromium"), ["chromium"]),
     "ros": (
         lambda: _has_command("rosmaster")() and _has_file("/usr/include/ros/ros.h")()
-        and _has_file("/usr/lib/python3/dist-packages/tf2_ros")(),
+        and _has_file("/usr/lib/python3/dist-packages/tf2_ros")()
+        and _has_file("/usr/lib/python3/dist-packages/std_srvs")()
+        and _has_file("/usr/lib/python3/dist-packages/visualization_msgs")()
+        and _has_file("/usr/lib/python3/dist-packages/roslaunch")(),
         ["python3-rospy", "python3-rosmaster", "python3-tf2-ros", "python3-sensor-msgs",
          "python3-nav-msgs", "python3-geometry-msgs", "python3-tf2-msgs",
-         "python3-std-msgs", "python3-rosgraph-msgs", "libroscpp-dev", "ros-core-dev",
+         "python3-std-msgs", "python3-rosgraph-msgs", "python3-std-srvs",
+         "python3-visualization-msgs", "python3-roslaunch", "libroscpp-dev", "ros-core-dev",
          "g++", "pkg-config"],
     ),
     # ROS 1's own bag reader (Python), an independent check of `mimics export --bag`

@@ -58,7 +58,8 @@ int main(int argc, char** argv) {
       if (!robot.has_goal) return false;
     return true;
   };
-  ros::Rate poll(100);
+  // wall time: with /use_sim_time set, simulated time starts only once we subscribe
+  ros::WallRate poll(100);
   while (ros::ok() && !all_goals()) {
     ros::spinOnce();
     poll.sleep();

@@ -19,6 +19,7 @@ which step the reference answers. Stop it with Ctrl-C.
 
 import argparse
 import math
+import time
 
 import rospy
 from geometry_msgs.msg import PoseStamped
@@ -67,7 +68,9 @@ def main():
     rospy.init_node("go_to_goal")
     robots = [GoToGoal(i, args.max_speed) for i in range(args.robots)]
     while not rospy.is_shutdown() and any(r.goal is None for r in robots):
-        rospy.sleep(0.01)  # goals are latched: they come as soon as we subscribe
+        # goals are latched: they come as soon as we subscribe. Wall time: with
+        # /use_sim_time set, simulated time starts only once we subscribe to odom
+        time.sleep(0.01)
     for robot in robots:
         robot.start()
     rospy.spin()

@@ -55,7 +55,7 @@ from mimics.world.errors import MimicsError, read_input_text
 from mimics.world.limits import MAX_SEED
 
 BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
-                "record_every", "record_scans", "until")
+                "record_every", "record_scans", "until", "ros_timeout")
 TOP_KEYS = ("battery", "scenarios")
 POLICIES = ("abort", "deactivate")
 ROBOT_LOGS = ("off", "auto", "on")
@@ -128,6 +128,7 @@ class BatterySpec:
         source: the file it was read from ("" when built in memory).
         until: the stopping rule (None: a fixed battery); ``seeds`` is then its first
             round, 1..min_seeds, and later rounds are added as cells finish them.
+        ros_timeout: ``ros:`` algorithms' lockstep time-out in seconds (None: 10 s).
     """
 
     algorithms: tuple[str, ...]
@@ -142,6 +143,7 @@ class BatterySpec:
     name: str = ""
     source: str = ""
     until: UntilRule | None = None
+    ros_timeout: float | None = None
 
     def runs(self) -> list[RunSpec]:
         """Every run, in order: algorithm, scenario, parameter point, seed."""
@@ -245,6 +247,14 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     scans = table.get("record_scans", False)
     if not isinstance(scans, bool):
         raise fail(f"[battery] record_scans: expected true or false, got {scans!r}")
+    ros_timeout = table.get("ros_timeout")
+    if ros_timeout is not None and not (_is_number(ros_timeout) and ros_timeout > 0
+                                        and math.isfinite(ros_timeout)):
+        raise fail(f"[battery] ros_timeout: expected a positive number of seconds, got "
+                   f"{ros_timeout!r}")
+    if ros_timeout is not None and not any(a.startswith("ros:") for a in algorithms):
+        raise fail("[battery] ros_timeout: only for ros: algorithms (ros:PROGRAM [ARGS...]), "
+                   "and this battery has none")
     name = table.get("name", "")
     if not isinstance(name, str):
         raise fail(f"[battery] name: expected a string, got {name!r}")
@@ -265,7 +275,8 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
                        time=None if time is None else float(time), timeout=float(timeout),
                        policy=policy, robot_logs=robot_logs, record_every=every,
                        record_scans=scans, name=name,
-                       source=str(Path(source).resolve()) if source else "", until=until)
+                       source=str(Path(source).resolve()) if source else "", until=until,
+                       ros_timeout=None if ros_timeout is None else float(ros_timeout))
 
 
 def _is_number(value: Any) -> bool:

@@ -204,7 +204,7 @@ class BatteryStore:
                     params=json.loads(row[2]), seed=int(row[3]), time=spec.time,
                     timeout=spec.timeout, policy=spec.policy, robot_logs=spec.robot_logs,
                     record_every=spec.record_every, record_scans=spec.record_scans,
-                    folder=str(Path(folder).resolve()),
+                    ros_timeout=spec.ros_timeout, folder=str(Path(folder).resolve()),
                     log_dir=str((self.folder / WORKERS_DIR).resolve()))
 
     def run_folder(self, run_id: int) -> Path:

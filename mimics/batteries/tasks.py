@@ -54,6 +54,7 @@ class Task:
     folder: str  # where the worker writes (a temporary name; the parent renames it)
     log_dir: str = ""  # where workers keep their stdout/stderr logs
     record_scans: bool = False  # also record the laser scans (scans.parquet)
+    ros_timeout: float | None = None  # ros: algorithms' lockstep time-out (battery key)
 
 
 @dataclass
@@ -95,6 +96,17 @@ def hard_timeout(timeout: float) -> float:
     return timeout + min(30.0, max(2.0, 0.1 * timeout))
 
 
+def _configure_scheme(task: Task) -> None:
+    """Hand the battery's ``ros_timeout`` to a ``ros:`` algorithm's scheme (every task: a
+    worker may have run another battery's before)."""
+    from mimics.catalog import algorithm_scheme
+
+    scheme = algorithm_scheme(task.algorithm)
+    if scheme is not None and hasattr(scheme[0], "configure"):
+        scheme[0].configure(timeout=task.ros_timeout,
+                            option="ros_timeout in the battery file")
+
+
 def execute(task: Task, worker: str) -> Outcome:
     """Run one task inside a worker process; never raises.
 
@@ -116,6 +128,7 @@ def execute(task: Task, worker: str) -> Outcome:
     random.seed(task.seed)
     np.random.seed(task.seed % 2**32)
     try:
+        _configure_scheme(task)
         sim = prepare(task.scenario, task.algorithm, time=task.time, seed=task.seed,
                       policy=task.policy,  # type: ignore[arg-type]
                       wall_limit=task.timeout, params=task.params)

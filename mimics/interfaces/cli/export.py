@@ -33,7 +33,8 @@ def export_command(
     (tf2_msgs/TFMessage), /robot_i/odom (nav_msgs/Odometry), /robot_i/scan
     (sensor_msgs/LaserScan, when the run recorded its scans) and /markers
     (visualization_msgs/MarkerArray: footprints and goals). Stamps are the
-    simulated time from 0. Needs the export extra: pip install 'mimics[export]'.
+    simulated time from 2000-01-01T00:00:00Z (ROS reads a time of 0 as
+    unset). Needs the export extra: pip install 'mimics[export]'.
     """
     try:
         from mimics.interfaces.rosexport import export_run

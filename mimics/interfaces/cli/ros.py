@@ -58,9 +58,12 @@ def ros_command(
     latched); it listens to cmd (std_msgs/Float64MultiArray [speed_ref,
     heading_ref(, stamp)]) and cmd_vel (geometry_msgs/Twist). Also /map
     (latched nav_msgs/OccupancyGrid), /clock and tf2 frames map -> robot_i/odom
-    -> robot_i/base_link -> robot_i/laser. --names stage: stage_ros' names
-    instead. Needs ROS 1 (Debian's python3-rospy and message packages) and a
-    running master (ROS_MASTER_URI). See docs/how-to/ros.md.
+    -> robot_i/base_link -> robot_i/laser, live markers on /mimics/markers, the
+    run's parameters under /mimics (and /use_sim_time), and std_srvs/Trigger
+    services /mimics/pause, resume, step and reset (a reset starts the run
+    again in RUN-reset-1, ...). --names stage: stage_ros' names instead.
+    Needs ROS 1 (Debian's python3-rospy and message packages) and a running
+    master (ROS_MASTER_URI). See docs/how-to/ros.md.
     """
     from mimics.interfaces.cli.run_summary import (
         check_repeated,
@@ -112,16 +115,44 @@ def ros_command(
         folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed)
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
                                 map_resolution=map_resolution, watchdog=watchdog, names=names)
+        folders: list[Path] = []  # more than one after a reset (/mimics/reset)
         with kernels_compiled_ahead():
             result = run_ros(scenario, folder, options=options, params=params, time=time,
                              seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
                              observers=(live,) if live is not None else (),
-                             record_scans=record_scans)
+                             record_scans=record_scans, folders=folders)
     except MimicsError as exc:
         raise fail(str(exc)) from None
+    for earlier in folders[:-1]:
+        print(f"reset: the run in {earlier} ended (status stopped) and started again")
+    folder = folders[-1] if folders else folder
     print_summary(result.summary(), folder)
     if video is not None:
         export_video(folder, video)
     if result.status == "error" and "LockstepTimeout" in result.error:
         fail(result.error)
         raise typer.Exit(1)
+
+
+def ros_files_command(
+    out: Annotated[Path, typer.Option(help="Folder to write the package mimics_launch into "
+                                           "(created; its parent must exist).")],
+    robots: Annotated[int, typer.Option(help="Robots whose scans the RViz config shows.")] = 4,
+) -> None:
+    """Write a roslaunch package (launch file, RViz config) that runs mimics ros with RViz.
+
+    Writes OUT/mimics_launch/: package.xml, launch/mimics.launch (master,
+    mimics ros SCENARIO, RViz), rviz/mimics.rviz (/map, /robot_i/scan, tf,
+    /mimics/markers) and scripts/mimics_ros. Put OUT on ROS_PACKAGE_PATH, then
+    `roslaunch mimics_launch mimics.launch scenario:=line args:="--robots 4"`.
+    Replaces no file. See docs/how-to/ros.md.
+    """
+    from mimics.interfaces.ros.launch_files import write_ros_files
+
+    try:
+        written = write_ros_files(out, robots)
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    for path in written:
+        print(f"wrote {path}")
+    print(f"then: export ROS_PACKAGE_PATH={out.resolve()}:$ROS_PACKAGE_PATH")

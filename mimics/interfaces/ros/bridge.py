@@ -42,6 +42,7 @@ if TYPE_CHECKING:
     from mimics.engine.outcome import RunResult
     from mimics.engine.simulation import Simulation
     from mimics.interfaces.ros.inbox import Inbox
+    from mimics.interfaces.ros.services import RunControl
     from mimics.records.recorder import RobotLogs
 
 NODE_NAME = "mimics"
@@ -90,13 +91,20 @@ class RosBridge:
         from mimics.interfaces.ros.frames import FramePublisher
         from mimics.interfaces.ros.goals import GoalPublisher
         from mimics.interfaces.ros.grid_map import MapPublisher
+        from mimics.interfaces.ros.markers import MarkerPublisher
         from mimics.interfaces.ros.odometry import OdometryPublisher
+        from mimics.interfaces.ros.parameters import set_run_parameters
         from mimics.interfaces.ros.scans import ScanPublisher
 
         self.options = options
         self.inbox = inbox
+        self.control: RunControl | None = None  # pause, step, reset (services.py)
+        self._sim_time_before: object = None  # /use_sim_time before the first run
+        self._sim_time_set = False
         n, beams = sim.state.n, sim.types.beam_count
         self.names = RosNames(options.names, n)
+        set_run_parameters(sim, options.lockstep)
+        self.markers = MarkerPublisher()
         self.map = MapPublisher(sim.scenario.map, options.map_resolution)
         self.goals = GoalPublisher(sim.state.goal, self.names)
         self.clock = ClockPublisher()
@@ -149,10 +157,22 @@ class RosBridge:
                    for publisher in (*publishers, *([scan] if scan is not None else [])))
 
     def on_start(self, sim: Simulation) -> None:
+        from mimics.interfaces.ros.parameters import use_sim_time
+
+        # before the first /clock, once the nodes the run waits for have started: a node
+        # that waits on ROS time before it subscribes would otherwise wait forever
+        before = use_sim_time()
+        if not self._sim_time_set:  # the first run (a reset starts another)
+            self._sim_time_before, self._sim_time_set = before, True
         self._wall_start = wall.monotonic()
         self._publish(sim)
 
     def on_step(self, sim: Simulation) -> None:
+        if self.control is not None:
+            publish, held = self.control.gate()  # paused: held here, before publishing
+            self._wall_start += held  # realtime: simulated time stood still meanwhile
+            if not publish:  # a reset ends the run (its stop_when)
+                return
         self._publish(sim)
 
     def on_end(self, sim: Simulation, result: RunResult) -> None:
@@ -167,6 +187,9 @@ class RosBridge:
         self.odometry.publish(sim, ids)
         self.scans.publish(sim, ids)
         self.frames.publish(sim, ids)
+        self.markers.publish(sim)
+        if self.control is not None:
+            self.control.published(state.step, state.time)
         if not self.options.lockstep:  # realtime: the next step happens dt later
             pause = self._wall_start + state.time + self._dt - wall.monotonic()
             if pause > 0:
@@ -174,9 +197,14 @@ class RosBridge:
 
     def close(self) -> None:
         """Withdraw every topic and subscription."""
+        from mimics.interfaces.ros.parameters import clear_run_parameters, restore_sim_time
+
         for part in (self.commands, self.odometry, self.scans, self.frames, self.clock,
-                     self.goals, self.map):
+                     self.goals, self.map, self.markers):
             part.close()
+        clear_run_parameters()
+        if self._sim_time_set:
+            restore_sim_time(self._sim_time_before)
 
 
 def join_ros() -> None:
@@ -200,7 +228,7 @@ def join_ros() -> None:
 def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
             params: dict[str, Any] | None = None, time: float | None = None, seed: int = 0,
             robot_logs: RobotLogs = "auto", observers: tuple[Any, ...] = (),
-            record_scans: bool = False) -> RunResult:
+            record_scans: bool = False, folders: list[Path] | None = None) -> RunResult:
     """Run ``scenario`` as a ROS node driven by ROS controllers; record it into ``folder``.
 
     Args:
@@ -213,6 +241,11 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
         robot_logs: per-robot text logs, as for ``mimics run``.
         observers: more observers of the run (a live view, say), as for ``prepare``.
         record_scans: also record the laser scans, as ``mimics run --record-scans``.
+        folders: a list that receives each run's folder in order: ``folder``,
+            then one per reset (``/mimics/reset``, :mod:`~mimics.interfaces.ros.services`).
+
+    Returns:
+        The outcome of the last run (the one after the last reset, if any).
 
     Raises:
         MimicsError: when ROS is not installed, no master answers, a scenario
@@ -226,6 +259,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     from mimics.catalog import load_scenario
     from mimics.interfaces.ros.inbox import Inbox
     from mimics.interfaces.ros.references import RosReferences
+    from mimics.interfaces.ros.services import RunControl, RunServices
     from mimics.records.runner import prepare, run_to_folder
 
     # One engine thread: the ROS round trip dominates each step, and parallel
@@ -243,16 +277,33 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     bridge = RosBridge(sim, inbox, options)
     references.publishers = bridge.commands.publishers_connected
     references.names = bridge.names
+    control = bridge.control = RunControl(options.timeout + 5.0)
+    services = RunServices(control)
+    extra = {"ros": {"mode": "lockstep" if options.lockstep else "realtime",
+                     "timeout": options.timeout, "watchdog": options.watchdog,
+                     "names": options.names, "map_resolution": options.map_resolution}}
+    first = folder = Path(folder)
     try:
         bridge.wait_for_nodes(np.flatnonzero(sim.state.active))
-        sim.observers.append(bridge)
-        return run_to_folder(sim, folder, robot_logs=robot_logs, record_scans=record_scans,
-                             extra={"ros": {"mode": "lockstep" if options.lockstep
-                                            else "realtime",
-                                            "timeout": options.timeout,
-                                            "watchdog": options.watchdog,
-                                            "names": options.names,
-                                            "map_resolution": options.map_resolution}})
+        while True:
+            sim.observers.append(bridge)
+            sim.stop_when = control.reset_asked  # a reset ends the run (status "stopped")
+            control.run_started(folder)
+            if folders is not None:
+                folders.append(folder)
+            result = run_to_folder(sim, folder, robot_logs=robot_logs,
+                                   record_scans=record_scans, extra=extra)
+            if not control.reset_asked():
+                return result
+            # a reset: the same scenario and seed from the start, in a new folder
+            folder = control.next_reset_folder(first)
+            references = RosReferences(inbox, built.stages[:, 2], options.timeout,
+                                       options.timeout_option, options.watchdog,
+                                       bridge.commands.publishers_connected, bridge.names)
+            sim = prepare(built, references.controller(), time=time, seed=seed,
+                          observers=observers)
     finally:
+        control.run_ended()
+        services.close()
         bridge.close()
         rospy.signal_shutdown("mimics: the run has ended")

@@ -198,9 +198,10 @@ multiprocessing.util.Finalize(None, _close_current, exitpriority=200)
 class NodeDefaults:
     """The bridge settings of ``ros:`` runs in this process.
 
-    ``mimics run --ros-timeout`` sets ``timeout`` and ``timeout_option``,
-    ``--ros-names`` sets ``names``; elsewhere (a battery, the Python API) the
-    defaults hold and time-out messages cite no option.
+    ``mimics run --ros-timeout`` sets ``timeout`` and ``timeout_option``, and
+    so does a battery file's ``ros_timeout`` (:meth:`RosScheme.configure`);
+    ``--ros-names`` (or ``ros:--names=stage``) sets ``names``; elsewhere (the
+    Python API) the defaults hold and time-out messages cite no option.
     """
 
     timeout: float = 10.0
@@ -272,6 +273,11 @@ class RosScheme:
             words = command.split()
         words = [word for word in words if not word.startswith("--")][:1]  # options first
         return f"ros-{Path(words[0]).stem}" if words else "ros"
+
+    def configure(self, timeout: float | None, option: str | None) -> None:
+        """A battery's ``ros_timeout`` (None: the default, 10 s), cited as ``option``."""
+        DEFAULTS.timeout = NodeDefaults.timeout if timeout is None else timeout
+        DEFAULTS.timeout_option = option if timeout is not None else None
 
     def algorithm(self, command: str) -> tuple[str, Any]:
         """The display name and a fresh controller (a relative program: from the current folder)."""

@@ -27,10 +27,12 @@ from mimics.world.errors import MimicsError
 SYSTEM_DIST_PACKAGES = Path("/usr/lib/python3/dist-packages")
 DEBIAN_PACKAGES = ("python3-rospy", "python3-rosmaster", "python3-std-msgs",
                    "python3-geometry-msgs", "python3-nav-msgs", "python3-sensor-msgs",
-                   "python3-tf2-msgs", "python3-rosgraph-msgs")
+                   "python3-tf2-msgs", "python3-rosgraph-msgs", "python3-std-srvs",
+                   "python3-visualization-msgs")
 # the Python modules the bridge imports, in the order a missing one is reported
 _MODULES = ("rospy", "rosgraph", "std_msgs.msg", "geometry_msgs.msg", "nav_msgs.msg",
-            "sensor_msgs.msg", "tf2_msgs.msg", "rosgraph_msgs.msg")
+            "sensor_msgs.msg", "tf2_msgs.msg", "rosgraph_msgs.msg", "std_srvs.srv",
+            "visualization_msgs.msg")
 DEFAULT_MASTER_URI = "http://localhost:11311"
 
 

@@ -20,11 +20,15 @@ True
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 from rosbags.interfaces import Nodetype
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+from mimics.interfaces.rosexport.pieces import MessagePieces, Stamped, nanoseconds, stamps
+
+__all__ = ["Messages", "Stamped", "nanoseconds", "stamps", "yaw_of"]
 
 TF_MESSAGE = "tf2_msgs/msg/TFMessage"
 _ROS1_TF_DEFINITION = "geometry_msgs/TransformStamped[] transforms"
@@ -36,7 +40,7 @@ _ARRAY_DTYPES = {"bool": np.bool_, "int8": np.int8, "uint8": np.uint8, "byte": n
                  "float32": np.float32, "float64": np.float64}
 
 
-class Messages:
+class Messages(MessagePieces):
     """ROS message construction and serialisation for one ROS version.
 
     Args:
@@ -86,68 +90,10 @@ class Messages:
             return self.store.serialize_cdr(message, message.__msgtype__)
         return self.store.serialize_ros1(message, message.__msgtype__)
 
-    # -- the small pieces every message uses ---------------------------------
-
     def stamp(self, nanoseconds: int) -> Any:
         """A time (ROS 2 ``builtin_interfaces/Time``, ROS 1 ``time``) from nanoseconds."""
         seconds, rest = divmod(int(nanoseconds), 1_000_000_000)
         return self.store.types["builtin_interfaces/msg/Time"](sec=seconds, nanosec=rest)
-
-    def header(self, nanoseconds: int, frame_id: str) -> Any:
-        """A ``std_msgs/Header`` stamped ``nanoseconds`` in frame ``frame_id``."""
-        return self.make("std_msgs/msg/Header", stamp=self.stamp(nanoseconds), frame_id=frame_id)
-
-    def point(self, x: float, y: float, z: float = 0.0) -> Any:
-        """A ``geometry_msgs/Point``."""
-        return self.make("geometry_msgs/msg/Point", x=float(x), y=float(y), z=float(z))
-
-    def quaternion(self, yaw: float) -> Any:
-        """The ``geometry_msgs/Quaternion`` of a rotation by ``yaw`` about z."""
-        half = 0.5 * float(yaw)
-        return self.make("geometry_msgs/msg/Quaternion", x=0.0, y=0.0, z=math.sin(half),
-                         w=math.cos(half))
-
-    def pose(self, x: float, y: float, yaw: float) -> Any:
-        """A planar ``geometry_msgs/Pose``."""
-        return self.make("geometry_msgs/msg/Pose", position=self.point(x, y),
-                         orientation=self.quaternion(yaw))
-
-    def transform(self, nanoseconds: int, parent: str, child: str, x: float, y: float,
-                  yaw: float) -> Any:
-        """A ``geometry_msgs/TransformStamped`` placing ``child`` in ``parent``."""
-        translation = self.make("geometry_msgs/msg/Vector3", x=float(x), y=float(y), z=0.0)
-        return self.make("geometry_msgs/msg/TransformStamped",
-                         header=self.header(nanoseconds, parent), child_frame_id=child,
-                         transform=self.make("geometry_msgs/msg/Transform",
-                                             translation=translation,
-                                             rotation=self.quaternion(yaw)))
-
-    def color(self, rgba: tuple[float, float, float, float]) -> Any:
-        """A ``std_msgs/ColorRGBA``."""
-        r, g, b, a = rgba
-        return self.make("std_msgs/msg/ColorRGBA", r=r, g=g, b=b, a=a)
-
-
-class Stamped(NamedTuple):
-    """A message ready to write: its log time (ns, the same as its stamp) and topic."""
-
-    time: int
-    topic: str
-    message: Any
-
-
-def nanoseconds(time: float) -> int:
-    """Simulated seconds as whole nanoseconds (the stamps and the log times).
-
-    >>> nanoseconds(0.3)
-    300000000
-    """
-    return round(float(time) * 1e9)
-
-
-def stamps(times: np.ndarray) -> np.ndarray:
-    """:func:`nanoseconds` of many times at once (int64; rounds as it does, half to even)."""
-    return np.rint(np.asarray(times, dtype=np.float64) * 1e9).astype(np.int64)
 
 
 def yaw_of(quaternion: Any) -> float:

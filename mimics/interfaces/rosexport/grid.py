@@ -10,7 +10,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from mimics.interfaces.rosexport.conversion import Messages, Stamped
+from mimics.interfaces.rosexport.conversion import Messages, Stamped, nanoseconds
 from mimics.interfaces.rosexport.topics import MAP_FRAME, MAP_TOPIC, OCCUPANCY_GRID
 from mimics.world.maps import Map
 from mimics.world.occupancy import check_resolution, grid_shape
@@ -24,11 +24,13 @@ FREE = 0
 
 def map_messages(messages: Messages, world: Map, resolution: float) -> Iterator[Stamped]:
     """The one OccupancyGrid of the map, at time 0."""
+    start = nanoseconds(0.0)
     occupied = rasterise(world, resolution)
     height, width = occupied.shape
     data = np.where(occupied, OCCUPIED, FREE).astype(np.int8).reshape(-1)
-    info = messages.make("nav_msgs/msg/MapMetaData", map_load_time=messages.stamp(0),
+    info = messages.make("nav_msgs/msg/MapMetaData", map_load_time=messages.stamp(start),
                          resolution=float(resolution), width=width, height=height,
                          origin=messages.pose(world.bounds[0], world.bounds[1], 0.0))
-    yield Stamped(0, MAP_TOPIC, messages.make(OCCUPANCY_GRID, header=messages.header(0, MAP_FRAME),
-                                              info=info, data=data))
+    yield Stamped(start, MAP_TOPIC, messages.make(OCCUPANCY_GRID,
+                                                  header=messages.header(start, MAP_FRAME),
+                                                  info=info, data=data))

@@ -12,7 +12,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from mimics.interfaces.rosexport.conversion import Messages, Stamped
+from mimics.interfaces.rosexport.conversion import Messages, Stamped, nanoseconds
 from mimics.interfaces.rosexport.source import Trajectory
 from mimics.interfaces.rosexport.topics import (
     MAP_FRAME,
@@ -38,6 +38,7 @@ def tf_messages(messages: Messages, trajectory: Trajectory) -> Iterator[Stamped]
 
 def tf_static_messages(messages: Messages, robots: int) -> Iterator[Stamped]:
     """The one static TFMessage: every robot's laser frame on its body."""
-    transforms = [messages.transform(0, base_link(i), laser_frame(i), 0.0, 0.0, 0.0)
+    start = nanoseconds(0.0)
+    transforms = [messages.transform(start, base_link(i), laser_frame(i), 0.0, 0.0, 0.0)
                   for i in range(robots)]
-    yield Stamped(0, TF_STATIC_TOPIC, messages.make(TF_MESSAGE, transforms=transforms))
+    yield Stamped(start, TF_STATIC_TOPIC, messages.make(TF_MESSAGE, transforms=transforms))

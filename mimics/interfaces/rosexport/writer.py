@@ -6,7 +6,8 @@ messages: what Foxglove opens as it is), taken out of the rosbag2 folder as a
 single file; the bag through its ROS 1 writer. Each is written under a
 temporary name beside the target and renamed when complete, so a failed
 export leaves no half file. Every message's log time equals its header stamp:
-the simulated time, from 0.
+the simulated time from a fixed epoch, 2000-01-01T00:00:00Z
+(:data:`~mimics.interfaces.rosexport.pieces.EXPORT_EPOCH_NS`).
 """
 
 from __future__ import annotations

@@ -12,6 +12,7 @@ import json
 import math
 import subprocess
 from collections import Counter, defaultdict
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +34,9 @@ from mimics.world.robot_types import SWARMBOT
 from mimics.world.scenario import Scenario, Settings
 from tests.records.helpers import ScanCapture
 from tests.system_packages import require
+
+# stamps start at 2000-01-01T00:00:00Z (docs/how-to/ros-export.md), not at the Unix epoch
+EPOCH = int(datetime(2000, 1, 1, tzinfo=UTC).timestamp()) * 1_000_000_000
 
 ROBOTS = 3
 
@@ -85,7 +89,7 @@ def test_messages_equal_the_runs_parquet_data(exported: dict[str, Any], name: st
         odom = topics[f"/robot_{robot}/odom"]
         assert len(odom) == len(rows)
         for (time, message), row in zip(odom, rows.itertuples(), strict=True):
-            assert time == stamp_ns(message.header.stamp) == round(row.time * 1e9)
+            assert time == stamp_ns(message.header.stamp) == EPOCH + round(row.time * 1e9)
             assert message.header.frame_id == "map"
             assert message.child_frame_id == f"robot_{robot}/base_link"
             position = message.pose.pose.position
@@ -94,7 +98,7 @@ def test_messages_equal_the_runs_parquet_data(exported: dict[str, Any], name: st
             assert (message.twist.twist.linear.x, message.twist.twist.angular.z) == (row.v, row.w)
     for (time, message), step in zip(topics["/tf"], steps, strict=True):
         rows = trajectory[trajectory["step"] == step]
-        assert time == round(rows["time"].iloc[0] * 1e9)
+        assert time == EPOCH + round(rows["time"].iloc[0] * 1e9)
         children = [t.child_frame_id for t in message.transforms]
         assert children == [f"robot_{r}/base_link" for r in rows["robot"]]
         for transform, row in zip(message.transforms, rows.itertuples(), strict=True):
@@ -114,7 +118,7 @@ def test_scans_equal_the_engines_within_the_quantum(exported: dict[str, Any], na
     for robot in range(ROBOTS):
         recorded = run.scans.robot(robot)
         messages = topics[f"/robot_{robot}/scan"]
-        assert [t for t, _ in messages] == [round(t * 1e9) for t in recorded.times]
+        assert [t for t, _ in messages] == [EPOCH + round(t * 1e9) for t in recorded.times]
         for (_, message), step in zip(messages, recorded.steps, strict=True):
             engine, owner = seen[(int(step), robot)]
             ranges = np.asarray(message.ranges, dtype=np.float64)
@@ -147,13 +151,13 @@ def test_mcap_opens_in_foxgloves_reader(exported: dict[str, Any]) -> None:
                 first_odom = (message.log_time, decoded.pose.pose.position.y)
     assert counts["/robot_1/odom"] == len(run.robot(1))
     assert counts["/robot_2/scan"] == len(run.scans.robot(2).steps)
-    assert first_odom == (0, float(run.robot(1)["y"].iloc[0]))
+    assert first_odom == (EPOCH, float(run.robot(1)["y"].iloc[0]))
 
 
 def test_markers_show_footprints_and_goals(exported: dict[str, Any]) -> None:
     topics = read_rosbags(exported["folder"] / "run.mcap")
     time, first = topics["/markers"][0]
-    assert time == 0
+    assert time == EPOCH
     footprints = [m for m in first.markers if m.ns == "footprint"]
     goals = [m for m in first.markers if m.ns == "goal"]
     kind = line(robots=1).types[0]
@@ -173,7 +177,8 @@ def test_ros1_rosbag_reads_the_bag(exported: dict[str, Any]) -> None:
               "for topic, msg, t in bag.read_messages():\n"
               "    counts[topic] += 1\n"
               "    if topic == '/robot_0/odom' and 't' not in first:\n"
-              "        first.update(t=t.to_nsec(), x=msg.pose.pose.position.x)\n"
+              "        first.update(t=t.to_nsec(), stamp=msg.header.stamp.to_nsec(),\n"
+              "                     x=msg.pose.pose.position.x)\n"
               "    if topic == '/map': first['map'] = [msg.info.width, msg.info.height]\n"
               "print(json.dumps({'counts': counts, 'first': first}))\n")
     done = subprocess.run(["/usr/bin/python3", "-c", script, str(exported["folder"] / "run.bag")],
@@ -183,7 +188,8 @@ def test_ros1_rosbag_reads_the_bag(exported: dict[str, Any]) -> None:
     assert found["counts"]["/robot_0/odom"] == len(run.robot(0))
     assert found["counts"]["/robot_2/scan"] == len(run.scans.robot(2).steps)
     assert found["counts"]["/tf"] == run.trajectory["step"].nunique()
-    assert found["first"]["t"] == 0 and found["first"]["x"] == run.robot(0)["x"].iloc[0]
+    assert found["first"]["t"] == found["first"]["stamp"] == EPOCH
+    assert found["first"]["x"] == run.robot(0)["x"].iloc[0]
     # the grid covers the map's bounds at the default 0.05 m
     bounds = run.scenario.map.bounds
     assert found["first"]["map"] == [round((bounds[2] - bounds[0]) / 0.05),
