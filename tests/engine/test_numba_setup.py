@@ -30,6 +30,9 @@ SCRIPT = textwrap.dedent("""
                         time_limit=0.5).run()
     after_run = {name: name in sys.modules for name in
                  ("numba.np.arraymath", "scipy.linalg", "cffi")}
+    import numba.np.arraymath  # as a cached kernel's environment may import it
+
+    blas_probed = "scipy.linalg" in sys.modules
     import user_kernel  # a kernel of another package, cached on disk
 
     plus_one = user_kernel.plus_one(np.arange(3.0)).tolist()
@@ -40,9 +43,15 @@ SCRIPT = textwrap.dedent("""
     def dot(a, b):  # compiled now, after the loads: needs the registries and BLAS
         return np.dot(a, b)
 
+    @njit
+    def doubled(a):  # allocates an array: Numba's runtime, loaded from the disk
+        return a * 2
+
     print(json.dumps({"digest": result.trajectory_digest, "after_run": after_run,
-                      "plus_one": plus_one, "after_user_kernel": after_user_kernel,
-                      "dot": dot(np.arange(4.0), np.arange(4.0) + 1)}))
+                      "blas_probed": blas_probed, "plus_one": plus_one,
+                      "after_user_kernel": after_user_kernel,
+                      "dot": dot(np.arange(4.0), np.arange(4.0) + 1),
+                      "doubled": doubled(np.arange(3.0)).tolist()}))
 """)
 
 USER_KERNEL = textwrap.dedent("""
@@ -52,6 +61,14 @@ USER_KERNEL = textwrap.dedent("""
     def plus_one(x):
         return x + 1
 """)
+
+
+def runtime_cache_folder() -> Path:
+    from numba.core.caching import FunctionCache
+
+    from mimics.engine import numba_setup
+
+    return Path(FunctionCache(numba_setup._runtime_anchor)._cache_path)
 
 
 def run_fresh(folder: Path) -> dict[str, object]:
@@ -71,8 +88,13 @@ def test_cached_kernels_load_without_refreshing_numba_and_others_as_shipped(tmp_
     here = Simulation(load_scenario("line", robots=3), go_to_goal, seed=4,
                       time_limit=0.5).run()
     assert loaded["digest"] == here.trajectory_digest
+    # importing numba.np.arraymath does not probe BLAS through SciPy
+    assert loaded["blas_probed"] is False
     # another package's cached kernel loads as Numba ships it: with the refresh
     assert loaded["plus_one"] == [1.0, 2.0, 3.0]
     assert loaded["after_user_kernel"] is True
     # and a compile after all that works, BLAS included
     assert loaded["dot"] == float(np.dot(np.arange(4.0), np.arange(4.0) + 1))
+    assert loaded["doubled"] == [0.0, 2.0, 4.0]
+    # the runtime's machine code was kept beside the engine's kernels, and loaded
+    assert list(runtime_cache_folder().glob("numba_runtime-*.pkl"))
