@@ -45,7 +45,7 @@ BARS = {"cave": 0.5, "hospital": 1.0, "line": 0.4}
 def whole_process_env(old: Path | None = None) -> dict[str, str]:
     """The environment of a timed ``mimics`` process: this one's, with Python's bytecode
     cache on (an installed package has its ``.pyc`` files; without them every module of
-    mimics is compiled from source at each start, 0.1 to 0.15 s), and ``old``'s code
+    mimics is compiled from source at each start: 30 to 70 ms of CPU), and ``old``'s code
     first on the path when given."""
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
