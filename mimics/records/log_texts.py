@@ -10,6 +10,7 @@ import numpy as np
 import pyarrow as pa
 
 from mimics.records.arrow_columns import numeric_array
+from mimics.records.arrow_compute import cast, take
 
 #: A column is formatted run by run when it has at most this share of runs of equal values.
 _RUN_SHARE = 0.5
@@ -22,20 +23,18 @@ def number_texts(values: np.ndarray) -> pa.Array:
     consecutive rows (a robot standing still) is formatted once when that
     saves work. Values are compared bit for bit: ``-0.0`` prints apart from ``0.0``.
     """
-    import pyarrow.compute as pc  # lazily: 60 ms to import
     bits = values.view(np.int64)
     new = np.empty(values.size, dtype=bool)
     new[:1] = True
     np.not_equal(bits[1:], bits[:-1], out=new[1:])
     if np.count_nonzero(new) > _RUN_SHARE * values.size:
-        return pc.cast(numeric_array(values, pa.float64()), pa.string())
-    return pc.cast(numeric_array(values[new], pa.float64()), pa.string()).take(
-        numeric_array(np.cumsum(new) - 1, pa.int64()))
+        return cast(numeric_array(values, pa.float64()), pa.string())
+    return take(cast(numeric_array(values[new], pa.float64()), pa.string()),
+                numeric_array(np.cumsum(new) - 1, pa.int64()))
 
 
 def time_texts(time: np.ndarray, steps: np.ndarray) -> pa.Array:
     """The time column as text, each step's time formatted once (all its robots share it)."""
-    import pyarrow.compute as pc  # lazily: 60 ms to import
     if time.size == 0 or steps.min() < 0:
         return number_texts(time)
     present = np.zeros(int(steps.max()) + 1, dtype=bool)
@@ -45,8 +44,8 @@ def time_texts(time: np.ndarray, steps: np.ndarray) -> pa.Array:
     step_time[place] = time
     if not same_bits(step_time[place], time):  # not one time per step: format every row
         return number_texts(time)
-    return pc.cast(numeric_array(step_time, pa.float64()), pa.string()).take(
-        numeric_array(place, pa.int64()))
+    return take(cast(numeric_array(step_time, pa.float64()), pa.string()),
+                numeric_array(place, pa.int64()))
 
 
 def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
