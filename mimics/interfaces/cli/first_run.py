@@ -22,6 +22,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 
 from mimics.engine.compile_clock import waiting
+from mimics.interfaces.child_processes import dying_with_parent
 from mimics.interfaces.cli.output import note
 
 _COMPILE = "from mimics.engine.warm_up import compile_part; compile_part({part!r})"
@@ -42,9 +43,10 @@ def kernels_compiled_ahead() -> Iterator[None]:
         # No figure here: the measured one lives in docs/explanation/performance.md alone
         note("mimics: first run: compiling the simulation kernels (once: they are cached on "
              "disk for the next runs)")
-    aside = {part: subprocess.Popen([sys.executable, "-c",
-                                     _NICE.get(part, "") + _COMPILE.format(part=part)],
-                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    # the compiles die with the run, even a killed one (no orphan left compiling)
+    aside = {part: subprocess.Popen(dying_with_parent(
+                [sys.executable, "-c", _NICE.get(part, "") + _COMPILE.format(part=part)]),
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
              for part in missing if part != "index"}
     try:
         if "index" in missing:

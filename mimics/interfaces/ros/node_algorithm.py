@@ -150,7 +150,7 @@ class _NodeRun:
     current: _NodeRun | None = None  # at most one per process: rospy has one node
 
     def __init__(self, bridge: RosBridge, argv: list[str], robots: int, seed: int) -> None:
-        from mimics.interfaces.ros.private_master import dying_with_parent
+        from mimics.interfaces.child_processes import dying_with_parent
 
         self.bridge = bridge
         self.argv = argv

@@ -37,8 +37,6 @@ from typing import TYPE_CHECKING, Any
 
 import rospy
 
-from mimics.interfaces.ros.conversion import robot_namespace
-
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
 
@@ -60,7 +58,7 @@ def run_parameters(sim: Simulation, lockstep: bool) -> dict[str, Any]:
         if ranger.beams > 0:
             entry["ranger"] = {"range": float(ranger.range), "fov": float(ranger.fov),
                                "beams": int(ranger.beams)}
-        tree[robot_namespace(robot)] = entry
+        tree[f"robot_{robot}"] = entry  # the same keys whatever the run's name set
     return tree
 
 

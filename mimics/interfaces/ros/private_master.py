@@ -24,6 +24,7 @@ import sys
 import tempfile
 import time
 
+from mimics.interfaces.child_processes import dying_with_parent
 from mimics.world.errors import MimicsError
 
 #: Seconds a new master may take to accept connections.
@@ -32,17 +33,6 @@ LOOPBACK = "127.0.0.1"
 
 _master: subprocess.Popen[bytes] | None = None
 _uri = ""
-
-
-def dying_with_parent(command: list[str]) -> list[str]:
-    """``command`` made to be killed by the kernel when this process dies (Linux).
-
-    util-linux's ``setpriv --pdeathsig`` sets ``PR_SET_PDEATHSIG`` before it
-    runs the command: unlike a ``preexec_fn``, safe in a process with threads
-    (rospy's).
-    """
-    setpriv = shutil.which("setpriv") if sys.platform.startswith("linux") else None
-    return [setpriv, "--pdeathsig", "KILL", "--", *command] if setpriv else command
 
 
 def free_port() -> int:
