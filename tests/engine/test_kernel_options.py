@@ -53,8 +53,27 @@ def _python_calls() -> dict[str, str]:
     return calls
 
 
+def _doctest_calls() -> dict[str, str]:
+    """Each name called on a doctest line (``>>> ...``) of the package and the docs."""
+    calls: dict[str, str] = {}
+    paths = [*ROOTS[0].rglob("*.py"), *(ROOTS[2].parent / "docs").rglob("*.md"),
+             ROOTS[2].parent / "README.md"]
+    for path in paths:
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            code = line.strip().removeprefix(">>> ")
+            if line.strip().startswith(">>> "):
+                try:
+                    tree = ast.parse(code)
+                except SyntaxError:  # a line continued on the next ("...")
+                    continue
+                for call in (c for c in ast.walk(tree) if isinstance(c, ast.Call)):
+                    calls.setdefault(ast.unparse(call.func).rsplit(".", 1)[-1],
+                                     f"{path}:{number}")
+    return calls
+
+
 def test_no_inner_kernel_is_called_from_python() -> None:
     inner = _inner_kernels()
     assert "_scan_row" in inner and "_sweep_block" in inner  # the check sees them
-    calls = _python_calls()
+    calls = {**_doctest_calls(), **_python_calls()}
     assert {name: calls[name] for name in inner & set(calls)} == {}
