@@ -2,6 +2,14 @@
 
     python benchmarks/cold_start.py [--repeats 3] [--quick] [--laser] [--no-table]
                                     [--results benchmarks/results.json]
+    python benchmarks/cold_start.py --parts [--repeats 3]
+
+``--parts`` compiles each part of the first-run compile (``mimics.engine.warm_up``:
+index, motion, the ray kernel, its helpers, still) alone in a fresh process with
+an empty cache and prints its CPU seconds (median) and its kernels' own compile
+times (nested compiles subtracted), slowest first: where a cold run's CPU goes,
+whatever the machine's load (the parts run in other processes than the run, so
+the run's own table does not list them). Not saved.
 
 ``--laser`` times issue 39's command instead, ``mimics run cave deployment
 --time 1``: the first run that reads the laser, whose bar is the whole
@@ -128,6 +136,59 @@ def kernel_table(compiles: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return sorted(rows, key=lambda r: -r["s"])
 
 
+# Runs inside a child of --parts: one warm-up part, timed on the CPU, with each kernel's
+# compile time less that of the compiles nested in it.
+PART_CHILD = r"""
+import json, sys, time
+began = time.process_time()
+from numba.core import event
+stack, rows = [], []
+
+class Timer(event.Listener):
+    def on_start(self, ev):
+        stack.append([time.process_time(), 0.0])
+
+    def on_end(self, ev):
+        began, nested = stack.pop()
+        took = time.process_time() - began
+        if stack:
+            stack[-1][1] += took
+        d = ev.data["dispatcher"]
+        rows.append([d.py_func.__module__ + "." + d.py_func.__qualname__, took - nested])
+
+event.register("numba:compile", Timer())
+from mimics.engine import warm_up
+imported = time.process_time()
+getattr(warm_up, sys.argv[2])()
+done = time.process_time()
+with open(sys.argv[1], "w") as f:
+    json.dump({"import_s": imported - began, "compile_s": done - imported, "kernels": rows}, f)
+"""
+PART_STEPS = ("compile_index_kernels", "compile_motion_kernels", "compile_ray_kernel",
+              "compile_ray_helpers", "compile_still_kernels")
+
+
+def time_parts(repeats: int) -> None:
+    """Each warm-up part alone in fresh processes, empty caches: median CPU seconds."""
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        for step in PART_STEPS:
+            runs = []
+            for k in range(repeats):
+                out = root / f"{step}-{k}.json"
+                env = {**os.environ, "NUMBA_CACHE_DIR": str(root / f"cache-{step}-{k}")}
+                subprocess.run([sys.executable, "-c", PART_CHILD, str(out), step], check=True,
+                               env=env)
+                runs.append(json.loads(out.read_text()))
+            compile_s = statistics.median(r["compile_s"] for r in runs)
+            import_s = statistics.median(r["import_s"] for r in runs)
+            kernels = runs[0]["kernels"]
+            print(f"{step}: {compile_s:.2f} s CPU compiling (median of {repeats}; import "
+                  f"{import_s:.2f} s), {len(kernels)} compiles")
+            for name, own in sorted(kernels, key=lambda r: -r[1])[:6]:
+                print(f"  {own:6.2f}  {name.removeprefix('mimics.engine.')}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -144,8 +205,14 @@ def main() -> None:
                              "whole command, cold, <= 10 s")
     parser.add_argument("--no-table", action="store_true",
                         help="skip the extra cold run that lists every compile")
+    parser.add_argument("--parts", action="store_true",
+                        help="CPU seconds of each part of the first-run compile, alone in a "
+                             "fresh process (not saved)")
     parser.add_argument("--results", type=Path, default=RESULTS)
     args = parser.parse_args()
+    if args.parts:
+        time_parts(args.repeats)
+        return
     if args.threads is not None:
         os.environ["NUMBA_NUM_THREADS"] = str(args.threads)
     command = (LASER_COMMAND if args.laser else COMMAND) + (["--time", "0.1"] if args.quick

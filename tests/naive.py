@@ -85,12 +85,18 @@ def cast_rays(origins: np.ndarray, headings: np.ndarray, offsets: np.ndarray,
     k, beams = offsets.shape
     ranges = np.full((k, beams), np.nan)
     owner = np.full((k, beams), -2, dtype=np.int64)
+    # a beam's direction as RangerQuery defines it: the heading's unit vector rotated by the
+    # offset's (cosines and sines of the whole array, as the ranger takes them), not
+    # (cos, sin) of the summed angle, whose last bits differ: two edges on one line (robots
+    # stacked on one spot) are then a tie one way and 1 ulp apart the other
+    cos_o, sin_o = np.cos(offsets), np.sin(offsets)
     for i in range(k):
+        ch, sh = math.cos(headings[i]), math.sin(headings[i])
         for b in range(beams):
             if math.isnan(offsets[i, b]):
                 continue
-            angle = headings[i] + offsets[i, b]
-            d = (math.cos(angle), math.sin(angle))
+            co, so = float(cos_o[i, b]), float(sin_o[i, b])
+            d = (ch * co - sh * so, sh * co + ch * so)
             best = (math.inf, -2)
             for who, seg in targets:
                 if who >= 0 and who == robot[i]:

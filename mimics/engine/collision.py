@@ -34,6 +34,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
 from mimics.engine.robot_index import RobotIndex, build_robot_index, coerce_robot_index
 from mimics.engine.spatial_index import (
     SegmentGrid,
@@ -65,7 +66,7 @@ class Bodies(NamedTuple):
     half_width: np.ndarray
 
 
-@njit(cache=True)
+@njit(**INNER)
 def segment_touches_box(x1: float, y1: float, x2: float, y2: float, hx: float,
                         hy: float) -> bool:
     """Whether a segment touches the closed box ``[-hx, hx] x [-hy, hy]`` (Liang-Barsky).
@@ -86,7 +87,7 @@ def segment_touches_box(x1: float, y1: float, x2: float, y2: float, hx: float,
     return s0 <= s1
 
 
-@njit(cache=True)
+@njit(**INNER)
 def boxes_touch(ax: float, ay: float, ah: float, al: float, aw: float, bx: float, by: float,
                 bh: float, bl: float, bw: float, eps: float) -> bool:
     """Whether two oriented rectangles are within ``eps`` on all four separating axes.
@@ -129,7 +130,7 @@ def boxes_touch(ax: float, ay: float, ah: float, al: float, aw: float, bx: float
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(**INNER, inline="always")
 def _lowest_wall(b: Bodies, i: int, walls: SegmentGrid) -> int:
     """Lowest index of a wall segment touching robot ``i``, or -1."""
     cx, cy = b.centers[i, 0], b.centers[i, 1]
@@ -159,7 +160,7 @@ def _lowest_wall(b: Bodies, i: int, walls: SegmentGrid) -> int:
     return best
 
 
-@njit(cache=True, inline="always")
+@njit(**INNER, inline="always")
 def _lowest_robot(b: Bodies, i: int, robots: RobotIndex) -> int:
     """Lowest index of a visible (solid) robot touching robot ``i``, or -1."""
     cx, cy = b.centers[i, 0], b.centers[i, 1]

@@ -16,6 +16,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
+
 TAU = 2.0 * math.pi
 
 
@@ -42,7 +44,7 @@ def _wrap(angle: float) -> float:
     return math.pi if wrapped == -math.pi else wrapped
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _pid(error: float, rate: float, integral: float, kp: float, ki: float, kd: float,
          dt: float) -> tuple[float, float]:
     """One PID update of one loop: ``(actuation, new integral)``."""
@@ -55,7 +57,7 @@ def _pid(error: float, rate: float, integral: float, kp: float, ki: float, kd: f
     return actuation, candidate
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _lag(value: float, target: float, tau: float, dt: float) -> tuple[float, float]:
     """A first-order lag toward ``target`` over ``dt``: ``(new value, its integral)``."""
     decay = math.exp(-dt / tau)
@@ -63,7 +65,7 @@ def _lag(value: float, target: float, tau: float, dt: float) -> tuple[float, flo
             target * dt + (value - target) * tau * (1.0 - decay))
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _arc(x: float, y: float, theta: float, distance: float,
          turn: float) -> tuple[float, float, float]:
     """The pose after moving ``distance`` along an arc that turns ``turn``."""

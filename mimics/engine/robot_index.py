@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
 from mimics.engine.spatial_index import cell_span, coerce_array, grid_frame
 
 MAX_CELLS_PER_ROBOT = 4  # the grid never has more than 4 n + 1024 cells
@@ -66,7 +67,7 @@ def _robot_arrays(centers: np.ndarray, headings: np.ndarray, half_length: np.nda
     return tuple(out)
 
 
-@njit(cache=True, inline="always")
+@njit(**INNER, inline="always")
 def _fill_corners(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
                   half_width: np.ndarray, out: np.ndarray) -> None:
     """Rectangle corners into ``out`` (the order is that of ``RobotIndex.corners``)."""
@@ -128,7 +129,7 @@ def _bucket(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
     return corners, origin, shape, cell, start, items, max_radius
 
 
-@njit(cache=True, inline="always")
+@njit(**INNER, inline="always")
 def robots_near(index: RobotIndex, x: float, y: float, span: float, out: np.ndarray) -> int:
     """Put in ``out`` the robots of the cells that come within ``span`` of ``(x, y)``
     along each axis; returns how many (the ranger's candidates, before their circles)."""

@@ -29,6 +29,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
+
 Bounds = tuple[float, float, float, float]
 
 PAD_RELATIVE = 1e-9  # cell enlargement, relative to the largest coordinate (>= 1 m)
@@ -71,7 +73,7 @@ def grid_pad(origin: np.ndarray, shape: np.ndarray, cell: float) -> float:
     return PAD_RELATIVE * span
 
 
-@njit(cache=True, inline="always")
+@njit(**INNER, inline="always")
 def clip_to_slab(start: float, delta: float, lo: float, hi: float, s0: float,
                  s1: float) -> tuple[float, float]:
     """Narrow ``[s0, s1]``, parameters of ``start + s * delta``, to ``lo <= . <= hi``.
@@ -85,7 +87,7 @@ def clip_to_slab(start: float, delta: float, lo: float, hi: float, s0: float,
     return max(s0, min(a, b)), min(s1, max(a, b))
 
 
-@njit(cache=True)
+@njit(**INNER)
 def cell_span(lo: float, hi: float, start: float, cell: float, n: int) -> tuple[int, int]:
     """Indices ``first, last`` of the cells of one axis overlapping ``[lo, hi]``.
 
@@ -99,7 +101,7 @@ def cell_span(lo: float, hi: float, start: float, cell: float, n: int) -> tuple[
     return int(a), int(b)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _x_extent_in_slab(x1: float, y1: float, x2: float, y2: float,
                       ylo: float, yhi: float) -> tuple[bool, float, float]:
     """x-range of the part of a segment with ``ylo <= y <= yhi`` (``ok`` False if none)."""
@@ -120,7 +122,7 @@ def _x_extent_in_slab(x1: float, y1: float, x2: float, y2: float,
     return True, min(xa, xb), max(xa, xb)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _index_segment(seg: np.ndarray, origin: np.ndarray, shape: np.ndarray, cell: float,
                    pad: float, s: int, counts: np.ndarray, items: np.ndarray,
                    cursor: np.ndarray, fill: bool) -> None:

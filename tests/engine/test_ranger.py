@@ -6,7 +6,7 @@ import numba
 import numpy as np
 import pytest
 import shapely
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
@@ -238,9 +238,21 @@ def scenes(draw):
     return walls, (centers, headings, hl, hw, solid), query
 
 
+# Robots 1 and 3 stacked on one spot share their lower side's line; the beam meets both at
+# the same distance, to the last bit, only if the reference turns the beam as the ranger
+# does (it once summed the angles, and found a tie where the ranger found robot 3 1 ulp
+# nearer: a failure seen twice in a thousand runs)
+STACKED = (np.zeros((1, 4)), (np.zeros((4, 2)), np.zeros(4), np.array([0.75, 0.75, 0.75, 1.0]),
+                              np.full(4, 0.5), np.array([False, True, False, True])),
+           RangerQuery(np.array([[0.5, 0.0], [0.0, 0.0], [0.0, 0.0]]),
+                       np.array([0.625, 0.0, 0.0]), np.array([[-2.35], [0.0], [0.0]]),
+                       np.ones(3), np.zeros(3, dtype=np.int64)))
+
+
 @settings(max_examples=300, deadline=None)
 @given(scene=scenes(), wall_cell=st.sampled_from([0.1, 0.7, 3.0, None]),
        reach=st.sampled_from([0.0, 0.4, 2.5, 30.0]), robot_cell=st.sampled_from([0.1, 0.9, 5.0]))
+@example(scene=STACKED, wall_cell=0.1, reach=0.0, robot_cell=0.1)
 def test_matches_the_naive_reference(scene, wall_cell, reach, robot_cell):
     walls, (centers, headings, hl, hw, solid), q = scene
     index = build_wall_index(walls, (-5, -5, 5, 5), reach=reach, cell=wall_cell)

@@ -16,6 +16,8 @@ import math
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
+
 COLLINEAR_EPS = 1e-10  # a parallel segment this close to the beam's line lies on it (m)
 ANGLE_SLACK = 2e-4  # rad added around every swept span: 17x fast_atan2's error (< 1.15e-5)
 
@@ -62,14 +64,14 @@ def fast_atan2(y: float, x: float) -> float:
     return -r if y < 0.0 else r
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _relative(angle: float, layout: Layout) -> float:
     """``angle`` less the first beam's, in ``[0, 2 pi)`` (up to rounding)."""
     rel = angle - layout[0]
     return rel - TAU * math.floor(rel * (1.0 / TAU))
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
     """Beams whose angle less the first beam's lies in ``[rel, rel + span]``, with margin.
 
@@ -85,7 +87,7 @@ def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
     return first, last
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _turns(rel: float, span: float, layout: Layout) -> tuple[bool, bool]:
     """Whether ``[rel, rel + span]`` may also overlap the beams one turn back, one turn on.
 
@@ -98,13 +100,13 @@ def _turns(rel: float, span: float, layout: Layout) -> tuple[bool, bool]:
             rel + TAU <= (count + margin) * spacing)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _turn(k: int, back: bool) -> float:
     """The ``k``-th shift to try: 0, then -2 pi if ``back``, then +2 pi."""
     return 0.0 if k == 0 else (-TAU if back and k == 1 else TAU)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _layout(offsets: np.ndarray) -> Layout:
     """``(first offset, spacing, count, margin, 1 / spacing)`` of a row of beams (spacing 0:
     none); a scan adds its heading to the first.
@@ -136,7 +138,7 @@ def _layout(offsets: np.ndarray) -> Layout:
     return (offsets[0], spacing, float(count), margin, 1.0 / spacing)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _field_of_view(offsets: np.ndarray) -> Cone:
     """``(e0x, e0y, e1x, e1y, kind)``: the cone swept counterclockwise from ``e0`` to ``e1``.
 
@@ -158,7 +160,7 @@ def _field_of_view(offsets: np.ndarray) -> Cone:
             1.0 if width < math.pi - 1e-6 else 2.0)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _beyond_edges(px: float, py: float, clearance: float, cone: Cone) -> int:
     """Bits 0 and 1: ``p`` lies more than ``clearance`` beyond edge 0, 1.
 
@@ -173,7 +175,7 @@ def _beyond_edges(px: float, py: float, clearance: float, cone: Cone) -> int:
     return bits
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _outside_view(a: int, b: int, kind: float) -> bool:
     """Whether a convex set whose extreme points have edge bits ``a`` and ``b`` is unseen."""
     common = a & b

@@ -15,6 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_fan import (
     COLLINEAR_EPS,
     TAU,
@@ -93,7 +94,7 @@ def ray_segment_distance(ox: float, oy: float, dx: float, dy: float, x1: float, 
     return max(near, 0.0)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _cell_exit(grid_start: float, index: int, cell: float, origin: float,
                delta: float) -> float:
     """Ray parameter where it leaves cell ``index`` of one grid axis (inf if parallel)."""
@@ -104,7 +105,7 @@ def _cell_exit(grid_start: float, index: int, cell: float, origin: float,
     return math.inf
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit: float,
            me: int, best_t: float, best_o: int, start: float = 0.0) -> tuple[float, int]:
     """Improve ``(best_t, best_o)`` with the segments of ``grid`` hit in ``[start, limit]``.
@@ -156,7 +157,7 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
     return best_t, best_o
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _consider(ox: float, oy: float, work: np.ndarray, j: int, x1: float, y1: float,
               x2: float, y2: float, o: int, limit: float, best_o: np.ndarray) -> None:
     """Let segment ``(x1, y1, x2, y2)`` of owner ``o`` improve beam ``j``'s hit."""
@@ -166,13 +167,13 @@ def _consider(ox: float, oy: float, work: np.ndarray, j: int, x1: float, y1: flo
         best_o[j] = o
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _below(distance: float) -> float:
     """A distance shrunk past rounding: beams hitting nearer than it surely skip a segment."""
     return distance - 1e-9 * (1.0 + distance)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
                  o: int, limit: float, work: np.ndarray, best_o: np.ndarray) -> float:
     """Let one segment improve the ``BLOCK`` beams from ``start``; their farthest hit after.
@@ -213,7 +214,7 @@ def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: flo
     return far
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _sweep_beams(first: int, last: int, ox: float, oy: float, x1: float, y1: float, x2: float,
                  y2: float, o: int, nearest: float, limit: float, work: np.ndarray,
                  best_o: np.ndarray) -> None:
@@ -235,7 +236,7 @@ PLAN = 4
 DISTANCE, LOW, SPAN, EVERY = 0, 1, 2, 3
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _span_of(ax: float, ay: float, bx: float, by: float) -> tuple[bool, float, float]:
     """The beams a segment from ``(ax, ay)`` to ``(bx, by)`` (relative to the sensor) may
     meet: every beam (True) when the sensor sits on its line (a span near 0 or pi), else
@@ -254,7 +255,7 @@ def _span_of(ax: float, ay: float, bx: float, by: float) -> tuple[bool, float, f
     return False, low, span
 
 
-@njit(cache=True)
+@njit(**INNER)
 def wall_plan(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
               row: np.ndarray) -> None:
     """Fill ``row`` (``PLAN`` entries) with what a scan from ``(ox, oy)`` needs of the wall
@@ -265,7 +266,7 @@ def wall_plan(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float,
 
 
 # numpy error model: the inlined block test divides in every lane, without zero checks
-@njit(cache=True, error_model="numpy")
+@njit(**INNER, error_model="numpy")
 def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: float, o: int,
                    nearest: float, limit: float, layout: Layout, work: np.ndarray,
                    best_o: np.ndarray) -> None:
@@ -280,7 +281,7 @@ def _sweep_segment(ox: float, oy: float, x1: float, y1: float, x2: float, y2: fl
                 best_o)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(**INNER, error_model="numpy")
 def _sweep_kept_span(every: bool, low: float, span: float, ox: float, oy: float, x1: float,
                      y1: float, x2: float, y2: float, o: int, nearest: float, limit: float,
                      layout: Layout, work: np.ndarray, best_o: np.ndarray) -> None:
@@ -292,15 +293,16 @@ def _sweep_kept_span(every: bool, low: float, span: float, ox: float, oy: float,
 # inlined into both sweeps above, two entry points of one call each: a call more per
 # segment cost the Cave's unpinned scans 15%, and _sweep_segment inlined into the ray
 # kernel instead of this cost them 15 to 70% (register pressure in _scan_row)
-@njit(cache=True)
+@njit(**INNER)
 def _sweep_span(every: bool, low: float, span: float, ox: float, oy: float, x1: float,
                 y1: float, x2: float, y2: float, o: int, nearest: float, limit: float,
                 layout: Layout, work: np.ndarray, best_o: np.ndarray) -> None:
     """:func:`_sweep_segment` once the segment's span is known (``_span_of``: computed
     now, or kept in a pinned robot's plan)."""
     if layout[1] <= 0.0 or every:  # no order to use, or the sensor on the segment's line
-        _sweep_beams(0, work.shape[1] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit, work,
-                     best_o)
+        # np.int64: a literal 0 would compile _sweep_beams a second time
+        _sweep_beams(np.int64(0), work.shape[1] - 1, ox, oy, x1, y1, x2, y2, o, nearest, limit,
+                     work, best_o)
         return
     rel = _relative(low, layout)
     back, on = _turns(rel, span, layout)  # the span may wrap around past the first beam
@@ -310,7 +312,7 @@ def _sweep_span(every: bool, low: float, span: float, ox: float, oy: float, x1: 
             _sweep_beams(first, last, ox, oy, x1, y1, x2, y2, o, nearest, limit, work, best_o)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _robot_span(cx: float, cy: float, radius: float) -> tuple[bool, float, float]:
     """The beams a robot whose circle (``radius``) is centred at ``(cx, cy)`` from the
     sensor may meet: True when the sensor is inside its circle (each side is swept on
@@ -323,7 +325,7 @@ def _robot_span(cx: float, cy: float, radius: float) -> tuple[bool, float, float
     return False, fast_atan2(cy, cx) - half, 2.0 * half
 
 
-@njit(cache=True)
+@njit(**INNER)
 def robot_plan(cx: float, cy: float, radius: float, row: np.ndarray) -> None:
     """Fill ``row`` (``PLAN`` entries) with what a scan needs of a robot seen at ``(cx,
     cy)`` from the sensor whatever the headings: its distance bound (as the scan's own),
@@ -334,7 +336,7 @@ def robot_plan(cx: float, cy: float, radius: float, row: np.ndarray) -> None:
 
 
 # inlined: called for every robot in view, its call would cost more than a hidden check
-@njit(cache=True)
+@njit(**INNER)
 def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray, r: int,
                  gap: float, radius: float, limit: float, layout: Layout, work: np.ndarray,
                  best_o: np.ndarray) -> None:
@@ -349,7 +351,7 @@ def _sweep_robot(ox: float, oy: float, corners: np.ndarray, centers: np.ndarray,
                       best_o)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _sweep_robot_span(inside: bool, start: float, width: float, ox: float, oy: float,
                       corners: np.ndarray, r: int, gap: float, limit: float, layout: Layout,
                       work: np.ndarray, best_o: np.ndarray) -> None:
@@ -382,7 +384,7 @@ def _sweep_robot_span(inside: bool, start: float, width: float, ox: float, oy: f
                         corners[r, e + 1, 0], corners[r, e + 1, 1], r, limit, work, best_o)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _facing_sides(ox: float, oy: float, corners: np.ndarray, r: int) -> int:
     """Bit ``e`` set: robot ``r``'s side ``e`` faces the sensor (or nearly: on its line).
 

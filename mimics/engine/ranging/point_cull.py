@@ -35,6 +35,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_sweep import PLAN
 from mimics.engine.ranging.wall_index import point_segment_distance
 
@@ -73,7 +74,7 @@ def no_sight_lists() -> SightLists:
                       np.zeros(0, dtype=np.int64))
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _span(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
     """The counterclockwise span from ``a`` to ``b`` (the shorter way round) seen from the
     origin: ``low`` in ``[-pi, pi]`` and ``high >= low``; ``high`` is -inf when the
@@ -87,14 +88,14 @@ def _span(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
     return low, high + TAU if high < low else high
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _around(segments: np.ndarray, s: int, ox: float,
             oy: float) -> tuple[float, float, float, float]:
     """Wall ``s``'s ends relative to the sensor at ``(ox, oy)``."""
     return segments[s, 0] - ox, segments[s, 1] - oy, segments[s, 2] - ox, segments[s, 3] - oy
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _add(arcs: np.ndarray, count: int, low: float, high: float) -> int:
     """Merge ``[low, high]`` (within ``[0, 2 pi]``) into the sorted, disjoint arcs
     ``arcs[:, :count]``; returns their new count. Arcs that touch merge: pieces of one
@@ -114,7 +115,7 @@ def _add(arcs: np.ndarray, count: int, low: float, high: float) -> int:
     return kept + 1
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _cover(arcs: np.ndarray, count: int, start: float, width: float) -> int:
     """Add the span ``[start, start + width]`` to the arcs (split where it wraps)."""
     low = start % TAU
@@ -125,7 +126,7 @@ def _cover(arcs: np.ndarray, count: int, start: float, width: float) -> int:
     return _add(arcs, count, low, high)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _inside(arcs: np.ndarray, count: int, low: float, high: float) -> bool:
     for k in range(count):  # noqa: SIM110 (a loop compiles; any() over a generator does not)
         if arcs[0, k] <= low and high <= arcs[1, k]:
@@ -133,7 +134,7 @@ def _inside(arcs: np.ndarray, count: int, low: float, high: float) -> bool:
     return False
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _covered(arcs: np.ndarray, count: int, start: float, width: float) -> bool:
     """Whether the arcs hold the whole span ``[start, start + width]``."""
     if width >= TAU:

@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit
 
 from mimics.engine.helper_threads.chunks import begin, chunk_done, end, take
+from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_fan import _beyond_edges, _outside_view
 from mimics.engine.ranging.beam_sweep import (
     BLOCK,
@@ -79,7 +80,7 @@ class RangerQuery(NamedTuple):
     fans: np.ndarray | None = None
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _by_distance(distance: np.ndarray, count: int, limit: float, lists: np.ndarray) -> int:
     """Put the indices of ``distance[:count]`` within ``limit`` in ``lists[ORDER]``, roughly
     nearest first; returns how many there are.
@@ -107,7 +108,7 @@ def _by_distance(distance: np.ndarray, count: int, limit: float, lists: np.ndarr
 
 
 # numpy error model: the inlined block test of robots' sides divides in every lane
-@njit(cache=True, error_model="numpy")
+@njit(**INNER, error_model="numpy")
 def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
               near: SegmentGrid, reach: float, robots: RobotIndex, sight: SightLists,
               ranges: np.ndarray, owners: np.ndarray, work: np.ndarray, best_o: np.ndarray,
@@ -260,7 +261,7 @@ def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
     end(share, role, until, chunks)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _list_capacity(near: SegmentGrid, robots: RobotIndex) -> int:
     """The most walls and robots a scan can list: the longest near list and every robot."""
     most = 0

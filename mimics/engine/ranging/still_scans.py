@@ -21,6 +21,7 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_sweep import PLAN, robot_plan, wall_plan
 from mimics.engine.ranging.point_cull import SightLists, sight_lists
 from mimics.engine.ranging.wall_index import WallIndex, near_cell_of
@@ -58,7 +59,7 @@ SETTLE_STEPS = 5  # steps a neighbourhood stands still before its lists are made
 MIN_BEAMS = 32
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _cell(x: float, y: float, index: RobotIndex) -> tuple[int, int]:
     """The index grid's cell of ``(x, y)``, clamped to the grid."""
     ix = min(max(math.floor((x - index.origin[0]) / index.cell), 0.0), index.shape[0] - 1.0)
@@ -126,7 +127,7 @@ def _settle(centers: np.ndarray, before: np.ndarray, solid_before: np.ndarray,
     return due
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _copy_rows(items: np.ndarray, plan: np.ndarray, start: int, to_items: np.ndarray,
                to_plan: np.ndarray, at: int, count: int) -> None:
     """``to_items[at:at + count] = items[start:start + count]``, and the same rows of the
@@ -138,7 +139,7 @@ def _copy_rows(items: np.ndarray, plan: np.ndarray, start: int, to_items: np.nda
             to_plan[at + row, column] = plan[start + row, column]
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _reserve(items: np.ndarray, plan: np.ndarray, used: int,
              more: int) -> tuple[np.ndarray, np.ndarray]:
     """``items`` and ``plan`` with room for ``more`` after ``used`` (copies, twice as long,
@@ -151,7 +152,7 @@ def _reserve(items: np.ndarray, plan: np.ndarray, used: int,
     return grown, grown_plan
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _compact(pinned: np.ndarray, spans: np.ndarray, items: np.ndarray, plan: np.ndarray,
              used: int) -> tuple[np.ndarray, np.ndarray, int]:
     """The pinned robots' lists alone, when the dropped ones take most of ``items``."""

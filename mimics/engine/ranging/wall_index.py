@@ -33,6 +33,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.wall_occlusion import MARGIN, cull_hidden
 from mimics.engine.spatial_index import (
     Bounds,
@@ -66,7 +67,7 @@ class WallIndex(NamedTuple):
     reach: float
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _point_box_distance(px: float, py: float, x0: float, y0: float, x1: float,
                         y1: float) -> float:
     dx = max(x0 - px, 0.0, px - x1)
@@ -74,7 +75,7 @@ def _point_box_distance(px: float, py: float, x0: float, y0: float, x1: float,
     return math.hypot(dx, dy)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def point_segment_distance(px: float, py: float, x1: float, y1: float, x2: float,
                            y2: float) -> float:
     """Euclidean distance from a point to a closed segment."""
@@ -87,7 +88,7 @@ def point_segment_distance(px: float, py: float, x1: float, y1: float, x2: float
     return math.sqrt(gx * gx + gy * gy)  # hypot's overflow care costs 3x here
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _segment_crosses_box(x1: float, y1: float, x2: float, y2: float, x0: float, y0: float,
                          xb: float, yb: float) -> bool:
     """Whether a segment has a point in the closed box ``[x0, xb] x [y0, yb]``."""

@@ -36,6 +36,8 @@ import math
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_options import INNER
+
 MARGIN = 1e-6  # m: how clearly a sight line must cross an occluder (rounding is far smaller)
 PAD = 1e-9  # relative padding of a cell's box, for the rounding of the sensor's cell lookup
 
@@ -44,13 +46,13 @@ PAD = 1e-9  # relative padding of a cell's box, for the rounding of the sensor's
 AX, AY, BX, BY, NX, NY = range(6)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _corner(box: np.ndarray, k: int) -> tuple[float, float]:
     """Corner ``k`` (counterclockwise from the lowest) of the box ``(x0, y0, x1, y1)``."""
     return box[0] if k == 0 or k == 3 else box[2], box[1] if k < 2 else box[3]
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _crosses(px: float, py: float, qx: float, qy: float, occluders: np.ndarray,
              o: int) -> bool:
     """Whether occluder ``o``'s shortened ends lie clearly on either side of the line
@@ -63,7 +65,7 @@ def _crosses(px: float, py: float, qx: float, qy: float, occluders: np.ndarray,
     return (da > clear and db < -clear) or (da < -clear and db > clear)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _occluder(segments: np.ndarray, s: int, box: np.ndarray, margin: float,
               occluders: np.ndarray, o: int) -> None:
     """Fill column ``o`` with segment ``s`` shortened by ``margin`` at both ends and the
@@ -91,14 +93,14 @@ def _occluder(segments: np.ndarray, s: int, box: np.ndarray, margin: float,
     occluders[NX, o], occluders[NY, o] = nx, ny
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _beyond(occluders: np.ndarray, o: int, margin: float, qx: float, qy: float) -> bool:
     """Whether ``q`` lies at least ``margin`` beyond occluder ``o``'s line, away from the box."""
     return (occluders[NX, o] * (qx - occluders[AX, o])
             + occluders[NY, o] * (qy - occluders[AY, o])) >= margin
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _sight_lines_cross(occluders: np.ndarray, o: int, box: np.ndarray, qx1: float,
                        qy1: float, qx2: float, qy2: float) -> bool:
     """Whether occluder ``o`` crosses the sight lines from the box's corners to both ends."""
