@@ -138,6 +138,9 @@ def ros_files_command(
     out: Annotated[Path, typer.Option(help="Folder to write the package mimics_launch into "
                                            "(created; its parent must exist).")],
     robots: Annotated[int, typer.Option(help="Robots whose scans the RViz config shows.")] = 4,
+    names: Annotated[str, typer.Option(help="Topic names the RViz config shows: mimics or "
+                                            "stage (then run with args:=\"--names stage\").")]
+    = "mimics",
 ) -> None:
     """Write a roslaunch package (launch file, RViz config) that runs mimics ros with RViz.
 
@@ -150,7 +153,7 @@ def ros_files_command(
     from mimics.interfaces.ros.launch_files import write_ros_files
 
     try:
-        written = write_ros_files(out, robots)
+        written = write_ros_files(out, robots, names)
     except MimicsError as exc:
         raise fail(str(exc)) from None
     for path in written:

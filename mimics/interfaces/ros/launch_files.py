@@ -29,6 +29,7 @@ from typing import Any
 
 import yaml
 
+from mimics.interfaces.ros.names import RosNames, check_name_set
 from mimics.world.errors import MimicsError
 
 PACKAGE = "mimics_launch"
@@ -39,17 +40,19 @@ def _template(name: str) -> str:
     return resources.files("mimics.interfaces.ros").joinpath("files", name).read_text()
 
 
-def rviz_config(robots: int) -> str:
-    """The RViz config with one laser scan display per robot (``/robot_i/scan``)."""
+def rviz_config(robots: int, names: str = "mimics") -> str:
+    """The RViz config with one laser scan display per robot, named as the run's
+    ``names`` set has it (``/robot_i/scan``; stage: ``/robot_i/base_scan``)."""
     config: dict[str, Any] = yaml.safe_load(_template("mimics.rviz"))
     displays = config["Visualization Manager"]["Displays"]
     template = next(d for d in displays if d["Name"] == SCAN_DISPLAY)
     at = displays.index(template)
     scans = []
+    topics = RosNames(check_name_set(names, "--names"), robots)
     for robot in range(robots):
         display = copy.deepcopy(template)
         display["Name"] = f"Scan robot_{robot}"
-        display["Topic"] = f"/robot_{robot}/scan"
+        display["Topic"] = topics.scan(robot)
         scans.append(display)
     displays[at:at + 1] = scans
     header = "".join(line + "\n" for line in _template("mimics.rviz").splitlines()
@@ -57,23 +60,24 @@ def rviz_config(robots: int) -> str:
     return header + yaml.safe_dump(config, sort_keys=False)
 
 
-def ros_files(robots: int) -> dict[str, str]:
+def ros_files(robots: int, names: str = "mimics") -> dict[str, str]:
     """The package's files by path within it."""
     wrapper = _template("mimics_ros.sh").replace("@PYTHON@", shlex.quote(sys.executable))
     return {"package.xml": _template("package.xml"),
             "launch/mimics.launch": _template("mimics.launch"),
-            "rviz/mimics.rviz": rviz_config(robots),
+            "rviz/mimics.rviz": rviz_config(robots, names),
             "scripts/mimics_ros": wrapper}
 
 
-def write_ros_files(out: Path, robots: int = 4) -> list[Path]:
+def write_ros_files(out: Path, robots: int = 4, names: str = "mimics") -> list[Path]:
     """Write the package into ``out/mimics_launch``; returns the files written.
 
     ``out`` is created if need be, but not its parent folder; no file is replaced.
 
     Raises:
         MimicsError: in one line: ``robots`` below 1, ``out``'s parent folder
-            missing, ``out`` not a folder, or a file of the package already there.
+            missing, ``out`` not a folder, a file of the package already there, or
+            an unknown name set.
     """
     if not isinstance(robots, int) or robots < 1:
         raise MimicsError(f"--robots: expected a whole number >= 1, got {robots!r}")
@@ -83,7 +87,7 @@ def write_ros_files(out: Path, robots: int = 4) -> list[Path]:
                           "first)")
     if out.exists() and not out.is_dir():
         raise MimicsError(f"{out}: is not a folder")
-    files = ros_files(robots)
+    files = ros_files(robots, names)
     targets = {out / PACKAGE / name: text for name, text in files.items()}
     for target in targets:
         if target.exists():

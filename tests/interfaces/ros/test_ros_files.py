@@ -44,6 +44,22 @@ def test_refuses_a_missing_parent_and_existing_files(tmp_path, capsys):
     assert os.access(package / "scripts" / "mimics_ros", os.X_OK)
 
 
+def test_stage_names_put_stage_ros_scan_topics_in_the_rviz_config(tmp_path, capsys):
+    assert main(["ros-files", "--out", str(tmp_path / "three"), "--robots", "3",
+                 "--names", "stage"]) == 0
+    rviz = tmp_path / "three" / "mimics_launch" / "rviz" / "mimics.rviz"
+    assert rviz_topics(rviz) == ["/map", "/mimics/markers", "/robot_0/base_scan",
+                                 "/robot_1/base_scan", "/robot_2/base_scan"]
+    assert main(["ros-files", "--out", str(tmp_path / "one"), "--robots", "1",
+                 "--names", "stage"]) == 0  # stage_ros: no robot_i/ prefix for one robot
+    assert rviz_topics(tmp_path / "one" / "mimics_launch" / "rviz" / "mimics.rviz")[-1] == \
+        "/base_scan"
+    capsys.readouterr()
+    assert main(["ros-files", "--out", str(tmp_path / "bad"), "--names", "gazebo"]) == 2
+    assert "--names" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()
+
+
 def test_launch_file_loads_and_runs_mimics_with_rviz_topics_that_exist(ros_env, tmp_path):
     assert main(["ros-files", "--out", str(tmp_path / "ros"), "--robots", "2"]) == 0
     package = tmp_path / "ros" / "mimics_launch"
