@@ -25,6 +25,24 @@ export function parseFrames(buffer) {
   return { frames, robots, times, poses, states };
 }
 
+// The walls at frame k of an edited run: the last wall set of meta.walls (see runs.py) whose
+// first frame is at or before k; a run without wall edits has one set.
+export function wallsAt(meta, k) {
+  let segments = meta.map.segments;
+  for (const set of meta.walls || []) if (set.frame <= k) segments = set.segments;
+  return segments;
+}
+
+// Robot -> sorted frames where an edit put it at a new place (meta.moves): its trail breaks.
+function movesByRobot(meta) {
+  const moves = new Map();
+  for (const [robot, frame] of meta.moves || []) {
+    if (!moves.has(robot)) moves.set(robot, []);
+    moves.get(robot).push(frame);
+  }
+  return moves;
+}
+
 // A run's state and robot count for the list: "finished, 3 robots", "not finished", "error".
 export function runState(run) {
   if (run.error) return "unreadable";
@@ -95,7 +113,7 @@ export class RunPage {
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
     this.view.drawStatic = (c, view) => {
       if (!this.meta) return;
-      view.drawSegments(this.meta.map.segments);
+      view.drawSegments(wallsAt(this.meta, this.frame));
       this.paintGoals(c, view);
     };
     this.canvas.addEventListener("pointerdown", (e) => this.pick(e));
@@ -133,6 +151,8 @@ export class RunPage {
     this.selected = -1;
     this.beams = [];
     this.motion = null;
+    this.moves = movesByRobot(meta);
+    this.wallsShown = null;
     this.inspector.select(-1);
     this.plotBox.replaceChildren();
     this.videoLink.replaceChildren(...(meta.video ? [this.videoAnchor()] : []));
@@ -201,6 +221,11 @@ export class RunPage {
     this.frame = k;
     this.scrub.value = String(k);
     this.clock.textContent = `t = ${this.time.toFixed(2)} s`;
+    const walls = wallsAt(this.meta, k);
+    if (walls !== this.wallsShown) { // an edit changed the walls: the static layer again
+      this.wallsShown = walls;
+      this.view.invalidate();
+    }
     // while playing, beams follow one request at a time (drawn a frame or two late)
     if (fetchBeams || this.inspector.allBeams || this.selected >= 0) this.fetchBeams();
     this.view.redraw();
@@ -254,8 +279,16 @@ export class RunPage {
       const first = Math.max(0, k - TRAIL_FRAMES);
       const step = Math.max(1, Math.floor((k - first) / 12));
       const past = [];
-      for (let f = first; f <= k; f += step) past.push(poses.subarray(f * robots * 3));
-      drawTrails(c, view, past, frame, robots);
+      const shown = [];
+      for (let f = first; f <= k; f += step) {
+        past.push(poses.subarray(f * robots * 3));
+        shown.push(f);
+      }
+      shown.push(k);
+      // a robot an edit moved: no line from its old place to the new one
+      const jumps = (i, j) => (this.moves.get(i) || []).some(
+        (m) => shown[j - 1] < m && m <= shown[j]);
+      drawTrails(c, view, past, frame, robots, this.moves.size ? jumps : null);
     }
     if (this.beams.length) view.drawSegments(this.beams, "rgba(214, 39, 40, 0.45)", 1);
     const stateBase = k * robots;
