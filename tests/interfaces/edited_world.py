@@ -4,8 +4,8 @@ Two Pioneer2DX (SICK LMS200: 8 m, 180 beams over 180 degrees) drive along +x fro
 (0, 0) and (0, 4), heading 0, in a map with one wall from (6, -3) to (6, 3). The
 scenario's timed edits: at step 3 a rectangle over robot 1 (refused: it would enclose
 the robot), at step 5 a wall from (3, -1) to (3, 1) across robot 0's way, at step 8
-robot 1 moved to (0, 6.5), at step 12 wall 0 (the one at x = 6) removed. 2 s at 0.1 s:
-steps 0 to 20, all recorded.
+robot 1 moved to (0, 6.5), at step 10 robot 0's goal set to (8, -2), at step 12 wall 0
+(the one at x = 6) removed. 2 s at 0.1 s: steps 0 to 20, all recorded.
 """
 
 from __future__ import annotations
@@ -49,6 +49,13 @@ x = 0.0
 y = 6.5
 
 [[edits]]
+step = 10
+kind = "set_goal"
+robot = 0
+x = 8.0
+y = -2.0
+
+[[edits]]
 step = 12
 kind = "remove_wall"
 wall = 0
@@ -59,6 +66,8 @@ ADDED_WALL = [3.0, -1.0, 3.0, 1.0]
 #: The walls by hand: (first step, walls) for each change (the refused rectangle: none).
 WALLS_BY_STEP = [(0, [START_WALL]), (5, [START_WALL, ADDED_WALL]), (12, [ADDED_WALL])]
 ADDED_STEP, MOVE_STEP, MOVED_ROBOT, MOVED_TO = 5, 8, 1, (0.0, 6.5)
+GOAL_STEP, NEW_GOAL = 10, [8.0, -2.0]  # robot 0's; its first goal: (9, 0)
+START_GOALS = [[9.0, 0.0], [9.0, 4.0]]
 
 
 def walls_at(step: int) -> list[list[float]]:

@@ -25,9 +25,12 @@ from mimics.world.edits import Edit
 from tests.interfaces.edited_world import (
     ADDED_STEP,
     ADDED_WALL,
+    GOAL_STEP,
     MOVE_STEP,
     MOVED_ROBOT,
     MOVED_TO,
+    NEW_GOAL,
+    START_GOALS,
     START_WALL,
     WALLS_BY_STEP,
     beam_ends,
@@ -85,6 +88,9 @@ def test_the_replay_holds_the_walls_of_each_step(edited_run: FilePath) -> None:
         assert data.walls_at(k).tolist() == walls_at(step)
     assert {robot: steps.tolist() for robot, steps in data.moves.items()} == {
         MOVED_ROBOT: [MOVE_STEP]}
+    for k, step in enumerate(data.steps.tolist()):
+        goal = NEW_GOAL if step >= GOAL_STEP else START_GOALS[0]
+        assert data.goals_at(k).tolist() == [goal, START_GOALS[1]]
     # the moved robot: at its old place in the frame of the edit's step, at the new one next
     assert data.pose[MOVE_STEP, MOVED_ROBOT, 1] == pytest.approx(4.0)
     assert data.pose[MOVE_STEP + 1, MOVED_ROBOT, 1] == pytest.approx(MOVED_TO[1], abs=0.05)
@@ -130,9 +136,11 @@ def test_beams_end_at_the_walls_of_their_step(edited_run: FilePath) -> None:
 def test_the_replay_draws_the_walls_trails_and_beams_of_each_frame(edited_run: FilePath) -> None:
     data = replay_data(load_run(edited_run))
     replayer = Replayer.create(data, robot_beams=0, width_px=400)
-    for t, step in ((0.0, 0), (0.4, 4), (0.5, 5), (1.1, 11), (1.2, 12), (2.0, 20)):
+    for t, step in ((0.0, 0), (0.4, 4), (0.5, 5), (1.1, 11), (1.2, 12), (2.0, 20), (0.9, 9)):
         replayer.show_at(t)
         assert drawn_walls(replayer.renderer.ax) == walls_at(step), t
+        goal = NEW_GOAL if step >= GOAL_STEP else START_GOALS[0]
+        assert replayer.renderer._goals.get_xydata().tolist() == [goal, START_GOALS[1]], t
     # the moved robot's trail: no line from its old place to its new one
     k = MOVE_STEP + 4
     trails = data.trails(k, 5.0, 16)
@@ -171,6 +179,9 @@ def test_the_plot_marks_added_and_removed_walls_and_breaks_moved_lines(
         [int(ADDED_WALL_COLOR[i:i + 2], 16) / 255 for i in (1, 3, 5)])
     legend = [t.get_text() for t in figure.legends[0].get_texts()]
     assert "wall added by an edit (1)" in legend and "wall removed by an edit (1)" in legend
+    assert "goal at the end" in legend
+    [crosses] = [line for line in ax.get_lines() if line.get_marker() == "x"]
+    assert crosses.get_xydata().tolist() == [NEW_GOAL, START_GOALS[1]]
     [paths] = [c for c in ax.collections if isinstance(c, LineCollection) and c.zorder == 3]
     long, breaks = drawn_jumps(paths)
     assert long == [0, 0] and breaks == [0, 1]  # robot 1 breaks once, robot 0 never

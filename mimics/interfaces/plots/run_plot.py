@@ -3,7 +3,8 @@
 A run edited as it ran (``mimics.world.edits``) is drawn with its start walls
 that stayed in black, the walls an edit added in :data:`ADDED_WALL_COLOR` and
 those an edit removed dashed (each named in the legend), so one picture shows the
-world before and after; a robot an edit moved has its line broken at the jump.
+world before and after; a robot an edit moved has its line broken at the jump, and
+the goals drawn are those at the end (``goal at the end`` when an edit set one).
 """
 
 from __future__ import annotations
@@ -79,12 +80,12 @@ def plot_run(run: str | Path | Any, out: str | Path | None, *, width_px: int = 1
     start = scenario.stages
     ax.plot(start[:, 0], start[:, 1], ls="none", marker="o", ms=3, mfc="none", mec="#555555",
             mew=0.6, zorder=4)
-    goals = scenario.goals
+    goals = data.goals.sets[-1]  # after the set_goal edits, if any
     if np.isfinite(goals).any():
         ax.plot(goals[:, 0], goals[:, 1], ls="none", marker="x", ms=4, color=GOAL_COLOR,
                 zorder=4)
         handles.append(Line2D([], [], ls="none", marker="x", ms=5, color=GOAL_COLOR,
-                              label="goal"))
+                              label="goal at the end" if data.goals.edited else "goal"))
     end = data.pose[-1]
     for code, (marker, label) in FINAL_MARKS.items():
         chosen = final == code

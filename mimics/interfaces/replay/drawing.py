@@ -52,7 +52,8 @@ class Replayer:
         if self.caster is not None and self.robot_beams is not None:
             beams = self.caster.beams(self.robot_beams, data.pose[k], data.status[k],
                                       int(data.wall_set[k]))
-        self.renderer.set_walls(data.walls_at(k))  # an edited run's walls at this step
+        self.renderer.set_walls(data.walls_at(k))  # an edited run's walls and goals then
+        self.renderer.set_goals(data.goals_at(k))
         self.renderer.update(data.pose[k], data.status[k], max(float(t), 0.0) if
                              t <= data.duration else data.duration,
                              livelock=data.livelock[k],

@@ -1,5 +1,6 @@
-"""What a run's edits change in its replay: the walls at each recorded step, and the jumps
-of the robots an edit moved (their trails are broken there, not drawn across the jump).
+"""What a run's edits change in its replay: the walls and the goals at each recorded step,
+and the jumps of the robots an edit moved (their trails are broken there, not drawn across
+the jump).
 
 An edit at step ``s`` applies after ``s`` steps (``mimics.world.edits``): the walls
 shown at a frame of step ``f`` are those after the edits of steps ``<= f`` (what
@@ -35,13 +36,13 @@ _REFUSED = re.compile(r"^edits\[(\d+)\]")  # an edit_refused event names the tim
 
 
 @dataclass(frozen=True)
-class WallTimeline:
-    """A run's wall sets over its steps.
+class Timeline:
+    """Something an edit changes (the walls, the goals), over a run's steps.
 
     Attributes:
-        steps: ``(k,)`` increasing steps; wall set ``j`` is shown from step ``steps[j]``
-            on (``steps[0]`` is 0, the map as the run started).
-        sets: the ``k`` wall sets, each ``(m_j, 4)``.
+        steps: ``(k,)`` increasing steps; set ``j`` is shown from step ``steps[j]`` on
+            (``steps[0]`` is 0, the world as the run started).
+        sets: the ``k`` sets: walls ``(m_j, 4)``, or goals ``(n, 2)``.
     """
 
     steps: np.ndarray
@@ -54,7 +55,7 @@ class WallTimeline:
 
     @property
     def edited(self) -> bool:
-        """True when an edit changed the walls."""
+        """True when an edit changed them."""
         return len(self.sets) > 1
 
 
@@ -71,7 +72,7 @@ def applied_edits(edits: Sequence[Edit], events: Any = None) -> list[Edit]:
     return [edit for k, edit in enumerate(edits) if k not in refused]
 
 
-def wall_timeline(segments: np.ndarray, edits: Iterable[Edit]) -> WallTimeline:
+def wall_timeline(segments: np.ndarray, edits: Iterable[Edit]) -> Timeline:
     """The wall sets of a run that starts with ``segments`` and applies ``edits`` (its
     applied edits, in order): one set per step where a wall edit applies."""
     edits = list(edits)
@@ -85,7 +86,23 @@ def wall_timeline(segments: np.ndarray, edits: Iterable[Edit]) -> WallTimeline:
         else:
             steps.append(step)
             sets.append(walls)
-    return WallTimeline(np.array(steps, dtype=np.int64), tuple(sets))
+    return Timeline(np.array(steps, dtype=np.int64), tuple(sets))
+
+
+def goal_timeline(goals: np.ndarray, edits: Iterable[Edit]) -> Timeline:
+    """The goals ``(n, 2)`` of a run that starts with ``goals`` and applies ``edits``: one
+    set per step where a ``set_goal`` edit applies."""
+    current = np.asarray(goals, dtype=np.float64).reshape(-1, 2).copy()
+    steps, sets = [0], [current]
+    for edit in edits:
+        if edit.kind != "set_goal" or edit.robot is None or edit.robot >= len(current):
+            continue
+        if edit.step != steps[-1]:
+            current = current.copy()
+            steps.append(edit.step)
+            sets.append(current)
+        current[edit.robot] = (edit.x, edit.y)
+    return Timeline(np.array(steps, dtype=np.int64), tuple(sets))
 
 
 def robot_moves(edits: Iterable[Edit]) -> dict[int, np.ndarray]:

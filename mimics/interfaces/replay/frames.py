@@ -17,9 +17,10 @@ import numpy as np
 
 from mimics.engine.state import Status
 from mimics.interfaces.replay.edits import (
-    WallTimeline,
+    Timeline,
     applied_edits,
     break_at_moves,
+    goal_timeline,
     robot_moves,
     wall_timeline,
 )
@@ -86,6 +87,7 @@ class ReplayData:
         steps: ``(T,)`` the step number of each recorded step.
         walls: the run's wall sets over its steps (one set for a run without wall edits).
         moves: robot -> the steps at which an edit moved it (its trail breaks there).
+        goals: the run's goals over its steps (``set_goal`` edits).
     """
 
     times: np.ndarray
@@ -95,8 +97,9 @@ class ReplayData:
     scenario: Scenario
     title: str
     steps: np.ndarray | None = None
-    walls: WallTimeline | None = None
+    walls: Timeline | None = None
     moves: dict[int, np.ndarray] | None = None
+    goals: Timeline | None = None
 
     def __post_init__(self) -> None:
         if self.steps is None:
@@ -105,8 +108,15 @@ class ReplayData:
             self.walls = wall_timeline(self.scenario.map.segments, ())
         if self.moves is None:
             self.moves = {}
+        if self.goals is None:
+            self.goals = goal_timeline(self.scenario.goals, ())
         #: ``(T,)`` the index of the wall set shown at each recorded step.
         self.wall_set: np.ndarray = self.walls.set_at(self.steps)
+
+    def goals_at(self, k: int) -> np.ndarray:
+        """The goals ``(n, 2)`` at recorded step ``k`` (NaN rows: no goal)."""
+        assert self.goals is not None and self.steps is not None
+        return self.goals.sets[int(self.goals.set_at(self.steps[k]))]
 
     def walls_at(self, k: int) -> np.ndarray:
         """The walls ``(m, 4)`` at recorded step ``k``."""
@@ -212,7 +222,7 @@ def replay_data(run: Any) -> ReplayData:
     edits = applied_edits(scenario.edits, _events(run))
     return ReplayData(times, pose, status, livelock, scenario, title or scenario.name,
                       steps=recorded, walls=wall_timeline(scenario.map.segments, edits),
-                      moves=robot_moves(edits))
+                      moves=robot_moves(edits), goals=goal_timeline(scenario.goals, edits))
 
 
 def robot_motion(run: Any, robot: int, times: np.ndarray) -> np.ndarray:

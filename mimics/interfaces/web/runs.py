@@ -25,9 +25,10 @@ trajectory.parquet's ``v``, ``w``, ``v_ref``, ``heading_ref``),
 every robot's, and ``/api/runs/log?until=T`` a robot's log lines up to time T.
 
 A run edited as it ran: ``/api/runs/meta`` gives its wall sets once (``walls``: the
-first frame sent that shows each set, its step, its segments) and the frames where
-an edit moved a robot (``moves``: robot and the first frame at its new place, where
-the page breaks its trail); the beams of a frame are cast against its walls.
+first frame sent that shows each set, its step, its segments), its goals likewise
+(``goal_sets``, after ``set_goal`` edits) and the frames where an edit moved a robot
+(``moves``: robot and the first frame at its new place, where the page breaks its
+trail); the beams of a frame are cast against its walls.
 """
 
 from __future__ import annotations
@@ -172,8 +173,7 @@ def meta(request: Request, path: str) -> dict[str, Any]:
             "duration": data.duration, "stride": stride,
             "frames": len(_frames(data, stride)), "map": map_to_dict(data.scenario.map),
             "half_length": half_length.tolist(), "half_width": half_width.tolist(),
-            "goals": [None if math.isnan(g[0]) else [float(g[0]), float(g[1])]
-                      for g in goals.tolist()],
+            "goals": _goal_list(goals),
             "beams": [int(data.scenario.robot_type(i).ranger.beams) for i in range(data.n)],
             "types": [data.scenario.robot_type(i).name for i in range(data.n)],
             "events": rows, "colors": STATUS_COLORS,
@@ -183,18 +183,30 @@ def meta(request: Request, path: str) -> dict[str, Any]:
 def edited_world(data: ReplayData, stride: int) -> dict[str, Any]:
     """What the edits of a run change in the frames sent: ``walls``, each wall set with
     the first frame that shows it (``frame``), its ``step`` and ``segments`` (one set for
-    a run without wall edits), and ``moves``: ``[robot, frame]`` for each robot an edit
-    moved, the frame the first at its new place."""
+    a run without wall edits); ``goal_sets``, the goals likewise (``goals``: ``[x, y]``
+    or null per robot); and ``moves``: ``[robot, frame]`` for each robot an edit moved,
+    the frame the first at its new place."""
     assert data.walls is not None and data.moves is not None and data.steps is not None
+    assert data.goals is not None
     sent = data.steps[_frames(data, stride)]
-    walls = []
-    for step, segments in zip(data.walls.steps.tolist(), data.walls.sets, strict=True):
-        frame = int(np.searchsorted(sent, step, side="left"))
-        if frame < len(sent):  # a set after the last frame is never shown
-            walls.append({"frame": frame, "step": step, "segments": segments.tolist()})
+
+    def shown(timeline: Any, name: str, value: Any) -> list[dict[str, Any]]:
+        entries = []
+        for step, values in zip(timeline.steps.tolist(), timeline.sets, strict=True):
+            frame = int(np.searchsorted(sent, step, side="left"))
+            if frame < len(sent):  # a set after the last frame is never shown
+                entries.append({"frame": frame, "step": step, name: value(values)})
+        return entries
+
     moves = [[robot, int(np.searchsorted(sent, step, side="right"))]
              for robot, steps in sorted(data.moves.items()) for step in steps.tolist()]
-    return {"walls": walls, "moves": [m for m in moves if m[1] < len(sent)]}
+    return {"walls": shown(data.walls, "segments", lambda walls: walls.tolist()),
+            "goal_sets": shown(data.goals, "goals", _goal_list),
+            "moves": [m for m in moves if m[1] < len(sent)]}
+
+
+def _goal_list(goals: np.ndarray) -> list[list[float] | None]:
+    return [None if math.isnan(g[0]) else [float(g[0]), float(g[1])] for g in goals.tolist()]
 
 
 @router.get("/frames")

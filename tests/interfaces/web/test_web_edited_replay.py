@@ -18,8 +18,11 @@ from mimics.records.run_folder import load_run
 from mimics.world.edits import walls_after
 from tests.interfaces.edited_world import (
     ADDED_STEP,
+    GOAL_STEP,
     MOVE_STEP,
     MOVED_ROBOT,
+    NEW_GOAL,
+    START_GOALS,
     WALLS_BY_STEP,
     beam_ends,
     record_edited_run,
@@ -52,6 +55,9 @@ def test_the_meta_gives_the_wall_sets_and_the_moves(edited_client: TestClient,
         assert entry["segments"] == walls_after(scenario.map.segments, applied,
                                                 entry["step"]).tolist()
     assert meta["moves"] == [[MOVED_ROBOT, MOVE_STEP + 1]]  # the first frame at its new place
+    assert meta["goals"] == START_GOALS
+    assert [(g["frame"], g["step"], g["goals"]) for g in meta["goal_sets"]] == [
+        (0, 0, START_GOALS), (GOAL_STEP, GOAL_STEP, [NEW_GOAL, START_GOALS[1]])]
 
 
 def test_beams_end_at_the_added_wall_from_its_step_on(edited_client: TestClient,
@@ -109,3 +115,5 @@ def test_the_page_draws_the_walls_of_the_frame_shown(page: Any, site: tuple[str,
     # with no line between the two
     assert dark_at(MOVE_STEP + 6, 0.1, 4.0, 245) and dark_at(MOVE_STEP + 6, 0.05, 6.5, 245)
     assert not dark_at(MOVE_STEP + 6, 0.08, 5.25, 245)
+    # robot 0's goal (a grey cross) moves to (8, -2) at the set_goal's frame
+    assert not dark_at(GOAL_STEP - 1, *NEW_GOAL, 130) and dark_at(GOAL_STEP, *NEW_GOAL, 130)

@@ -33,6 +33,13 @@ export function wallsAt(meta, k) {
   return segments;
 }
 
+// The goals at frame k, after the set_goal edits before it (meta.goal_sets, as the walls).
+export function goalsAt(meta, k) {
+  let goals = meta.goals;
+  for (const set of meta.goal_sets || []) if (set.frame <= k) goals = set.goals;
+  return goals;
+}
+
 // Robot -> sorted frames where an edit put it at a new place (meta.moves): its trail breaks.
 function movesByRobot(meta) {
   const moves = new Map();
@@ -153,6 +160,7 @@ export class RunPage {
     this.motion = null;
     this.moves = movesByRobot(meta);
     this.wallsShown = null;
+    this.goalsShown = null;
     this.inspector.select(-1);
     this.plotBox.replaceChildren();
     this.videoLink.replaceChildren(...(meta.video ? [this.videoAnchor()] : []));
@@ -221,9 +229,10 @@ export class RunPage {
     this.frame = k;
     this.scrub.value = String(k);
     this.clock.textContent = `t = ${this.time.toFixed(2)} s`;
-    const walls = wallsAt(this.meta, k);
-    if (walls !== this.wallsShown) { // an edit changed the walls: the static layer again
-      this.wallsShown = walls;
+    const [walls, goals] = [wallsAt(this.meta, k), goalsAt(this.meta, k)];
+    if (walls !== this.wallsShown || goals !== this.goalsShown) {
+      // an edit changed the walls or the goals: the static layer again
+      [this.wallsShown, this.goalsShown] = [walls, goals];
       this.view.invalidate();
     }
     // while playing, beams follow one request at a time (drawn a frame or two late)
@@ -307,7 +316,7 @@ export class RunPage {
   }
 
   // Goals, headings and ids as in the exported video (view.js; goals in the static layer).
-  paintGoals(c, view) { drawGoals(c, view, this.meta.goals); }
+  paintGoals(c, view) { drawGoals(c, view, goalsAt(this.meta, this.frame)); }
 
   paintHeadings(c, view, frame, robots) {
     drawHeadings(c, view, frame, robots, this.halfLength, this.halfWidth);
