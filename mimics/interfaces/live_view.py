@@ -81,6 +81,10 @@ class TrailBuffer:
             self._head = (self._head + 1) % self.points
         self._pushes += 1
 
+    def forget(self, robot: int) -> None:
+        """Drop ``robot``'s kept positions (an edit moved it: no line across the jump)."""
+        self._ring[:, robot] = np.nan
+
     def segments(self, current: np.ndarray) -> np.ndarray:
         """Polylines ``(n, points + 1, 2)``, oldest first, ending at ``current``."""
         ordered = np.roll(self._ring, -self._head, axis=0)
@@ -187,6 +191,12 @@ class LiveView:
             self._last_index = index
             self._draw(sim)
 
+    def on_edit(self, sim: Any, applied: Any) -> None:
+        """An edit moved a robot: its trail starts again at its new place (the walls and
+        goals an edit changes are drawn with the next frame, see :func:`draw_world`)."""
+        if self.enabled:
+            forget_moved(self._trails, applied)
+
     def on_end(self, sim: Any, result: Any) -> None:
         """Draw the final state if it was not drawn yet; in a window, optionally wait."""
         if not self.enabled:
@@ -251,11 +261,23 @@ def make_live_view(mode: str, *, offscreen: bool = False, **options: Any) -> Liv
     return LiveView(mode, offscreen=offscreen, **options)
 
 
+def forget_moved(trails: TrailBuffer | None, applied: Any) -> None:
+    """Drop the trail of a robot an applied edit (``on_edit``'s) moved."""
+    edit = getattr(applied, "edit", applied)
+    if trails is not None and edit.kind == "move_robot" and edit.robot is not None:
+        trails.forget(int(edit.robot))
+
+
 def draw_world(renderer: Any, sim: Any, beams_of: int | None,
                trails: TrailBuffer | None) -> None:
-    """Bring ``renderer`` up to the simulation's state: the robots, their trails, and the
-    beams of robot ``beams_of`` (None: no beams; nor for a stopped or blind robot)."""
+    """Bring ``renderer`` up to the simulation's state: the walls and goals as edited so
+    far (``sim.world_map``; redrawn only when an edit changed them), the robots, their
+    trails, and the beams of robot ``beams_of`` (None: no beams; nor for a stopped or blind
+    robot)."""
     state = sim.state
+    world = getattr(sim, "world_map", None)
+    renderer.set_walls((sim.scenario.map if world is None else world).segments)
+    renderer.set_goals(state.goal)  # a set_goal edit may have moved one
     beams = None
     i = beams_of
     if i is not None and state.status[i] == Status.ACTIVE and sim.types.beam_count[i] > 0:

@@ -162,11 +162,14 @@ class WorldRenderer:
         bx0, by0, bx1, by1 = bounds
         frame = np.array([[bx0, by0], [bx1, by0], [bx1, by1], [bx0, by1], [bx0, by0]])
         ax.plot(frame[:, 0], frame[:, 1], color="#cccccc", lw=0.8, ls="--", zorder=1)
-        walls = np.asarray(segments, dtype=np.float64).reshape(-1, 2, 2)
-        ax.add_collection(LineCollection(walls, colors=WALL_COLOR, linewidths=1.5, zorder=2))
+        self._wall_source = segments
+        self._walls = LineCollection(np.asarray(segments, dtype=np.float64).reshape(-1, 2, 2),
+                                     colors=WALL_COLOR, linewidths=1.5, zorder=2)
+        ax.add_collection(self._walls)
         self._goals = Line2D([], [], ls="none", marker="x", markersize=4, color=GOAL_COLOR,
                              markeredgewidth=1.0, zorder=3)
         ax.add_line(self._goals)
+        self._goals_shown: np.ndarray | None = None
         self.set_goals(goals)
         empty = np.zeros((0, 2, 2))
         self._trails = LineCollection(empty, linewidths=1.0, zorder=4)
@@ -230,12 +233,27 @@ class WorldRenderer:
                    strip_bottom_px=extra_bottom_px, **options)
 
     def set_goals(self, goals: np.ndarray | None) -> None:
-        """Show these goals (``(n, 2)``, NaN rows hidden); they belong to the static layer."""
+        """Show these goals (``(n, 2)``, NaN rows hidden); they belong to the static layer
+        (the goals shown again change nothing)."""
+        shown = self._goals_shown
+        if goals is not None and shown is not None and np.array_equal(
+                shown, np.asarray(goals, dtype=np.float64), equal_nan=True):
+            return
+        self._goals_shown = None if goals is None else np.array(goals, dtype=np.float64)
         if goals is None or len(goals) == 0:
             self._goals.set_data([], [])
         else:
             g = np.asarray(goals, dtype=np.float64)
             self._goals.set_data(g[:, 0], g[:, 1])
+        self._background = None
+
+    def set_walls(self, segments: np.ndarray) -> None:
+        """Show these walls ``(m, 4)`` (a run edited as it runs); the same array again
+        changes nothing. They belong to the static layer."""
+        if segments is self._wall_source:
+            return
+        self._wall_source = segments
+        self._walls.set_segments(np.asarray(segments, dtype=np.float64).reshape(-1, 2, 2))
         self._background = None
 
     def update(self, pose: np.ndarray, status: np.ndarray, time: float, *,

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from mimics.interfaces.live_view import TrailBuffer, draw_world, trail_shape
+from mimics.interfaces.live_view import TrailBuffer, draw_world, forget_moved, trail_shape
 from mimics.world.errors import MimicsError
 
 
@@ -49,6 +49,11 @@ class FrameDrawer:
         """Keep the trails."""
         if self._trails is not None:
             self._trails.push(sim.state.pose[:, :2])
+
+    def on_edit(self, sim: Any, applied: Any) -> None:
+        """An edit moved a robot: its trail starts again at its new place (the edited walls
+        and goals are drawn with the next frame)."""
+        forget_moved(self._trails, applied)
 
     def png(self, sim: Any) -> bytes:
         """The world now, as PNG bytes."""

@@ -13,6 +13,11 @@ against the walls and the other robots at their logged poses. Those beams are
 noise-free (the ranger noise of the run is not logged). If the kernel cannot be
 imported, beams are skipped with a one-line notice.
 
+A run edited as it ran (``mimics.world.edits``) is drawn with the walls after
+the edits of each frame's step, its beams cast against them, and the trail of
+a robot an edit moved broken at the jump
+(:mod:`~mimics.interfaces.replay.edits`).
+
 Videos are written with imageio's bundled ffmpeg (imageio-ffmpeg; no system
 ffmpeg needed), streamed frame by frame: H.264 for ``.mp4``/``.mkv``/``.mov``/
 ``.avi``, and a GIF whose palette is computed per frame (exact colours for
@@ -24,6 +29,7 @@ these flat drawings, without holding the clip in memory).
 
 The parts: :mod:`~mimics.interfaces.replay.frames` (loading a run into dense
 arrays, frame times), :mod:`~mimics.interfaces.replay.beams` (beams recomputed),
+:mod:`~mimics.interfaces.replay.edits` (what a run's edits change in its replay),
 :mod:`~mimics.interfaces.replay.drawing` (one frame into a renderer),
 :mod:`~mimics.interfaces.replay.export` (video and GIF) and
 :mod:`~mimics.interfaces.replay.window` (the interactive window).

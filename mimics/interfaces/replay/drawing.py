@@ -29,7 +29,9 @@ class Replayer:
         self.trail = trail
         self.trail_points = 16 if data.n <= 300 else 6
         self.robot_beams = robot_beams
-        self.caster = None if robot_beams is None else BeamCaster.available(data.scenario)
+        assert data.walls is not None
+        self.caster = (None if robot_beams is None
+                       else BeamCaster.available(data.scenario, data.walls.sets))
 
     @classmethod
     def create(cls, data: ReplayData, *, width_px: int = 800, extra_bottom_px: int = 0,
@@ -37,7 +39,7 @@ class Replayer:
         """A replayer drawing into a new renderer (off-screen unless ``figure`` is given)."""
         hl, hw = data.half_sizes
         m = data.scenario.map
-        renderer = WorldRenderer.create(m.segments, m.bounds, hl, hw, data.scenario.goals,
+        renderer = WorldRenderer.create(data.walls_at(0), m.bounds, hl, hw, data.scenario.goals,
                                         width_px=width_px, extra_bottom_px=extra_bottom_px,
                                         figure=figure, title=data.title)
         return cls(data, renderer, **options)
@@ -48,7 +50,10 @@ class Replayer:
         k = data.index_at(t)
         beams = None
         if self.caster is not None and self.robot_beams is not None:
-            beams = self.caster.beams(self.robot_beams, data.pose[k], data.status[k])
+            beams = self.caster.beams(self.robot_beams, data.pose[k], data.status[k],
+                                      int(data.wall_set[k]))
+        self.renderer.set_walls(data.walls_at(k))  # an edited run's walls and goals then
+        self.renderer.set_goals(data.goals_at(k))
         self.renderer.update(data.pose[k], data.status[k], max(float(t), 0.0) if
                              t <= data.duration else data.duration,
                              livelock=data.livelock[k],

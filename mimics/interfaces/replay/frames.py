@@ -16,6 +16,14 @@ from typing import Any
 import numpy as np
 
 from mimics.engine.state import Status
+from mimics.interfaces.replay.edits import (
+    Timeline,
+    applied_edits,
+    break_at_moves,
+    goal_timeline,
+    robot_moves,
+    wall_timeline,
+)
 from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
 
@@ -76,6 +84,10 @@ class ReplayData:
         livelock: ``(T, n)`` active robots in a livelock (from the events).
         scenario: the run's scenario (map, robot types, goals).
         title: scenario / algorithm / seed.
+        steps: ``(T,)`` the step number of each recorded step.
+        walls: the run's wall sets over its steps (one set for a run without wall edits).
+        moves: robot -> the steps at which an edit moved it (its trail breaks there).
+        goals: the run's goals over its steps (``set_goal`` edits).
     """
 
     times: np.ndarray
@@ -84,6 +96,32 @@ class ReplayData:
     livelock: np.ndarray
     scenario: Scenario
     title: str
+    steps: np.ndarray | None = None
+    walls: Timeline | None = None
+    moves: dict[int, np.ndarray] | None = None
+    goals: Timeline | None = None
+
+    def __post_init__(self) -> None:
+        if self.steps is None:
+            self.steps = np.arange(len(self.times), dtype=np.int64)
+        if self.walls is None:
+            self.walls = wall_timeline(self.scenario.map.segments, ())
+        if self.moves is None:
+            self.moves = {}
+        if self.goals is None:
+            self.goals = goal_timeline(self.scenario.goals, ())
+        #: ``(T,)`` the index of the wall set shown at each recorded step.
+        self.wall_set: np.ndarray = self.walls.set_at(self.steps)
+
+    def goals_at(self, k: int) -> np.ndarray:
+        """The goals ``(n, 2)`` at recorded step ``k`` (NaN rows: no goal)."""
+        assert self.goals is not None and self.steps is not None
+        return self.goals.sets[int(self.goals.set_at(self.steps[k]))]
+
+    def walls_at(self, k: int) -> np.ndarray:
+        """The walls ``(m, 4)`` at recorded step ``k``."""
+        assert self.walls is not None
+        return self.walls.sets[int(self.wall_set[k])]
 
     @property
     def n(self) -> int:
@@ -117,7 +155,17 @@ class ReplayData:
         if k - first < 1:
             return None
         idx = np.unique(np.linspace(first, k, min(points + 1, k - first + 1)).round().astype(int))
-        return self.pose[idx, :, :2].transpose(1, 0, 2)
+        trails = self.pose[idx, :, :2].transpose(1, 0, 2)
+        if not self.moves:
+            return trails
+        assert self.steps is not None
+        steps = self.steps[idx]
+        trails = trails.astype(np.float64)
+        for robot, moved_at in self.moves.items():
+            broken = break_at_moves(trails[robot], steps, moved_at)
+            if len(broken) > len(steps):  # a gap at each jump; the oldest points make room
+                trails[robot] = broken[len(broken) - len(steps):]
+        return trails
 
 
 def replay_data(run: Any) -> ReplayData:
@@ -171,7 +219,10 @@ def replay_data(run: Any) -> ReplayData:
     title = " / ".join(str(summary[k]) for k in ("scenario", "algorithm") if k in summary)
     if "seed" in summary:
         title += f" / seed {summary['seed']}"
-    return ReplayData(times, pose, status, livelock, scenario, title or scenario.name)
+    edits = applied_edits(scenario.edits, _events(run))
+    return ReplayData(times, pose, status, livelock, scenario, title or scenario.name,
+                      steps=recorded, walls=wall_timeline(scenario.map.segments, edits),
+                      moves=robot_moves(edits), goals=goal_timeline(scenario.goals, edits))
 
 
 def robot_motion(run: Any, robot: int, times: np.ndarray) -> np.ndarray:

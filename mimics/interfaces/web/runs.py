@@ -23,6 +23,12 @@ robot's speed, turn rate and references at every frame sent (from
 trajectory.parquet's ``v``, ``w``, ``v_ref``, ``heading_ref``),
 ``/api/runs/beams`` one robot's beams at a frame and ``/api/runs/all_beams``
 every robot's, and ``/api/runs/log?until=T`` a robot's log lines up to time T.
+
+A run edited as it ran: ``/api/runs/meta`` gives its wall sets once (``walls``: the
+first frame sent that shows each set, its step, its segments), its goals likewise
+(``goal_sets``, after ``set_goal`` edits) and the frames where an edit moved a robot
+(``moves``: robot and the first frame at its new place, where the page breaks its
+trail); the beams of a frame are cast against its walls.
 """
 
 from __future__ import annotations
@@ -94,8 +100,10 @@ def _replay(folder: Path, stamp: float) -> tuple[ReplayData, Any, int]:
 
 @functools.lru_cache(maxsize=2)
 def _caster(folder: Path, stamp: float) -> BeamCaster:
-    """The run's beam caster (its wall index is built once per run)."""
-    return BeamCaster(_replay(folder, stamp)[0].scenario)
+    """The run's beam caster (a wall index is built once per wall set of the run)."""
+    data = _replay(folder, stamp)[0]
+    assert data.walls is not None
+    return BeamCaster(data.scenario, data.walls.sets)
 
 
 def _stamp(folder: Path) -> float:
@@ -165,12 +173,40 @@ def meta(request: Request, path: str) -> dict[str, Any]:
             "duration": data.duration, "stride": stride,
             "frames": len(_frames(data, stride)), "map": map_to_dict(data.scenario.map),
             "half_length": half_length.tolist(), "half_width": half_width.tolist(),
-            "goals": [None if math.isnan(g[0]) else [float(g[0]), float(g[1])]
-                      for g in goals.tolist()],
+            "goals": _goal_list(goals),
             "beams": [int(data.scenario.robot_type(i).ranger.beams) for i in range(data.n)],
             "types": [data.scenario.robot_type(i).name for i in range(data.n)],
             "events": rows, "colors": STATUS_COLORS,
-            "video": (run.path / VIDEO_NAME).is_file()}
+            "video": (run.path / VIDEO_NAME).is_file(), **edited_world(data, stride)}
+
+
+def edited_world(data: ReplayData, stride: int) -> dict[str, Any]:
+    """What the edits of a run change in the frames sent: ``walls``, each wall set with
+    the first frame that shows it (``frame``), its ``step`` and ``segments`` (one set for
+    a run without wall edits); ``goal_sets``, the goals likewise (``goals``: ``[x, y]``
+    or null per robot); and ``moves``: ``[robot, frame]`` for each robot an edit moved,
+    the frame the first at its new place."""
+    assert data.walls is not None and data.moves is not None and data.steps is not None
+    assert data.goals is not None
+    sent = data.steps[_frames(data, stride)]
+
+    def shown(timeline: Any, name: str, value: Any) -> list[dict[str, Any]]:
+        entries = []
+        for step, values in zip(timeline.steps.tolist(), timeline.sets, strict=True):
+            frame = int(np.searchsorted(sent, step, side="left"))
+            if frame < len(sent):  # a set after the last frame is never shown
+                entries.append({"frame": frame, "step": step, name: value(values)})
+        return entries
+
+    moves = [[robot, int(np.searchsorted(sent, step, side="right"))]
+             for robot, steps in sorted(data.moves.items()) for step in steps.tolist()]
+    return {"walls": shown(data.walls, "segments", lambda walls: walls.tolist()),
+            "goal_sets": shown(data.goals, "goals", _goal_list),
+            "moves": [m for m in moves if m[1] < len(sent)]}
+
+
+def _goal_list(goals: np.ndarray) -> list[list[float] | None]:
+    return [None if math.isnan(g[0]) else [float(g[0]), float(g[1])] for g in goals.tolist()]
 
 
 @router.get("/frames")
@@ -209,7 +245,8 @@ def beams(request: Request, path: str, robot: int, frame: int) -> dict[str, Any]
         raise HTTPException(400, f"robot {robot} or frame {frame} is not in the run")
     k = _frame_step(data, stride, frame)
     folder = run_folder(workspace, path)
-    segments = _caster(folder, _stamp(folder)).beams(robot, data.pose[k], data.status[k])
+    segments = _caster(folder, _stamp(folder)).beams(robot, data.pose[k], data.status[k],
+                                                     int(data.wall_set[k]))
     return {"segments": [] if segments is None else segments.reshape(-1, 4).tolist()}
 
 
@@ -224,7 +261,7 @@ def all_beams(request: Request, path: str, frame: int) -> dict[str, Any]:
     caster = _caster(folder, _stamp(folder))
     total = int(caster.types.beam_count[data.status[k] == Status.ACTIVE].sum())
     every = max(1, math.ceil(total / ALL_BEAMS))
-    segments = caster.all_beams(data.pose[k], data.status[k], every)
+    segments = caster.all_beams(data.pose[k], data.status[k], every, int(data.wall_set[k]))
     return {"segments": np.round(segments.reshape(-1, 4), 4).tolist(), "every": every}
 
 

@@ -14,7 +14,8 @@ export function replaySource(page) {
       return { id: i, type: page.meta.types[i], time: times[page.frame],
         state: STATE_NAMES[states[page.frame * robots + i]],
         x: poses[at], y: poses[at + 1], yaw: poses[at + 2], v: value("v"), w: value("w"),
-        vRef: value("v_ref"), headingRef: value("heading_ref"), goal: page.meta.goals[i] };
+        vRef: value("v_ref"), headingRef: value("heading_ref"),
+        goal: (page.goalsShown || page.meta.goals)[i] }; // the goals of this frame
     },
     logLines: (i, time) => guarded(() => api.get("/api/runs/log",
       { path: page.meta.path, robot: i, until: time })),

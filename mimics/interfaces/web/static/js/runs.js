@@ -25,6 +25,31 @@ export function parseFrames(buffer) {
   return { frames, robots, times, poses, states };
 }
 
+// The walls at frame k of an edited run: the last wall set of meta.walls (see runs.py) whose
+// first frame is at or before k; a run without wall edits has one set.
+export function wallsAt(meta, k) {
+  let segments = meta.map.segments;
+  for (const set of meta.walls || []) if (set.frame <= k) segments = set.segments;
+  return segments;
+}
+
+// The goals at frame k, after the set_goal edits before it (meta.goal_sets, as the walls).
+export function goalsAt(meta, k) {
+  let goals = meta.goals;
+  for (const set of meta.goal_sets || []) if (set.frame <= k) goals = set.goals;
+  return goals;
+}
+
+// Robot -> sorted frames where an edit put it at a new place (meta.moves): its trail breaks.
+function movesByRobot(meta) {
+  const moves = new Map();
+  for (const [robot, frame] of meta.moves || []) {
+    if (!moves.has(robot)) moves.set(robot, []);
+    moves.get(robot).push(frame);
+  }
+  return moves;
+}
+
 // A run's state and robot count for the list: "finished, 3 robots", "not finished", "error".
 export function runState(run) {
   if (run.error) return "unreadable";
@@ -95,7 +120,7 @@ export class RunPage {
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
     this.view.drawStatic = (c, view) => {
       if (!this.meta) return;
-      view.drawSegments(this.meta.map.segments);
+      view.drawSegments(wallsAt(this.meta, this.frame));
       this.paintGoals(c, view);
     };
     this.canvas.addEventListener("pointerdown", (e) => this.pick(e));
@@ -133,6 +158,9 @@ export class RunPage {
     this.selected = -1;
     this.beams = [];
     this.motion = null;
+    this.moves = movesByRobot(meta);
+    this.wallsShown = null;
+    this.goalsShown = null;
     this.inspector.select(-1);
     this.plotBox.replaceChildren();
     this.videoLink.replaceChildren(...(meta.video ? [this.videoAnchor()] : []));
@@ -201,6 +229,12 @@ export class RunPage {
     this.frame = k;
     this.scrub.value = String(k);
     this.clock.textContent = `t = ${this.time.toFixed(2)} s`;
+    const [walls, goals] = [wallsAt(this.meta, k), goalsAt(this.meta, k)];
+    if (walls !== this.wallsShown || goals !== this.goalsShown) {
+      // an edit changed the walls or the goals: the static layer again
+      [this.wallsShown, this.goalsShown] = [walls, goals];
+      this.view.invalidate();
+    }
     // while playing, beams follow one request at a time (drawn a frame or two late)
     if (fetchBeams || this.inspector.allBeams || this.selected >= 0) this.fetchBeams();
     this.view.redraw();
@@ -254,8 +288,16 @@ export class RunPage {
       const first = Math.max(0, k - TRAIL_FRAMES);
       const step = Math.max(1, Math.floor((k - first) / 12));
       const past = [];
-      for (let f = first; f <= k; f += step) past.push(poses.subarray(f * robots * 3));
-      drawTrails(c, view, past, frame, robots);
+      const shown = [];
+      for (let f = first; f <= k; f += step) {
+        past.push(poses.subarray(f * robots * 3));
+        shown.push(f);
+      }
+      shown.push(k);
+      // a robot an edit moved: no line from its old place to the new one
+      const jumps = (i, j) => (this.moves.get(i) || []).some(
+        (m) => shown[j - 1] < m && m <= shown[j]);
+      drawTrails(c, view, past, frame, robots, this.moves.size ? jumps : null);
     }
     if (this.beams.length) view.drawSegments(this.beams, "rgba(214, 39, 40, 0.45)", 1);
     const stateBase = k * robots;
@@ -274,7 +316,7 @@ export class RunPage {
   }
 
   // Goals, headings and ids as in the exported video (view.js; goals in the static layer).
-  paintGoals(c, view) { drawGoals(c, view, this.meta.goals); }
+  paintGoals(c, view) { drawGoals(c, view, goalsAt(this.meta, this.frame)); }
 
   paintHeadings(c, view, frame, robots) {
     drawHeadings(c, view, frame, robots, this.halfLength, this.halfWidth);

@@ -267,8 +267,10 @@ export function drawIds(c, view, frame, robots, halfLength, halfWidth) {
 }
 
 // Trails through earlier poses: `past` is a list of pose arrays (x, y, theta per robot),
-// oldest first; each robot's line ends at its pose in `frame`.
-export function drawTrails(c, view, past, frame, robots) {
+// oldest first; each robot's line ends at its pose in `frame`. `jumps(i, j)`, if given, is
+// true where robot i jumped between point j - 1 and point j (j = past.length: `frame`),
+// moved by an edit: the line breaks there.
+export function drawTrails(c, view, past, frame, robots, jumps = null) {
   if (!past.length) return;
   const { scale, offsetX, offsetY } = view;
   c.strokeStyle = "rgba(31, 119, 180, 0.35)";
@@ -278,9 +280,10 @@ export function drawTrails(c, view, past, frame, robots) {
     past.forEach((poses, f) => {
       const px = offsetX + poses[3 * i] * scale;
       const py = offsetY - poses[3 * i + 1] * scale;
-      if (f === 0) c.moveTo(px, py); else c.lineTo(px, py);
+      if (f === 0 || (jumps && jumps(i, f))) c.moveTo(px, py); else c.lineTo(px, py);
     });
-    c.lineTo(offsetX + frame[3 * i] * scale, offsetY - frame[3 * i + 1] * scale);
+    const [px, py] = [offsetX + frame[3 * i] * scale, offsetY - frame[3 * i + 1] * scale];
+    if (jumps && jumps(i, past.length)) c.moveTo(px, py); else c.lineTo(px, py);
   }
   c.stroke();
 }
