@@ -30,7 +30,7 @@ def export_command(
     """Export a finished run for ROS tools: MCAP (ROS 2 messages) and/or a ROS 1 bag.
 
     Topics: /map (nav_msgs/OccupancyGrid), /tf and /tf_static
-    (tf2_msgs/TFMessage), /robot_i/odom (nav_msgs/Odometry), /robot_i/scan
+    (tf2_msgs/TFMessage), /robot_i/ground_truth (nav_msgs/Odometry), /robot_i/scan
     (sensor_msgs/LaserScan, when the run recorded its scans) and /markers
     (visualization_msgs/MarkerArray: footprints and goals). Stamps are the
     simulated time from 2000-01-01T00:00:00Z (ROS reads a time of 0 as

@@ -1,6 +1,6 @@
 """nav_msgs/Odometry: each robot's true pose and velocity at every recorded step.
 
-One message per row of trajectory.parquet on ``/robot_i/odom``: frame ``map``,
+One message per row of trajectory.parquet on ``/robot_i/ground_truth``: frame ``map``,
 child frame ``robot_i/base_link``; the pose is the true ``x, y, theta`` (the
 heading as a rotation about z) and the twist the true speed ``v`` along the
 body's x axis and turn rate ``w`` about z, in the child frame as ROS expects.
@@ -12,7 +12,7 @@ from collections.abc import Iterator
 
 from mimics.interfaces.rosexport.conversion import Messages, Stamped
 from mimics.interfaces.rosexport.source import Trajectory
-from mimics.interfaces.rosexport.topics import MAP_FRAME, ODOMETRY, base_link, odom_topic
+from mimics.interfaces.rosexport.topics import MAP_FRAME, ODOMETRY, base_link, truth_topic
 
 
 def odometry_messages(messages: Messages, trajectory: Trajectory) -> Iterator[Stamped]:
@@ -30,4 +30,4 @@ def odometry_messages(messages: Messages, trajectory: Trajectory) -> Iterator[St
             twist=messages.make("geometry_msgs/msg/TwistWithCovariance",
                                 twist=messages.make("geometry_msgs/msg/Twist", linear=linear,
                                                     angular=angular)))
-        yield Stamped(stamp, odom_topic(robot), message)
+        yield Stamped(stamp, truth_topic(robot), message)

@@ -1,19 +1,19 @@
 """The topics and frames of an exported run, named in one place.
 
-==================== ============================= ==========================================
-topic                type                          what
-==================== ============================= ==========================================
-``/map``             nav_msgs/OccupancyGrid        the walls rasterised, once, at time 0
-``/tf_static``       tf2_msgs/TFMessage            ``robot_i/base_link -> robot_i/laser``
-``/tf``              tf2_msgs/TFMessage            ``map -> robot_i/base_link`` every step
-``/robot_i/odom``    nav_msgs/Odometry             true pose and velocity every step
-``/robot_i/scan``    sensor_msgs/LaserScan         the recorded scan (with ``--record-scans``)
-``/markers``         visualization_msgs/MarkerArray footprints and goals, at time 0 and
-                                                   whenever a robot's status changes
-==================== ============================= ==========================================
+========================== ============================= ==========================================
+topic                      type                          what
+========================== ============================= ==========================================
+``/map``                   nav_msgs/OccupancyGrid        the walls rasterised, once, at time 0
+``/tf_static``             tf2_msgs/TFMessage            ``robot_i/base_link -> robot_i/laser``
+``/tf``                    tf2_msgs/TFMessage            ``map -> robot_i/base_link`` every step
+``/robot_i/ground_truth``  nav_msgs/Odometry             true pose and velocity every step
+``/robot_i/scan``          sensor_msgs/LaserScan         the recorded scan (with ``--record-scans``)
+``/markers``               visualization_msgs/MarkerArray footprints and goals, at time 0 and
+                                                         whenever a robot's status changes
+========================== ============================= ==========================================
 
->>> base_link(3), odom_topic(3), scan_topic(3)
-('robot_3/base_link', '/robot_3/odom', '/robot_3/scan')
+>>> base_link(3), truth_topic(3), scan_topic(3)
+('robot_3/base_link', '/robot_3/ground_truth', '/robot_3/scan')
 """
 
 from __future__ import annotations
@@ -49,9 +49,10 @@ def laser_frame(robot: int) -> str:
     return f"{robot_namespace(robot)}/laser"
 
 
-def odom_topic(robot: int) -> str:
-    """Robot ``robot``'s odometry topic."""
-    return f"/{robot_namespace(robot)}/odom"
+def truth_topic(robot: int) -> str:
+    """Robot ``robot``'s true pose topic: the live bridge's ``ground_truth`` (its ``odom``
+    is the odometer, which a run folder does not record)."""
+    return f"/{robot_namespace(robot)}/ground_truth"
 
 
 def scan_topic(robot: int) -> str:

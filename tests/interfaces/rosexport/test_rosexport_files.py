@@ -86,7 +86,7 @@ def test_messages_equal_the_runs_parquet_data(exported: dict[str, Any], name: st
     assert len(topics["/tf_static"]) == 1 and len(topics["/markers"]) >= 1
     for robot in range(ROBOTS):
         rows = trajectory[trajectory["robot"] == robot]
-        odom = topics[f"/robot_{robot}/odom"]
+        odom = topics[f"/robot_{robot}/ground_truth"]
         assert len(odom) == len(rows)
         for (time, message), row in zip(odom, rows.itertuples(), strict=True):
             assert time == stamp_ns(message.header.stamp) == EPOCH + round(row.time * 1e9)
@@ -147,9 +147,9 @@ def test_mcap_opens_in_foxgloves_reader(exported: dict[str, Any]) -> None:
         first_odom = None
         for _, channel, message, decoded in reader.iter_decoded_messages(log_time_order=True):
             counts[channel.topic] += 1
-            if channel.topic == "/robot_1/odom" and first_odom is None:
+            if channel.topic == "/robot_1/ground_truth" and first_odom is None:
                 first_odom = (message.log_time, decoded.pose.pose.position.y)
-    assert counts["/robot_1/odom"] == len(run.robot(1))
+    assert counts["/robot_1/ground_truth"] == len(run.robot(1))
     assert counts["/robot_2/scan"] == len(run.scans.robot(2).steps)
     assert first_odom == (EPOCH, float(run.robot(1)["y"].iloc[0]))
 
@@ -176,7 +176,7 @@ def test_ros1_rosbag_reads_the_bag(exported: dict[str, Any]) -> None:
               "counts = collections.Counter(); first = {}\n"
               "for topic, msg, t in bag.read_messages():\n"
               "    counts[topic] += 1\n"
-              "    if topic == '/robot_0/odom' and 't' not in first:\n"
+              "    if topic == '/robot_0/ground_truth' and 't' not in first:\n"
               "        first.update(t=t.to_nsec(), stamp=msg.header.stamp.to_nsec(),\n"
               "                     x=msg.pose.pose.position.x)\n"
               "    if topic == '/map': first['map'] = [msg.info.width, msg.info.height]\n"
@@ -185,7 +185,7 @@ def test_ros1_rosbag_reads_the_bag(exported: dict[str, Any]) -> None:
                           capture_output=True, text=True, check=True, timeout=60)
     found = json.loads(done.stdout)
     run = exported["run"]
-    assert found["counts"]["/robot_0/odom"] == len(run.robot(0))
+    assert found["counts"]["/robot_0/ground_truth"] == len(run.robot(0))
     assert found["counts"]["/robot_2/scan"] == len(run.scans.robot(2).steps)
     assert found["counts"]["/tf"] == run.trajectory["step"].nunique()
     assert found["first"]["t"] == found["first"]["stamp"] == EPOCH

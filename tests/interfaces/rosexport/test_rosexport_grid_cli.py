@@ -103,4 +103,4 @@ def test_export_replaces_an_old_file_and_no_scans_leaves_them_out(
 
     with AnyReader([target]) as reader:
         assert "/robot_0/scan" not in {c.topic for c in reader.connections}
-        assert "/robot_0/odom" in {c.topic for c in reader.connections}
+        assert "/robot_0/ground_truth" in {c.topic for c in reader.connections}
