@@ -72,7 +72,12 @@ def write_scenario_record(path: Path, scenario: Scenario, run: dict[str, Any]) -
             fields.append(f"goal = {_numbers(scenario.goals[i])}")
         lines.append("  { " + ", ".join(fields) + " },")
     lines += ["]", ""]
-    tables = {"run": run_table, "settings": asdict(scenario.settings),
+    settings = asdict(scenario.settings)
+    if isinstance(run.get("time_limit"), int | float):
+        # the time the run was given (--time) is the one in force: `mimics run RUN/scenario.toml`
+        # then runs as long as the recorded run did
+        settings["time_limit"] = float(run["time_limit"])
+    tables = {"run": run_table, "settings": settings,
               "types": {name: {k: v for k, v in t.to_dict().items() if k != "name"}
                         for name, t in zip(names, scenario.types, strict=True)}}
     lines.append(tomli_w.dumps(tables))

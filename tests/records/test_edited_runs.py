@@ -124,3 +124,18 @@ def test_a_run_edited_in_memory_keeps_its_edits(tmp_path):
     folder = save_run(run, tmp_path / "saved")
     again = prepare(folder / "scenario.toml", "go_to_goal", seed=5).run()
     assert again.trajectory_digest == run.summary["trajectory_digest"]
+
+
+def test_a_run_given_its_own_time_re_runs_as_long_from_its_folder(tmp_path, monkeypatch):
+    """The record's settings hold the time the run was given, so the re-run needs no --time."""
+    monkeypatch.chdir(tmp_path)
+    first = CliRunner().invoke(cli.app, ["run", "line", "go_to_goal", "--robots", "3",
+                                         "--time", "2.5", "--seed", "2", "--out", "first"])
+    assert first.exit_code == 0, first.output
+    again = CliRunner().invoke(cli.app, ["run", "first/scenario.toml", "go_to_goal",
+                                         "--seed", "2", "--out", "again"])
+    assert again.exit_code == 0, again.output
+    one, two = (json.loads((tmp_path / name / "summary.json").read_text())
+                for name in ("first", "again"))
+    assert one["steps"] == two["steps"] == 25
+    assert one["trajectory_digest"] == two["trajectory_digest"]

@@ -153,7 +153,7 @@ def start(request: Request, body: LiveBody) -> dict[str, Any]:
     worker_request.update(speed=speed, wall_limit=body.wall_limit, fps=body.fps,
                           paused=body.paused, runs=str(workspace.folder("runs")))
     try:
-        run = runs_of(request).start(worker_request, {**label, "paused": body.paused})
+        run = runs_of(request).start(worker_request, {**label, "started_paused": body.paused})
     except LiveRefused as exc:
         raise _refused(exc) from None
     run.wait_ready()

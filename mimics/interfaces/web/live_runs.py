@@ -129,7 +129,7 @@ class LiveRun:
                 info = message[1]
                 self.run, self.meta, self.speed = info["run"], info["meta"], info["speed"]
                 self.meta_version += 1
-                self.state = "paused" if self.label.get("paused") else "running"
+                self.state = "paused" if self.label.get("started_paused") else "running"
             elif kind == "failed":
                 self.state, self.error = "error", message[1]
             elif kind == "end":
