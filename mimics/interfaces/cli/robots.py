@@ -21,12 +21,8 @@ from rich.table import Table
 
 from mimics.interfaces.cli.output import fail, say
 from mimics.world.errors import MimicsError
-from mimics.world.robot_types import (
-    BUILTIN_ROBOT_TYPES,
-    NOISE_SOURCES,
-    RobotType,
-    builtin_robot_type,
-)
+from mimics.world.noise_sources import NOISE_SOURCES
+from mimics.world.robot_types import BUILTIN_ROBOT_TYPES, RobotType, builtin_robot_type
 
 robot_app = typer.Typer(help="Robot types: their parameters and closed-loop responses.",
                         no_args_is_help=True, rich_markup_mode=None)
