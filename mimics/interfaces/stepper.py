@@ -52,12 +52,14 @@ STATES = ("paused", "playing", "ended")
 
 
 class _EditRequest:
-    """An edit waiting for the stepper's thread, and what became of it."""
+    """An edit (or a read: a callable of the simulation) waiting for the stepper's thread,
+    and what became of it."""
 
-    def __init__(self, edit: Mapping[str, Any]) -> None:
-        self.edit = dict(edit)
+    def __init__(self, edit: Mapping[str, Any] | Callable[[Any], Any]) -> None:
+        self.edit: dict[str, Any] | Callable[[Any], Any] = (
+            edit if callable(edit) else dict(edit))
         self.done = threading.Event()
-        self.applied: dict[str, Any] | None = None
+        self.applied: Any = None
         self.refusal: BaseException | None = None
         self.taken = False  # the stepper's thread is applying it
         self.cancelled = False  # its caller stopped waiting before that: never apply it
@@ -143,22 +145,38 @@ class SimulationStepper:
             MimicsError: one line: the edit is malformed or refused, the run has ended,
                 or the stepper's thread did not take it within ``timeout`` seconds.
         """
-        request = _EditRequest(edit)
+        applied = self._at_boundary(_EditRequest(edit), timeout)
+        assert applied is not None
+        return applied
+
+    def between_steps(self, read: Callable[[Any], Any], timeout: float = 30.0) -> Any:
+        """``read(sim)``, called in the stepper's thread at the next step boundary (at
+        once when paused) while the simulation holds still: for reads that must not race
+        a step, such as tracing the ranger's lazy scan. Waits for it (any thread).
+
+        Raises:
+            MimicsError: one line: the run has ended, or the boundary did not come
+                within ``timeout`` seconds; or what ``read`` raised.
+        """
+        return self._at_boundary(_EditRequest(read), timeout)
+
+    def _at_boundary(self, request: _EditRequest, timeout: float) -> Any:
+        """Queue ``request`` for the stepper's thread; its result (refusals raised)."""
+        what = "edit" if isinstance(request.edit, dict) else "read"
         with self._wake:
             if self.state == "ended" or self._closed:
-                raise MimicsError("edit: the run has ended; nothing to edit")
+                raise MimicsError(f"{what}: the run has ended; nothing to {what}")
             self._edits.append(request)
             self._wake.notify_all()
         if not request.done.wait(timeout):
             with self._wake:
                 if not request.taken:
                     request.cancelled = True
-                    raise MimicsError(f"edit: not applied within {timeout:g} s (the "
+                    raise MimicsError(f"{what}: not done within {timeout:g} s (the "
                                       "simulation is busy in a step)")
             request.done.wait()  # being applied now: a moment
         if request.refusal is not None:
             raise request.refusal
-        assert request.applied is not None
         return request.applied
 
     def close(self) -> None:
@@ -255,21 +273,27 @@ class SimulationStepper:
             requests, self._edits = self._edits, []
         if not requests:
             return False
+        edited = False
         for request in requests:
             with self._wake:
                 if request.cancelled:
                     continue
                 request.taken = True
             try:
-                request.applied = sim.edit(request.edit).to_dict()
+                if callable(request.edit):
+                    request.applied = request.edit(sim)
+                else:
+                    edited = True
+                    request.applied = sim.edit(request.edit).to_dict()
             except MimicsError as refusal:
                 request.refusal = refusal
             except BaseException as exc:  # a bug: the caller hears of it, the thread ends
                 request.refusal = exc
-                raise
+                if not callable(request.edit) or not isinstance(exc, Exception):
+                    raise  # (a read that failed changed nothing: the run goes on)
             finally:
                 request.done.set()
-        if self.state == "paused" or sim.status != "running":
+        if edited and (self.state == "paused" or sim.status != "running"):
             self.on_frame(sim)
         return True
 

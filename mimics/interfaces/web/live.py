@@ -27,7 +27,7 @@ import math
 from pathlib import Path
 from typing import Any, Literal
 
-from fastapi import APIRouter, HTTPException, Request, WebSocket, WebSocketDisconnect
+from fastapi import APIRouter, HTTPException, Query, Request, WebSocket, WebSocketDisconnect
 from fastapi.responses import Response
 from pydantic import BaseModel, Field
 
@@ -207,6 +207,22 @@ def get_robot(request: Request, run_id: int, robot: int) -> dict[str, Any]:
     ``skipped`` counting those left out."""
     try:
         return _run(request, run_id).robot(robot)
+    except LiveRefused as exc:
+        raise _refused(exc) from None
+
+
+@router.get("/{run_id}/beams")
+def get_beams(request: Request, run_id: int, robot: int | None = None,
+              every_robot: bool = Query(False, alias="all")) -> dict[str, Any]:
+    """The laser beams of robot ``robot``'s last scan, or with ``all=true`` of every active
+    robot's, as the engine sensed them (the ranges the algorithm reads, noise included):
+    ``segments`` ``[x0, y0, x1, y1]`` from each robot's pose now, ``every`` (each robot's
+    every k-th beam, so that at most 60,000 come), ``step`` and ``time``. An inactive
+    robot or one without a ranger has none."""
+    if every_robot == (robot is not None):
+        raise HTTPException(422, "beams: give either robot=N or all=true")
+    try:
+        return _run(request, run_id).beams(None if every_robot else robot)
     except LiveRefused as exc:
         raise _refused(exc) from None
 

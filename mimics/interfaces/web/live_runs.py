@@ -180,6 +180,15 @@ class LiveRun:
         """
         return self._ask("robot", i)["robot"]
 
+    def beams(self, robot: int | None) -> dict[str, Any]:
+        """The beams of robot ``robot``'s last scan (None: every active robot's), as the
+        worker's ``beams`` answers.
+
+        Raises:
+            LiveRefused: as :meth:`command`; 422 when there is no robot ``robot``.
+        """
+        return self._ask("beams", "all" if robot is None else robot)["beams"]
+
     def command(self, name: str, argument: Any = None) -> dict[str, Any]:
         """Send ``play``, ``pause``, ``step``, ``stop`` or ``speed``; the run's state after.
 

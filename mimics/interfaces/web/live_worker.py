@@ -34,13 +34,15 @@ from typing import Any
 
 import numpy as np
 
-from mimics.interfaces.render import STATUS_COLORS
+from mimics.interfaces.render import STATUS_COLORS, beam_segments
 from mimics.interfaces.web.live_frames import STATE_NAMES, encode_frames, frame_states
 from mimics.world.errors import MimicsError
 from mimics.world.map_files import map_to_dict
 
 #: Seconds between checks of the stepper's state while no command arrives.
 POLL = 0.05
+#: Beams sent for every robot at once: each robot's are thinned to fit (as the replay's).
+ALL_BEAMS = 60_000
 
 
 def worker_main(request: dict[str, Any], control: Connection, edits: Connection,
@@ -190,6 +192,9 @@ class LiveWorker:
                 stepper.set_speed(float(argument))
             elif name == "robot":
                 return {**self.status(), "robot": self.robot(int(argument))}
+            elif name == "beams":
+                return {**self.status(), "beams": stepper.between_steps(
+                    lambda sim: self.beams(None if argument == "all" else int(argument)))}
             else:
                 return {**self.status(), "error": f"unknown command {name!r}"}
         except MimicsError as exc:
@@ -219,6 +224,37 @@ class LiveWorker:
                 "goal": None if math.isnan(goal[0]) else [float(goal[0]), float(goal[1])],
                 "lines": [f"{e.time:.2f} s  {e.kind}: {e.detail}" for e in events[-2000:]],
                 "skipped": max(0, len(events) - 2000)}
+
+    def beams(self, robot: int | None) -> dict[str, Any]:
+        """The beams of robot ``robot``'s scan now (None: every active robot's), as the
+        engine sensed them for the next step (the ranges the algorithm reads, noise
+        included), from each robot's pose: ``segments`` ``[x0, y0, x1, y1]``, ``every``
+        (each robot's every k-th beam, so that at most :data:`ALL_BEAMS` come), ``step``,
+        ``time``. Call it in the stepper's thread (``between_steps``): reading the scan
+        traces its rays, which must not race a step.
+
+        Raises:
+            MimicsError: when there is no robot ``robot``.
+        """
+        sim = self.sim
+        state, types = sim.state, sim.types
+        if robot is not None and not 0 <= robot < state.n:
+            raise MimicsError(f"robot {robot}: the run has robots 0..{state.n - 1}")
+        scanning = np.logical_not(state.status) & (types.beam_count > 0)
+        if robot is not None:
+            ids = np.array([robot]) if scanning[robot] else np.zeros(0, dtype=np.int64)
+        else:
+            ids = np.flatnonzero(scanning)
+        every = max(1, math.ceil(int(types.beam_count[ids].sum()) / ALL_BEAMS))
+        flat = np.zeros((0, 4))
+        if ids.size:
+            ranges = state.scan  # the first read traces the rays of the last sensing
+            flat = np.concatenate([beam_segments(state.pose[r, :2], float(state.pose[r, 2]),
+                                                 types.beam_offsets[r, ::every],
+                                                 ranges[r, ::every])
+                                   for r in ids.tolist()]).reshape(-1, 4)
+        return {"segments": np.round(flat, 4).tolist(), "every": every,
+                "step": int(state.step), "time": float(state.time)}
 
     def _send_quiet_frame(self) -> None:
         """After Pause: the last step taken, unless the step in flight sends its own."""

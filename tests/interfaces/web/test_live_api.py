@@ -4,6 +4,7 @@ run folder that re-runs bit for bit; the guards of the WebSocket; the errors."""
 from __future__ import annotations
 
 import json
+import math
 import struct
 import time
 from collections.abc import Iterator
@@ -247,3 +248,72 @@ def test_stop_ends_the_worker_of_a_step_that_never_returns(
                             "summary.json)")
     folder = workspace / end["run"]
     assert (folder / "scenario.toml").is_file() and not (folder / "summary.json").exists()
+
+
+#: Two robots in the 10 x 6 m room, noise off, 3 beams over 180 degrees (right, ahead,
+#: left): robot 0 at (7, 3) faces the east wall, robot 1 at (2, 3) the west wall.
+FACING_WALLS = """name = "facing"
+map = "../maps/room.txt"
+
+[types.Three]
+base = "Pioneer2DX"
+ranger = { beams = 3 }
+
+[[robots]]
+type = "Three"
+x = 7.0
+y = 3.0
+
+[[robots]]
+type = "Three"
+x = 2.0
+y = 3.0
+yaw = 3.141592653589793
+
+[settings]
+time_limit = 5.0
+noise = "off"
+"""
+
+
+def test_beams_are_the_last_scan_the_engine_sensed(live_client: TestClient,
+                                                   workspace: Path) -> None:
+    (workspace / "scenarios" / "facing.toml").write_text(FACING_WALLS)
+    client = live_client
+    run = client.post("/api/live", json={"scenario": "scenarios/facing.toml",
+                                         "algorithm": "go_to_goal", "paused": True})
+    assert run.status_code == 200, run.text
+    run_id = run.json()["id"]
+    assert client.post(f"/api/live/{run_id}/step").json()["step"] == 1
+    # robot 0 (no goal: it stays) sees, by hand: the south wall 3 m to its right, the east
+    # wall 3 m ahead, the north wall 3 m to its left; each beam from its centre (7, 3)
+    beams = client.get(f"/api/live/{run_id}/beams", params={"robot": 0})
+    assert beams.status_code == 200, beams.text
+    got = beams.json()
+    assert (got["step"], got["every"]) == (1, 1)
+    assert got["time"] == pytest.approx(0.1)
+    assert np.array(got["segments"]) == pytest.approx(np.array(
+        [[7, 3, 7, 0], [7, 3, 10, 3], [7, 3, 7, 6]]), abs=1e-4)
+    middle = got["segments"][1]
+    assert math.dist(middle[:2], middle[2:]) == pytest.approx(3.0, abs=1e-4)
+    # every active robot's: robot 1 at (2, 3) faces west: the west wall 2 m ahead
+    every = client.get(f"/api/live/{run_id}/beams", params={"all": "true"}).json()
+    assert np.array(every["segments"]) == pytest.approx(np.array(
+        [[7, 3, 7, 0], [7, 3, 10, 3], [7, 3, 7, 6],
+         [2, 3, 2, 6], [2, 3, 0, 3], [2, 3, 2, 0]]), abs=1e-4)
+    # a removed robot has no scan: robot 1's beams go, robot 0's stay
+    client.post(f"/api/live/{run_id}/edit", json={"kind": "remove_robot", "robot": 1})
+    assert client.get(f"/api/live/{run_id}/beams",
+                      params={"robot": 1}).json()["segments"] == []
+    assert len(client.get(f"/api/live/{run_id}/beams",
+                          params={"all": "true"}).json()["segments"]) == 3
+    # bad requests: one line each
+    for params, status in (({"robot": 2}, 422), ({"robot": -1}, 422), ({}, 422),
+                           ({"robot": 0, "all": "true"}, 422), ({"robot": "x"}, 422)):
+        answer = client.get(f"/api/live/{run_id}/beams", params=params)
+        assert answer.status_code == status, (params, answer.text)
+    assert client.get(f"/api/live/{run_id}/beams", params={"robot": 2}).json()["detail"] == (
+        "robot 2: the run has robots 0..1")
+    assert client.get("/api/live/99/beams", params={"robot": 0}).status_code == 404
+    assert "/api/live/{run_id}/beams" in client.get("/openapi.json").json()["paths"]
+    client.post(f"/api/live/{run_id}/stop")

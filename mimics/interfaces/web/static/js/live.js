@@ -4,7 +4,7 @@
 // remove a robot). Leaving the page closes the socket; the run goes on.
 import { api, element, guarded, say } from "./api.js";
 import { createInspector } from "./inspector.js";
-import { liveSource } from "./live_inspector.js";
+import { fetchLiveBeams, liveSource } from "./live_inspector.js";
 import { parseFrames } from "./runs.js";
 import { STATE_NAMES, WorldView, drawGoals, drawHeadings, drawIds, drawRobots, drawTrails }
   from "./view.js";
@@ -47,6 +47,7 @@ export class LivePage {
     this.frames = 0; // frames received on this page (tests and the frame rate)
     this.past = [];
     this.selected = -1;
+    this.beams = []; // segments of the inspector's beams (live_inspector.js)
     this.drag = null; // a robot being dragged, or a wall being drawn
     this.build();
   }
@@ -86,11 +87,9 @@ export class LivePage {
     this.trails = element("input", { type: "checkbox", checked: true, "aria-label": "Trails",
       onchange: () => this.view.redraw() });
     this.clock = element("span", { role: "timer", "aria-label": "Simulated time" }, "t = 0.00 s");
-    // the Runs page's inspector: a clicked robot's values and its events so far, as it runs
+    // the Runs page's inspector: a clicked robot's values, beams and events so far, as it runs
     this.inspectorPanel = element("div", { class: "inspector", "aria-label": "Inspector" });
     this.inspector = createInspector(this.inspectorPanel, liveSource(this));
-    const beams = this.inspectorPanel.querySelector('[aria-label="Every robot\'s beams"]');
-    if (beams) beams.closest("label").hidden = true; // a live run's beams are not sent
     this.root.replaceChildren(side, element("div", { class: "stage" },
       element("div", { class: "canvas-box" }, this.canvas),
       element("div", { class: "controls" }, this.pauseButton, this.resumeButton, this.stepButton,
@@ -129,6 +128,7 @@ export class LivePage {
     this.past = [];
     this.selected = -1;
     this.details = null;
+    this.beams = [];
     this.inspector.select(-1);
     this.errorBox.textContent = "";
     this.editLine.textContent = "";
@@ -165,6 +165,7 @@ export class LivePage {
       if (this.inspector.selected >= 0 && this.inspector.selected < parsed.robots) {
         this.inspector.update();
       }
+      if (this.inspector.allBeams || this.inspector.selected >= 0) fetchLiveBeams(this);
       return;
     }
     const message = JSON.parse(data);
@@ -272,7 +273,9 @@ export class LivePage {
     const robot = this.robotAt(x, y);
     if (this.tool === "move") {
       this.selected = robot;
+      if (!this.inspector.allBeams) this.beams = [];
       this.inspector.select(robot);
+      fetchLiveBeams(this);
       if (robot >= 0) {
         this.drag = { kind: "robot", robot, from: [x, y], to: [x, y] };
         this.canvas.setPointerCapture(event.pointerId);
@@ -323,6 +326,7 @@ export class LivePage {
       const every = Math.max(1, Math.floor(this.past.length / TRAIL_POINTS));
       drawTrails(c, view, this.past.filter((_, k) => k % every === 0), poses, robots);
     }
+    if (this.beams.length) view.drawBeams(this.beams);
     drawRobots(c, view, poses, this.halfLength, this.halfWidth,
       (i) => this.colors[states[i]] || "#000", robots);
     drawHeadings(c, view, poses, robots, this.halfLength, this.halfWidth);

@@ -299,7 +299,7 @@ export class RunPage {
         (m) => shown[j - 1] < m && m <= shown[j]);
       drawTrails(c, view, past, frame, robots, this.moves.size ? jumps : null);
     }
-    if (this.beams.length) view.drawSegments(this.beams, "rgba(214, 39, 40, 0.45)", 1);
+    if (this.beams.length) view.drawBeams(this.beams);
     const stateBase = k * robots;
     drawRobots(c, view, frame, this.halfLength, this.halfWidth,
       (i) => this.colors[states[stateBase + i]] || "#000", robots);

@@ -152,6 +152,11 @@ export class WorldView {
     c.stroke();
   }
 
+  // Laser beams ([x1, y1, x2, y2] each), as the replay and the live page draw them.
+  drawBeams(segments) {
+    this.drawSegments(segments, "rgba(214, 39, 40, 0.45)", 1);
+  }
+
   // Draw the grid of spacing `step` metres (skipped when too dense).
   drawGrid(step) {
     if (step * this.scale < 6) return;
