@@ -317,3 +317,35 @@ def test_beams_are_the_last_scan_the_engine_sensed(live_client: TestClient,
     assert client.get("/api/live/99/beams", params={"robot": 0}).status_code == 404
     assert "/api/live/{run_id}/beams" in client.get("/openapi.json").json()["paths"]
     client.post(f"/api/live/{run_id}/stop")
+
+
+def test_live_beams_carry_the_scans_noise_and_leave_the_run_unchanged(
+        live_client: TestClient, workspace: Path) -> None:
+    from mimics.interfaces.replay.beams import BeamCaster
+
+    client = live_client
+    run = client.post("/api/live", json={"scenario": "scenarios/two.toml",
+                                         "algorithm": "go_to_goal", "seed": 5,
+                                         "paused": True, "speed": "fastest"}).json()
+    headless = prepare(workspace / "scenarios" / "two.toml", "go_to_goal", seed=5)
+    caster = BeamCaster(headless.scenario)
+    for _ in range(3):  # beams asked at every step: the trace comes earlier than the algorithm's
+        client.post(f"/api/live/{run['id']}/step")
+        headless.step()
+        got = np.array(client.get(f"/api/live/{run['id']}/beams",
+                                  params={"all": "true"}).json()["segments"])
+        state = headless.state
+        # the headless run's scan at the same step, noise included: the same beam ends
+        ranges = np.concatenate([state.scan[i][np.isfinite(state.scan[i])] for i in (0, 1)])
+        assert np.hypot(got[:, 2] - got[:, 0], got[:, 3] - got[:, 1]) == pytest.approx(
+            ranges, abs=2e-4)
+        # ...which are not the noise-free ranges (Pioneer2DX: sigma 0.015 m)
+        exact = np.concatenate([caster.beams(i, state.pose, state.status) for i in (0, 1)])
+        off = np.hypot(*(got[:, 2:] - exact[:, 1]).T)
+        assert 0.005 < np.median(off[ranges < 7.9]) < 0.05
+    client.post(f"/api/live/{run['id']}/resume")
+    end = wait_for(client, run["id"], "finished", "error")
+    again = run_to_folder(prepare(workspace / "scenarios" / "two.toml", "go_to_goal", seed=5),
+                          workspace / "again")
+    assert load_run(workspace / end["run"]).summary["trajectory_digest"] == (
+        again.trajectory_digest)

@@ -1,7 +1,7 @@
 """The live page (#/live/ID): the picture moves while the run runs and not while paused, Step
-takes one step, a drag and a drawn wall change the run and its records, a refused edit says
-why, Stop ends it with its folder complete; the Runs page lists it (Playwright, Debian's
-Chromium)."""
+takes one step, the inspector shows a robot's values and beams (or every robot's), a drag
+and a drawn wall change the run and its records, a refused edit says why, Stop ends it with
+its folder complete; the Runs page lists it (Playwright, Debian's Chromium)."""
 
 from __future__ import annotations
 
@@ -85,6 +85,17 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     expect(inspector.locator('[data-field="type"]')).to_have_text("Pioneer2DX")
     expect(inspector.locator('[data-field="x"]')).to_have_text(f"{x0:.3f} m")
     expect(inspector.locator('[data-field="v"]')).not_to_have_text("n/a")
+    # its beams, from the worker's last scan: Pioneer2DX's 180; every robot's: robot 1's 30 too
+    page.wait_for_function(f"{live}.beams.length === 180")
+    page.wait_for_timeout(50)  # the next animation frame draws them
+    one_robot = picture(page)
+    every = inspector.get_by_label("Every robot's beams")
+    every.check()
+    page.wait_for_function(f"{live}.beams.length === 210")
+    page.wait_for_timeout(50)
+    assert picture(page) != one_robot
+    every.uncheck()  # (no beams request may meet the run's end below)
+    page.wait_for_function(f"{live}.beams.length === 180")
     # a drag moves robot 1 (it stands still, no goal) to (5, 4.5); the inspector follows it
     x, y = page.evaluate(f"Array.from({live}.frame.poses.slice(3, 5))")
     drag(page, (x, y), (5.0, 4.5))
