@@ -43,6 +43,8 @@ from mimics.world.map_files import map_to_dict
 POLL = 0.05
 #: Beams sent for every robot at once: each robot's are thinned to fit (as the replay's).
 ALL_BEAMS = 60_000
+#: Seconds a beams request waits for a step boundary before it is refused.
+BEAMS_WAIT = 5.0
 
 
 def worker_main(request: dict[str, Any], control: Connection, edits: Connection,
@@ -192,9 +194,10 @@ class LiveWorker:
                 stepper.set_speed(float(argument))
             elif name == "robot":
                 return {**self.status(), "robot": self.robot(int(argument))}
-            elif name == "beams":
+            elif name == "beams":  # (a short wait: a Stop must not queue behind a long step)
                 return {**self.status(), "beams": stepper.between_steps(
-                    lambda sim: self.beams(None if argument == "all" else int(argument)))}
+                    lambda sim: self.beams(None if argument == "all" else int(argument)),
+                    timeout=BEAMS_WAIT)}
             else:
                 return {**self.status(), "error": f"unknown command {name!r}"}
         except MimicsError as exc:

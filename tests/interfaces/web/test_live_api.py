@@ -323,11 +323,11 @@ def test_live_beams_carry_the_scans_noise_and_leave_the_run_unchanged(
         live_client: TestClient, workspace: Path) -> None:
     from mimics.interfaces.replay.beams import BeamCaster
 
-    client = live_client
+    client = live_client  # wall_aware reads its scan each step: the live trace comes first
     run = client.post("/api/live", json={"scenario": "scenarios/two.toml",
-                                         "algorithm": "go_to_goal", "seed": 5,
+                                         "algorithm": "wall_aware", "seed": 5,
                                          "paused": True, "speed": "fastest"}).json()
-    headless = prepare(workspace / "scenarios" / "two.toml", "go_to_goal", seed=5)
+    headless = prepare(workspace / "scenarios" / "two.toml", "wall_aware", seed=5)
     caster = BeamCaster(headless.scenario)
     for _ in range(3):  # beams asked at every step: the trace comes earlier than the algorithm's
         client.post(f"/api/live/{run['id']}/step")
@@ -345,7 +345,7 @@ def test_live_beams_carry_the_scans_noise_and_leave_the_run_unchanged(
         assert 0.005 < np.median(off[ranges < 7.9]) < 0.05
     client.post(f"/api/live/{run['id']}/resume")
     end = wait_for(client, run["id"], "finished", "error")
-    again = run_to_folder(prepare(workspace / "scenarios" / "two.toml", "go_to_goal", seed=5),
+    again = run_to_folder(prepare(workspace / "scenarios" / "two.toml", "wall_aware", seed=5),
                           workspace / "again")
     assert load_run(workspace / end["run"]).summary["trajectory_digest"] == (
         again.trajectory_digest)
