@@ -3,6 +3,8 @@ timed run; the ray part's process is waited for by a run that scans and stopped 
 A step that never returns ends at --wall-limit, naming its line, with nothing left running."""
 
 import json
+import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -36,6 +38,11 @@ def fresh_install(monkeypatch) -> list[subprocess.Popen]:
     return started
 
 
+def compiled_part(process: subprocess.Popen) -> str:
+    """The part a compile process was started for (its ``compile_part('...')`` call)."""
+    return re.search(r"compile_part\('(\w+)'\)", process.args[-1]).group(1)
+
+
 def test_first_run_compiles_ahead_and_stops_the_unneeded_ray_part(tmp_path, fresh_install):
     out = tmp_path / "run"
     result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--robots", "2", "--time",
@@ -43,8 +50,7 @@ def test_first_run_compiles_ahead_and_stops_the_unneeded_ray_part(tmp_path, fres
     assert result.exit_code == 0, result.output
     assert "compiling the simulation kernels" in result.output
     assert "finishing the ray kernel" not in result.output  # go_to_goal reads no scan
-    assert [p.args[-1].rsplit("(", 1)[-1] for p in fresh_install] == ["'motion')", "'ray')",
-                                                                 "'still')"]
+    assert [compiled_part(p) for p in fresh_install] == ["motion", "ray", "still"]
     assert all(p.returncode is not None for p in fresh_install)  # none left running
     assert json.loads((out / "summary.json").read_text())["robots"] == 2
     assert warm_up._ray_part_elsewhere == []
@@ -55,9 +61,26 @@ def test_a_first_run_that_scans_waits_for_the_ray_part(tmp_path, fresh_install):
     result = runner.invoke(cli.app, ["run", "obstacle_room", "dispersion", "--robots", "4",
                                      "--time", "0.5", "--out", str(out)])
     assert result.exit_code == 0, result.output
-    (ray,) = [p for p in fresh_install if p.args[-1].endswith("'ray')")]
+    (ray,) = [p for p in fresh_install if compiled_part(p) == "ray"]
     assert ray.returncode == 0  # it finished its compile: the run waited for it
     assert json.loads((out / "summary.json").read_text())["robots"] == 4
+
+
+def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path):
+    """The compile processes end without Python's teardown (os._exit): what they compiled
+    must be on disk by then, so that the run finds the part in Numba's cache."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    check = ("from mimics.engine import warm_up; "
+             "print(' '.join(warm_up.missing_parts()))")
+    before = subprocess.run([sys.executable, "-c", check], env=env, capture_output=True,
+                            text=True, check=True).stdout.split()
+    assert "index" in before  # an empty cache
+    done = subprocess.run([sys.executable, "-c", first_run._COMPILE.format(part="index")],
+                          env=env, capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0, done.stderr
+    after = subprocess.run([sys.executable, "-c", check], env=env, capture_output=True,
+                           text=True, check=True).stdout.split()
+    assert after == [part for part in before if part != "index"]
 
 
 def test_warm_cache_says_nothing_about_compiling(tmp_path, monkeypatch):
