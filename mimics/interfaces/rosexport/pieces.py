@@ -22,6 +22,7 @@ foxglove/mcap#502), so a run starting at 0 makes its first step ambiguous.
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -31,16 +32,16 @@ import numpy as np
 EXPORT_EPOCH_NS = 946_684_800 * 1_000_000_000
 
 
-class MessagePieces:
+class MessagePieces(ABC):
     """Headers, points, poses, transforms and colours built with ``make`` and ``stamp``."""
 
+    @abstractmethod
     def make(self, msgtype: str, **fields: Any) -> Any:
         """A message of ``msgtype`` (``"geometry_msgs/msg/Point"``) with ``fields``."""
-        raise NotImplementedError
 
+    @abstractmethod
     def stamp(self, nanoseconds: int) -> Any:
         """A time message from whole nanoseconds."""
-        raise NotImplementedError
 
     def header(self, nanoseconds: int, frame_id: str) -> Any:
         """A ``std_msgs/Header`` stamped ``nanoseconds`` in frame ``frame_id``."""

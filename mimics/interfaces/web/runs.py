@@ -2,21 +2,10 @@
 
 The replay's arrays come from :func:`mimics.interfaces.replay.replay_data` (the
 replay's own reader of a run folder). ``/api/runs/frames`` sends them as one
-little-endian binary body the page reads with typed arrays, no JSON per frame:
-
-======== ================= ==============================================
-bytes    type              content
-======== ================= ==============================================
-0..3     uint32            T, frames sent
-4..7     uint32            n, robots
-8..      float32[T]        simulated time of each frame (s)
-then     float32[T, n, 3]  x, y, theta of every robot in every frame
-then     uint8[T, n]       state: ``Status`` code, 7 for a robot in livelock
-======== ================= ==============================================
-
-(:func:`mimics.interfaces.web.live_frames.encode_frames` writes it, for the live
-stream too.) A long run is thinned to every k-th recorded step (always keeping the last)
-so that the body stays under :data:`FRAME_BYTES`; ``/api/runs/meta`` tells k.
+little-endian binary body in the layout of :mod:`mimics.interfaces.web.live_frames`
+(which writes it, for the live stream too). A long run is thinned to every k-th
+recorded step (always keeping the last) so that the body stays under
+:data:`FRAME_BYTES`; ``/api/runs/meta`` tells k.
 
 The inspector's routes work on those frames: ``/api/runs/robot`` gives one
 robot's speed, turn rate and references at every frame sent (from
