@@ -9,6 +9,7 @@ before ``t``, exactly as logged (no interpolation).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -176,17 +177,7 @@ def replay_data(run: Any) -> ReplayData:
     """
     scenario: Scenario = run.scenario
     n = scenario.robot_count
-    reader = getattr(run, "read_trajectory", None)  # a Run reads only the columns needed
-    try:
-        traj = (reader(columns=list(_TRAJECTORY_COLUMNS)) if callable(reader)
-                else run.trajectory)
-    except MimicsError:
-        raise
-    except Exception as exc:  # a truncated or corrupt file, whatever the reader raised
-        raise MimicsError(f"the run's trajectory cannot be read: {exc}") from exc
-    missing = [c for c in _TRAJECTORY_COLUMNS if c not in traj.columns]
-    if missing:
-        raise MimicsError(f"the run's trajectory lacks the column(s) {', '.join(missing)}")
+    traj = _trajectory(run, list(_TRAJECTORY_COLUMNS), _TRAJECTORY_COLUMNS)
     if len(traj) == 0:
         raise MimicsError("the run's trajectory is empty: nothing to replay")
     steps = traj["step"].to_numpy(np.int64)
@@ -233,19 +224,7 @@ def robot_motion(run: Any, robot: int, times: np.ndarray) -> np.ndarray:
     Raises:
         MimicsError: when the trajectory cannot be read or lacks the columns.
     """
-    reader = getattr(run, "read_trajectory", None)
-    try:
-        if callable(reader):  # only this robot's rows and the columns shown
-            traj = reader(columns=["time", *MOTION_COLUMNS], robots=[int(robot)])
-        else:
-            traj = run.trajectory[run.trajectory["robot"] == robot]
-    except MimicsError:
-        raise
-    except Exception as exc:  # a truncated or corrupt file, whatever the reader raised
-        raise MimicsError(f"the run's trajectory cannot be read: {exc}") from exc
-    missing = [c for c in MOTION_COLUMNS if c not in traj.columns]
-    if missing:
-        raise MimicsError(f"the run's trajectory lacks the column(s) {', '.join(missing)}")
+    traj = _trajectory(run, ["time", *MOTION_COLUMNS], MOTION_COLUMNS, robot=int(robot))
     motion = np.full((len(times), len(MOTION_COLUMNS)), np.nan)
     if len(traj) == 0:
         return motion
@@ -301,3 +280,29 @@ def _livelock_mask(times: np.ndarray, n: int, events: Any) -> np.ndarray:
     for r, start in open_since.items():
         mask[times >= start - _EPS, r] = True
     return mask
+
+
+def _trajectory(run: Any, columns: list[str], required: Sequence[str],
+                robot: int | None = None) -> Any:
+    """The run's trajectory rows (of ``robot`` only, if given) with ``columns``: a
+    :class:`~mimics.records.run_folder.Run` reads only those; an in-memory run is filtered.
+
+    Raises:
+        MimicsError: when the file cannot be read or lacks one of ``required``.
+    """
+    reader = getattr(run, "read_trajectory", None)
+    try:
+        if callable(reader):
+            traj = reader(columns=columns, **({} if robot is None else {"robots": [robot]}))
+        else:
+            traj = run.trajectory
+            if robot is not None:
+                traj = traj[traj["robot"] == robot]
+    except MimicsError:
+        raise
+    except Exception as exc:  # a truncated or corrupt file, whatever the reader raised
+        raise MimicsError(f"the run's trajectory cannot be read: {exc}") from exc
+    missing = [c for c in required if c not in traj.columns]
+    if missing:
+        raise MimicsError(f"the run's trajectory lacks the column(s) {', '.join(missing)}")
+    return traj

@@ -12,6 +12,13 @@ from tests.interfaces.ros.helpers import NODES
 from tests.system_packages import require
 
 
+def run_battery(battery):
+    """``mimics battery run`` of ``battery`` on one worker, into ``out`` beside it."""
+    return subprocess.run([sys.executable, "-m", "mimics", "battery", "run", str(battery),
+                           "--out", str(battery.parent / "out"), "--workers", "1"],
+                          capture_output=True, text=True, timeout=300, check=False)
+
+
 def test_battery_ros_timeout_ends_a_run_whose_node_died(tmp_path):
     require("ros")
     shutil.copy(NODES / "failsafe_node.py", tmp_path / "failsafe_node.py")
@@ -25,9 +32,7 @@ time = 2
 name = "line"
 robots = 2
 ''')
-    done = subprocess.run([sys.executable, "-m", "mimics", "battery", "run", str(battery),
-                           "--out", str(tmp_path / "out"), "--workers", "1"],
-                          capture_output=True, text=True, timeout=300, check=False)
+    done = run_battery(battery)
     assert done.returncode in (0, 1), done.stdout + done.stderr
     (run,) = (tmp_path / "out" / "runs").iterdir()
     summary = json.loads((run / "summary.json").read_text())
@@ -53,9 +58,7 @@ ros_timeout = 20
 name = "line"
 robots = 2
 ''')
-    done = subprocess.run([sys.executable, "-m", "mimics", "battery", "run", str(battery),
-                           "--out", str(tmp_path / "out"), "--workers", "1"],
-                          capture_output=True, text=True, timeout=300, check=False)
+    done = run_battery(battery)
     assert done.returncode == 0, done.stdout + done.stderr
     runs = sorted((tmp_path / "out" / "runs").iterdir())
     assert [json.loads((run / "summary.json").read_text())["status"] for run in runs] == [
