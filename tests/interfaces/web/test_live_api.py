@@ -234,12 +234,18 @@ def test_stop_ends_the_worker_of_a_step_that_never_returns(
     from mimics.interfaces.web import live_runs
 
     monkeypatch.setattr(live_runs, "STOP_GRACE", 1.0)
+    inside = workspace / "inside"  # written once the step is under way: Stop comes after
     (workspace / "algorithms" / "hangs.py").write_text(
-        "def step(robot):\n    while True:\n        pass\n")
+        f"def step(robot):\n    open({str(inside)!r}, 'w').close()\n    while True:\n"
+        "        pass\n")
     client = live_client
     run = client.post("/api/live", json={"scenario": "scenarios/two.toml",
                                          "algorithm": "algorithms/hangs.py"}).json()
     assert run["state"] == "running"
+    deadline = time.monotonic() + 60
+    while not inside.exists():
+        assert time.monotonic() < deadline, "the algorithm's step never started"
+        time.sleep(0.05)
     assert client.post(f"/api/live/{run['id']}/stop").status_code == 200
     end = wait_for(client, run["id"], "finished", "error")
     assert end["state"] == "error"
