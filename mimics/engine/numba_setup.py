@@ -1,7 +1,7 @@
 """How the engine sets Numba up, before any kernel is compiled or loaded.
 
 A warm run spends most of its start-up around Numba's cached kernels rather
-than in them, so three things are changed:
+than in them, so these things are changed:
 
 * **A kernel of mimics loaded from the disk cache does not refresh Numba.**
   Before every cache load Numba refreshes its typing and lowering registries
@@ -35,6 +35,23 @@ than in them, so three things are changed:
   as a cached kernel is; the first process of an install compiles it as Numba
   does and writes it.
 
+* **Numba's import skips two imports it only needs for a check.** Numba imports
+  SciPy to check that its version is at least 1.0 (the project requires a
+  newer one) and PyYAML to read a ``.numba_config.yaml`` that is not there:
+  10 to 40 ms of a warm run, skipped (the first import of each by Numba's own
+  module fails once; a config file in the working folder keeps PyYAML's).
+  And while one of mimics' own kernels loads, Numba's bookkeeping around each
+  call into LLVM (an event per lock, for compile statistics) is off: about
+  3,500 calls of a warm Cave run, 10 ms.
+
+* **A library loaded from the cache reads its symbols from its machine code.**
+  Numba keeps each cached kernel's LLVM module beside its machine code, for a
+  later compile to link in, and parses it at every load to list the names the
+  library defines (1.5 to 2.5 ms a kernel, a third of a warm Cave run's
+  loads). The names are read from the ELF object's symbol table instead (the
+  same set: tested) and the module is parsed when a compile first links it.
+  Other object formats load as Numba ships.
+
 All leave the kernels' machine code and results as they are: the same cache
 files are loaded, only less of Numba is imported or compiled around them. With
 a Numba whose internals differ, each change is skipped and Numba behaves as
@@ -48,8 +65,10 @@ import hashlib
 import importlib.util
 import os
 import pickle
+import struct
 import sys
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -95,8 +114,70 @@ class _BeforeArraymath:
         return None  # the import goes on as usual
 
 
+class _SkippedByNumba:
+    """An import hook: the first import of a module by one module of Numba fails (Numba
+    handles that: it skips a check), every other import of it goes on as usual."""
+
+    def __init__(self, skipped: dict[str, str]) -> None:
+        self.skipped = dict(skipped)  # module -> the Numba module whose import of it fails
+
+    def find_spec(self, name: str, path: Any = None, target: Any = None) -> None:
+        importer = self.skipped.get(name)
+        if importer is not None and _imported_by(importer):
+            del self.skipped[name]
+            raise ModuleNotFoundError(f"{name}: skipped by mimics in {importer}", name=name)
+        return None
+
+
+def _imported_by(module: str) -> bool:
+    """Whether the import under way is a statement of ``module`` (its frame is on the
+    stack, below the import machinery's own frames)."""
+    frame = sys._getframe(2)
+    for _ in range(12):
+        if frame is None:
+            return False
+        if frame.f_globals.get("__name__") == module:
+            return True
+        frame = frame.f_back
+    return False
+
+
+def _import_numba() -> None:
+    """Import Numba, skipping its SciPy version check and, with no config file here,
+    PyYAML (see the module's docstring)."""
+    if "numba" in sys.modules:
+        return
+    skipped = {"scipy": "numba"}
+    if not os.path.isfile(".numba_config.yaml"):  # Numba's name for it, in the working folder
+        skipped["yaml"] = "numba.core.config"
+    hook = _SkippedByNumba(skipped)
+    sys.meta_path.insert(0, hook)
+    try:
+        import numba  # noqa: F401
+    finally:
+        with contextlib.suppress(ValueError):
+            sys.meta_path.remove(hook)
+
+
+@contextlib.contextmanager
+def _quiet_llvm_lock() -> Iterator[None]:
+    """Numba's callbacks on each call into LLVM (events for its compile statistics) off
+    for the block: a cache load makes thousands of calls and records no statistics."""
+    ffi = sys.modules.get("llvmlite.binding.ffi")
+    lock = getattr(getattr(ffi, "lib", None), "_lock", None)
+    if not isinstance(getattr(lock, "_cblist", None), list):  # laid out otherwise: as shipped
+        yield
+        return
+    saved, lock._cblist = lock._cblist, []  # type: ignore[union-attr]
+    try:
+        yield
+    finally:
+        lock._cblist = saved  # type: ignore[union-attr]
+
+
 def set_up_numba() -> None:
     """Make the changes of the module's docstring (once per process)."""
+    _import_numba()
     try:
         from numba.core import caching, dispatcher
         from numba.core.runtime import rtsys
@@ -120,7 +201,7 @@ def set_up_numba() -> None:
         if not _is_ours(getattr(self, "_py_func", None)):
             return full_load(self, sig, target_context)
         rtsys.initialize(target_context)  # the runtime that the loaded code calls
-        with self._guard_against_spurious_io_errors():
+        with self._guard_against_spurious_io_errors(), _quiet_llvm_lock():
             return self._load_overload(sig, target_context)
         # None when the guard swallowed an error: Numba compiles, as it would
 
@@ -134,6 +215,7 @@ def set_up_numba() -> None:
     cache_class.load_overload = load_overload
     dispatcher_class._compilation_chain_init_hook = compilation_chain_init_hook
     _cache_runtime_library()
+    _link_modules_when_needed()
 
 
 def _runtime_anchor() -> None:
@@ -194,3 +276,71 @@ def _write_atomically(path: Path, data: bytes) -> None:
         with contextlib.suppress(OSError):
             os.unlink(name)
         raise
+
+
+def _link_modules_when_needed() -> None:
+    """A library loaded from the cache reads its symbols from its machine code; its LLVM
+    module (kept for a later compile to link in) is parsed only when one does."""
+    try:
+        import llvmlite.binding as ll
+        from numba.core.codegen import CPUCodeLibrary
+    except ImportError:
+        return
+    full_unserialize = CPUCodeLibrary.__dict__.get("_unserialize")
+    full_linking_module = CPUCodeLibrary.__dict__.get("_get_module_for_linking")
+    if not isinstance(full_unserialize, classmethod) or full_linking_module is None \
+            or getattr(full_linking_module, "light_by_mimics", False):
+        return
+    needed = ("create_library", "_engine")
+
+    def unserialize(cls: Any, codegen: Any, state: Any) -> Any:
+        name, kind, data = state
+        symbols = defined_symbols(data[0]) if kind == "object" else None
+        engine = getattr(codegen, "_engine", None)
+        if symbols is None or not isinstance(getattr(engine, "_defined_symbols", None), set) \
+                or not all(hasattr(codegen, part) for part in needed):
+            return full_unserialize.__func__(cls, codegen, state)
+        object_code, shared_bitcode = data
+        library = codegen.create_library(name)
+        library.enable_object_caching()
+        library._set_compiled_object(object_code)
+        library._linking_bitcode_by_mimics = shared_bitcode
+        library._finalize_final_module()
+        engine._defined_symbols |= symbols  # what Numba reads from the parsed module
+        return library
+
+    def get_module_for_linking(self: Any) -> Any:
+        bitcode = self.__dict__.pop("_linking_bitcode_by_mimics", None)
+        if bitcode is not None:
+            self._shared_module = ll.parse_bitcode(bitcode)
+        return full_linking_module(self)
+
+    get_module_for_linking.light_by_mimics = True  # type: ignore[attr-defined]
+    CPUCodeLibrary._unserialize = classmethod(unserialize)  # type: ignore[assignment]
+    CPUCodeLibrary._get_module_for_linking = get_module_for_linking  # type: ignore[method-assign]
+
+
+def defined_symbols(object_code: bytes) -> set[str] | None:
+    """The names an ELF64 little-endian object file defines (its symbol table's entries
+    in a section, files and sections aside), or None for any other object format."""
+    if object_code[:6] != b"\x7fELF\x02\x01":
+        return None
+    try:
+        (section_table,) = struct.unpack_from("<Q", object_code, 0x28)
+        entry_size, count = struct.unpack_from("<HH", object_code, 0x3A)
+        sections = [struct.unpack_from("<IIQQQQIIQQ", object_code, section_table + i * entry_size)
+                    for i in range(count)]
+        names: set[str] = set()
+        for _, kind, _, _, offset, size, link, _, _, symbol_size in sections:
+            if kind != 2 or symbol_size <= 0:  # SHT_SYMTAB
+                continue
+            strings = sections[link][4]
+            for start in range(offset, offset + size, symbol_size):
+                name, info, _, section, _, _ = struct.unpack_from("<IBBHQQ", object_code, start)
+                # defined (in a section) and named; not a file or section symbol
+                if name and section != 0 and (info & 0xF) not in (3, 4):
+                    end = object_code.index(b"\0", strings + name)
+                    names.add(object_code[strings + name:end].decode())
+        return names
+    except (struct.error, ValueError, IndexError, UnicodeDecodeError):
+        return None

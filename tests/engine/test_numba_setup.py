@@ -98,3 +98,104 @@ def test_cached_kernels_load_without_refreshing_numba_and_others_as_shipped(tmp_
     assert loaded["doubled"] == [0.0, 2.0, 4.0]
     # the runtime's machine code was kept beside the engine's kernels, and loaded
     assert list(runtime_cache_folder().glob("numba_runtime-*.pkl"))
+
+
+IMPORTS = textwrap.dedent("""
+    import json, sys
+    import mimics.engine  # imports Numba, as every run does
+    from mimics.engine import warm_up
+
+    before = {name: name in sys.modules for name in ("scipy", "yaml")}
+    warm_up.compile_index_kernels()  # loads (or compiles) kernels of mimics
+    import numba
+    import llvmlite.binding.ffi as ffi
+    import scipy, yaml  # what Numba skipped imports as usual afterwards
+
+    print(json.dumps({"before": before, "developer_mode": numba.config.DEVELOPER_MODE,
+                      "lock_callbacks": len(ffi.lib._lock._cblist),
+                      "scipy": scipy.__version__.count(".") >= 1, "yaml": yaml.safe_load("a: 1")}))
+""")
+
+
+def run_imports(folder: Path) -> dict[str, object]:
+    done = subprocess.run([sys.executable, "-c", IMPORTS], cwd=folder, capture_output=True,
+                          text=True, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def test_numba_is_imported_without_its_scipy_check_and_yaml_unless_a_config_file_is_there(
+        tmp_path):
+    plain = run_imports(tmp_path)
+    assert plain["before"] == {"scipy": False, "yaml": False}
+    assert plain["scipy"] is True and plain["yaml"] == {"a": 1}
+    # Numba's own callbacks around LLVM calls are back after the kernels' loads
+    assert plain["lock_callbacks"] >= 1
+    # a Numba config file in the working folder is read, as Numba documents (PyYAML kept)
+    (tmp_path / ".numba_config.yaml").write_text("developer_mode: 1\n")
+    configured = run_imports(tmp_path)
+    assert configured["before"]["yaml"] is True
+    assert configured["developer_mode"] == 1
+
+
+LINKING = textwrap.dedent("""
+    import json
+    import llvmlite.binding as ll
+    from numba import njit
+    from mimics.engine import numba_setup, warm_up
+    from mimics.engine.spatial_index import grid_frame
+    from numba.core.codegen import CPUCodeLibrary
+
+    objects = {}  # each library's machine code, as it is set (a load consumes it)
+    set_object = CPUCodeLibrary._set_compiled_object
+
+    def keep_object(library, value):
+        objects[id(library)] = value
+        set_object(library, value)
+
+    CPUCodeLibrary._set_compiled_object = keep_object
+    warm_up.compile_index_kernels()  # grid_frame among them, from the cache
+    warm_up.compile_motion_kernels()
+    libraries = [overload.library for kernel in warm_up._WITNESSES["index"]
+                 + warm_up._WITNESSES["motion"] + (grid_frame,)
+                 for overload in kernel.overloads.values()]
+    engine = libraries[0]._codegen._engine
+    checked = []
+    for library in libraries:
+        bitcode = getattr(library, "_linking_bitcode_by_mimics", None)
+        if bitcode is None:
+            continue
+        module = ll.parse_bitcode(bitcode)  # what Numba would have parsed at the load
+        numba_names = {value.name for values in (module.functions, module.global_variables)
+                       for value in values if not value.is_declaration}
+        from_object = numba_setup.defined_symbols(objects[id(library)])
+        checked.append(from_object == numba_names and numba_names <= engine._defined_symbols)
+
+    @njit
+    def cells_of_a_box(x):  # a new compile that links the loaded grid_frame in
+        origin, shape, cell = grid_frame(0.0, 0.0, x, 2.0, 0.5)
+        return shape[0] * shape[1]
+
+    print(json.dumps({"checked": checked, "cells": int(cells_of_a_box(3.0)),
+                      "direct": [int(n) for n in grid_frame(0.0, 0.0, 3.0, 2.0, 0.5)[1]]}))
+""")
+
+
+def test_a_cached_kernel_loads_its_symbols_from_its_machine_code_and_links_later(tmp_path):
+    (tmp_path / "user_kernel.py").write_text(USER_KERNEL)
+    run_fresh(tmp_path)  # the engine's caches filled
+    done = subprocess.run([sys.executable, "-c", LINKING], cwd=tmp_path, capture_output=True,
+                          text=True, check=True)
+    seen = json.loads(done.stdout.strip().splitlines()[-1])
+    # every library loaded from the cache defines, by its object file's symbol table, the
+    # names Numba reads from its LLVM module, and the execution engine knows them all
+    assert len(seen["checked"]) >= 5 and all(seen["checked"])
+    # a kernel compiled afterwards links a loaded one (its module parsed then) and runs
+    assert seen["direct"] == [6, 4]
+    assert seen["cells"] == 24
+
+
+def test_defined_symbols_reads_only_elf64_little_endian_objects():
+    from mimics.engine.numba_setup import defined_symbols
+
+    assert defined_symbols(b"\xcf\xfa\xed\xfe" + bytes(60)) is None  # Mach-O
+    assert defined_symbols(b"\x7fELF\x02\x01" + bytes(10)) is None  # cut short
