@@ -25,7 +25,7 @@ def test_battery_ros_timeout_ends_a_run_whose_node_died(tmp_path):
     battery = tmp_path / "battery.toml"
     battery.write_text('''[battery]
 algorithms = ["ros:failsafe_node.py --mode die --robots {robots} --at 0.3"]
-ros_timeout = 1.5
+ros_timeout = 4
 time = 2
 
 [[scenarios]]
@@ -37,7 +37,7 @@ robots = 2
     (run,) = (tmp_path / "out" / "runs").iterdir()
     summary = json.loads((run / "summary.json").read_text())
     assert summary["status"] == "error"
-    assert "within 1.5 s (ros_timeout in the battery file)" in summary["error"]
+    assert "within 4 s (ros_timeout in the battery file)" in summary["error"]
     assert "t=0.3 s" in summary["error"]  # the node died answering step 3
 
 
