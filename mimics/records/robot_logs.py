@@ -282,7 +282,10 @@ def _write_group(batch: _BatchLogs, group: np.ndarray) -> list[Path]:
                           ";".join(LOG_COLUMNS), ";".join(LOG_UNITS)]) + "\n"
         tail = "\n" + DEACTIVATION + " ".join(ending.split()) + "\n"
         path = batch.out / robot_log_name(robot, n)
-        path.write_bytes(b"".join((head.encode(), rows, tail.encode())))
+        with path.open("wb") as file:  # in turn: the lines (130 kB a robot) are not copied
+            file.write(head.encode())    # into one bytes first
+            file.write(rows)
+            file.write(tail.encode())
         paths.append(path)
     return paths
 
