@@ -125,8 +125,9 @@ class TrajectoryBuffer:
             return
         self.writer.write(table, last)
         # the table written is views of the columns, and the writer may keep it: the
-        # next rows go into new ones
+        # next rows go into new ones, sized for the rest of the run
         self._columns = None
+        self._reserve = max(self._reserve - table.num_rows, 0)
         self._times.clear()
         self._steps.clear()
         self._counts.clear()
