@@ -89,16 +89,18 @@ def _robot_lines(scenario: Scenario, names: list[str]) -> list[str]:
     """One inline table per robot: ``  { type = "T", x = 1.0, y = 2.0, yaw = 0.0, v = 0.0 },``
     and ``goal = [gx, gy]`` before the brace when it has one.
 
-    Built from Python floats (``tolist``) with ``repr`` inlined: 100,000 robots in
-    about 0.15 s rather than 0.4 s with a NumPy row and a call per number.
+    Made from flat lists of Python floats (``tolist`` of each column: floats are not
+    tracked by the garbage collector, unlike a list per robot, whose 100,000 survivors
+    set off full collections in a process holding the compiled kernels) with ``repr``
+    inlined: 100,000 robots in about 0.27 s rather than 0.33 s.
     """
     types = [f"  {{ type = {_string(name)}, x = " for name in names]
-    has_goal = scenario.has_goal.tolist()
-    goals = scenario.goals.tolist()
+    stages, goals = scenario.stages, scenario.goals
     lines = []
-    for kind, (x, y, yaw, v), goal, (gx, gy) in zip(
-            scenario.type_index.tolist(), scenario.stages.tolist(), has_goal, goals,
-            strict=True):
+    for kind, x, y, yaw, v, goal, gx, gy in zip(
+            scenario.type_index.tolist(), stages[:, 0].tolist(), stages[:, 1].tolist(),
+            stages[:, 2].tolist(), stages[:, 3].tolist(), scenario.has_goal.tolist(),
+            goals[:, 0].tolist(), goals[:, 1].tolist(), strict=True):
         end = f", goal = [{gx!r}, {gy!r}] }}," if goal else " },"
         lines.append(f"{types[kind]}{x!r}, y = {y!r}, yaw = {yaw!r}, v = {v!r}{end}")
     return lines
