@@ -193,10 +193,6 @@ class RunRecorder:
             layout = ScanLayout.from_scenario(sim.scenario)
             self._scans = ScanBuffer(self._writer(SCANS_PARTS, layout.schema()), layout)
             self._scans.add(sim.state, np.flatnonzero(sim.state.active))
-        # room for the whole run's rows (a part's at most) at once: no growing copies
-        steps = sim.max_steps - sim.state.step
-        self._trajectory.reserve(min(sim.state.n * (steps // self.every + 2),
-                                     self.flush_rows + sim.state.n))
         self._trajectory.add(sim.state, everyone)
         self._events.collect(sim.events, sim.state, everyone)
         self._full_step = sim.state.step
