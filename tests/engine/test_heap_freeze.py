@@ -60,3 +60,10 @@ def test_a_run_leaves_nothing_frozen() -> None:
     Simulation(scenario(robots=2), go_to_goal, seed=1, time_limit=0.3,
                observers=[Watch()]).run()
     assert seen and min(seen) > 0 and gc.get_freeze_count() == 0
+
+
+def test_the_set_up_leaves_nothing_frozen() -> None:
+    from mimics.records.runner import prepare
+
+    sim = prepare("line", "go_to_goal", robots=2, seed=1)
+    assert sim.state.n == 2 and gc.get_freeze_count() == 0
