@@ -1,18 +1,25 @@
-"""What recording a run costs: the line scenario with and without its run folder.
+"""What recording a run costs: a scenario with and without its run folder.
 
     python benchmarks/logging_overhead.py [--robots 60] [--repeats 5] [--warmup 1]
+                                          [--scenario line] [--algorithm go_to_goal]
+                                          [--time SECONDS]
 
-Times whole runs (start to the last file written) of the paper's line
-scenario with ``go_to_goal``: plain ``Simulation.run()``, and ``run_to_folder``
-with the per-robot logs (60 robots: "auto" writes them) and without them.
+Times whole runs (start to the last file written) of a scenario (by default the
+paper's line with ``go_to_goal``; ``--scenario cave --algorithm deployment
+--robots 100 --time 60`` is issue 39's per-robot logs bar): plain
+``Simulation.run()``, and ``run_to_folder`` with the per-robot logs (60
+robots: "auto" writes them) and without them.
 Runs alternate between the ways so that drift hits all alike; the figures are
 medians of ``--repeats`` runs after ``--warmup`` runs. Prints s_sim/s and
-robot-steps/s and writes benchmarks/results/logging_overhead.json.
+robot-steps/s and writes benchmarks/results/logging_overhead.json
+(``logging_overhead_SCENARIO.json`` for another scenario).
 
 Two figures of the cost: ``overhead``, the median wall time against the
 unrecorded runs (end to end, but blurred by whatever else the machine does),
 and ``recorder``, the time the recorder spent by its own clock (in the step
-loop and at the end) over the rest of the run's time.
+loop and at the end) over the rest of the run's time. The last line gives
+what the per-robot logs alone cost: the median of each round's run with logs
+over its run without them, less one.
 """
 
 from __future__ import annotations
@@ -26,21 +33,22 @@ import time
 from pathlib import Path
 from typing import Any
 
-from mimics.algorithms import go_to_goal
+from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.simulation import Simulation
 from mimics.records.runner import run_to_folder
-from mimics.scenarios.line import scenario
 
-RESULTS = Path(__file__).parent / "results" / "logging_overhead.json"
+RESULTS = Path(__file__).parent / "results"
 
 
-def timed_run(robots: int, way: str, folder: Path) -> tuple[float, float, Simulation]:
-    """One run of the line scenario recorded ``way`` ("none", "logs" or "no_logs").
+def timed_run(args: argparse.Namespace, way: str, folder: Path
+              ) -> tuple[float, float, Simulation]:
+    """One run of ``args``' scenario recorded ``way`` ("none", "logs" or "no_logs").
 
     Returns the wall time of the whole run, the part of it the recorder spent
     (by its own clock, from summary.json) and the simulation.
     """
-    sim = Simulation(scenario(robots=robots), go_to_goal, seed=1)
+    sim = Simulation(load_scenario(args.scenario, robots=args.robots),
+                     find_algorithm(args.algorithm)[1], seed=1, time_limit=args.time)
     start = time.perf_counter()
     recorder = 0.0
     if way == "none":
@@ -57,6 +65,10 @@ def main() -> None:
     parser.add_argument("--robots", type=int, default=60)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--warmup", type=int, default=1)
+    parser.add_argument("--scenario", default="line")
+    parser.add_argument("--algorithm", default="go_to_goal")
+    parser.add_argument("--time", type=float, default=None,
+                        help="simulated seconds (default: the scenario's own limit)")
     args = parser.parse_args()
     ways = ("none", "logs", "no_logs")
     walls: dict[str, list[float]] = {w: [] for w in ways}
@@ -65,7 +77,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for attempt in range(args.warmup + args.repeats):
             for way in ways:
-                wall, recorder, sim = timed_run(args.robots, way, Path(tmp) / way)
+                wall, recorder, sim = timed_run(args, way, Path(tmp) / way)
                 if attempt >= args.warmup:
                     walls[way].append(wall)
                     spent[way].append(recorder / (wall - recorder))
@@ -83,8 +95,9 @@ def main() -> None:
                      "overhead": wall / base - 1.0,
                      "recorder_share": statistics.median(spent[way]),
                      "folder_bytes": sizes.get(way, 0)}
-    print(f"line, {args.robots} robots, {sample['none'].state.step} steps, median of "
-          f"{args.repeats} runs after {args.warmup} warm-up")
+    print(f"{args.scenario} / {args.algorithm}, {args.robots} robots, "
+          f"{sample['none'].state.step} steps, median of {args.repeats} runs after "
+          f"{args.warmup} warm-up")
     print(f"{'recording':>24} {'wall s':>8} {'s_sim/s':>9} {'robot-steps/s':>14} "
           f"{'overhead':>9} {'recorder':>9} {'folder':>9}")
     labels = {"none": "none (Simulation.run)", "logs": "run folder + robot logs",
@@ -95,13 +108,20 @@ def main() -> None:
               f"{r['robot_steps_per_s']:14.0f} {100 * r['overhead']:8.1f}% "
               f"{100 * r['recorder_share']:8.1f}% "
               f"{r['folder_bytes'] / 1e3:7.0f} kB")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps({
-        "benchmark": "logging_overhead", "scenario": "line", "algorithm": "go_to_goal",
+    logs_cost = statistics.median(a / b - 1.0 for a, b in zip(walls["logs"], walls["no_logs"],
+                                                                strict=True))
+    print(f"the per-robot logs cost {100 * logs_cost:.1f}% of the run without them "
+          "(median of the rounds' ratios)")
+    results = RESULTS / ("logging_overhead.json" if args.scenario == "line"
+                         else f"logging_overhead_{args.scenario}.json")
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    results.write_text(json.dumps({
+        "benchmark": "logging_overhead", "scenario": args.scenario,
+        "algorithm": args.algorithm, "time": args.time, "logs_cost": logs_cost,
         "robots": args.robots, "steps": sample["none"].state.step, "repeats": args.repeats,
         "warmup": args.warmup, "machine": platform.platform(), "python": platform.python_version(),
         "ways": rows}, indent=2) + "\n")
-    print(f"wrote {RESULTS}")
+    print(f"wrote {results}")
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
     python benchmarks/phases.py [--scenario cave] [--algorithm deployment_team]
                                 [--time 60] [--robots N [N ...]] [--runs 1]
                                 [--robot-logs auto|on|off] [--no-logging]
+                                [--first-steps K]
 
 Wraps the step's phases (the ``Simulation`` methods a step calls, the kernels
 it calls and the recorder's hooks) in wall-clock timers, runs the scenario
@@ -17,6 +18,12 @@ swarm --algorithm dispersion_team --robots 100 10000``) it prints nanoseconds
 per robot-step of each phase at each size instead, and what each phase costs
 per step at the smallest size beyond the largest size's rate: where the cost
 per robot-step is not flat in the team size (issue 21's swarm bar).
+
+With ``--first-steps K`` it times one fresh run's set-up instead (the
+scenario's load, ``Simulation()``, ``start()``) and its first ``K`` steps one
+by one, each phase of the first step beside its median over steps 2..K (issue
+39: the first step no slower than the next ones), e.g. ``--scenario swarm
+--algorithm dispersion_team --robots 100000 --first-steps 5 --robot-logs off``.
 """
 
 from __future__ import annotations
@@ -91,6 +98,46 @@ def measure(args: argparse.Namespace, robots: int | None) -> tuple[Simulation, f
                                            for label, values in phases.items()}
 
 
+def first_steps(args: argparse.Namespace) -> None:
+    """Time the set-up and the first ``args.first_steps`` steps of one run, phase by phase."""
+    algorithm = find_algorithm(args.algorithm)[1]
+    params = {} if args.robots is None else {"robots": args.robots[0]}
+    began = time.perf_counter()
+    scenario = load_scenario(args.scenario, **params)
+    loaded = time.perf_counter()
+    sim = Simulation(scenario, algorithm, seed=1, time_limit=args.time)
+    built = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="mimics-phases-") as folder:
+        if not args.no_logging:
+            sim.observers.append(RunRecorder(folder, robot_logs=args.robot_logs))
+        timed(sim.controller, "compute", "algorithm (controller.compute)")
+        sim.start()
+        started = time.perf_counter()
+        print(f"{args.scenario} / {args.algorithm}, {sim.state.n} robots: load "
+              f"{loaded - began:.3f} s, Simulation() {built - loaded:.3f} s, start() "
+              f"{started - built:.3f} s")
+        steps: list[tuple[float, dict[str, float]]] = []
+        for _ in range(args.first_steps):
+            totals.clear()
+            start = time.perf_counter()
+            going = sim.step()
+            steps.append((time.perf_counter() - start, dict(totals)))
+            if not going:
+                break
+    print("  step " + " ".join(f"{k + 1:>8d}" for k in range(len(steps))) + "  (ms)")
+    print("  whole" + " ".join(f"{wall * 1e3:8.1f}" for wall, _ in steps))
+    if len(steps) < 2:
+        return
+    later = steps[1:]
+    labels = sorted(steps[0][1], key=lambda label: -steps[0][1][label])
+    print(f"  {'phase':34s} {'step 1':>9s} {'median 2..' + str(len(steps)):>13s}")
+    for label in ["whole step", *labels]:
+        first = steps[0][0] if label == "whole step" else steps[0][1].get(label, 0.0)
+        rest = statistics.median(wall if label == "whole step" else phases.get(label, 0.0)
+                                 for wall, phases in later)
+        print(f"  {label:34s} {first * 1e3:9.1f} {rest * 1e3:13.1f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -104,6 +151,8 @@ def main() -> None:
     parser.add_argument("--robot-logs", choices=["auto", "on", "off"], default="auto",
                         help="per-robot text logs when logging (auto: up to 200 robots)")
     parser.add_argument("--no-logging", action="store_true")
+    parser.add_argument("--first-steps", type=int, default=0,
+                        help="time the set-up and these first steps of one run, one by one")
     args = parser.parse_args()
     for name in STEP_PHASES:
         timed(Simulation, name, name)
@@ -111,6 +160,9 @@ def main() -> None:
         timed(module, name, name)
     for name in RECORDER_HOOKS:
         timed(RunRecorder, name, "recorder." + name)
+    if args.first_steps:
+        first_steps(args)
+        return
     logging = "off" if args.no_logging else f"on, robot logs {args.robot_logs}"
     if args.robots is None or len(args.robots) == 1:
         sim, wall, phases = measure(args, args.robots[0] if args.robots else None)

@@ -28,6 +28,7 @@ from mimics.engine.controllers import Controller, TeamController, UserFailure, c
 from mimics.engine.deactivations import RobotDeactivations
 from mimics.engine.dynamics import move_robots
 from mimics.engine.edits import WorldEdits
+from mimics.engine.heap_freeze import heap_frozen
 from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.noise_streams import AlgorithmStreams, RangerNoise, StepStreams
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state, run_digest
@@ -147,12 +148,13 @@ class Simulation(RobotDeactivations, WorldEdits):
 
     def run(self) -> RunResult:
         """Run until an end criterion holds; returns the outcome."""
-        try:
-            self.start()
-            while self.step():
-                pass
-        finally:
-            self._close_watchdog()  # also when the run raises (an interrupt, a bug)
+        with heap_frozen():  # full collections skip the objects made before the run
+            try:
+                self.start()
+                while self.step():
+                    pass
+            finally:
+                self._close_watchdog()  # also when the run raises (an interrupt, a bug)
         return self.result()
 
     def start(self) -> None:

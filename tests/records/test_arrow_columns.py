@@ -64,6 +64,8 @@ def test_numpy_column_reads_chunks_and_slices(values: list[int], skip: int) -> N
                               pa.int32())
     assert numpy_column(column).tolist() == values[skip:] + values
     assert numpy_column(column).dtype == np.int32
+    alone = numpy_column(pa.array(values, pa.int32())[skip:])  # one chunk: a view of it
+    assert alone.tolist() == values[skip:] and alone.dtype == np.int32
 
 
 def test_what_the_columns_refuse() -> None:

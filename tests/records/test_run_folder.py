@@ -158,6 +158,32 @@ def test_the_log_has_the_papers_layout(line_run: tuple[Path, Capture]) -> None:
     assert lines[-3:] == ["", "Deactivation: Reached goal", ""]
 
 
+def test_each_log_byte_for_byte(line_run: tuple[Path, Capture]) -> None:
+    """Each log file rebuilt row by row from trajectory.parquet, each number cast to text
+    on its own by Arrow (the logs' number form), against the file's bytes: the writer's
+    runs, groups, threads and pieces change nothing."""
+    import pyarrow as pa
+
+    folder, _ = line_run
+    table = pq.read_table(folder / "trajectory.parquet").to_pylist()
+    summary = json.loads((folder / "summary.json").read_text())
+    for i in range(ROBOTS):
+        rows = [row for row in table if row["robot"] == i]
+        lines = ["scenario = line", "algorithm = go_to_goal",
+                 f"creation time = {summary['created']}",
+                 f"log uuid = {log_uuid(summary['run_uuid'], i)}", f"robot id = {i}",
+                 "type = Pioneer3AT", "vehicle width = 0.5", "vehicle length = 0.7", "seed = 1",
+                 "", ";".join(LOG_COLUMNS), ";".join(LOG_UNITS)]
+        for number, row in enumerate(rows):
+            texts = [pa.array([float(row[name])]).cast(pa.string())[0].as_py()
+                     for name in SOURCE_COLUMNS]
+            ending = ";Reached goal" if number == len(rows) - 1 else ";"
+            lines.append(";".join(texts) + ";" + ending)
+        lines += ["", "Deactivation: Reached goal", ""]
+        path = folder / "robots" / f"robot_{i:04d}.log"
+        assert path.read_bytes() == "\n".join(lines).encode(), path.name
+
+
 def test_logs_export_writes_the_same_files(line_run: tuple[Path, Capture],
                                            tmp_path: Path) -> None:
     folder, _ = line_run
