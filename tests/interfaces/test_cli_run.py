@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 
 import mimics
 from mimics.engine import warm_up
-from mimics.interfaces.cli import first_run
+from mimics.interfaces.cli import first_run, kernel_cache
 from mimics.interfaces.cli import program as cli
 from tests.processes import left_running, marked_environment
 
@@ -34,6 +34,7 @@ def fresh_install(monkeypatch) -> list[subprocess.Popen]:
         return started[-1]
 
     monkeypatch.setattr(warm_up, "missing_parts", lambda: list(warm_up.PARTS))
+    monkeypatch.setattr(kernel_cache, "missing_parts", lambda: list(warm_up.PARTS))
     monkeypatch.setattr(first_run.subprocess, "Popen", spy)
     return started
 
@@ -85,6 +86,7 @@ def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path):
 
 def test_warm_cache_says_nothing_about_compiling(tmp_path, monkeypatch):
     monkeypatch.setattr(warm_up, "missing_parts", lambda: [])
+    monkeypatch.setattr(kernel_cache, "missing_parts", lambda: [])
     result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--robots", "2", "--time",
                                      "0.5", "--out", str(tmp_path / "run")])
     assert result.exit_code == 0, result.output
