@@ -9,9 +9,10 @@ to a run that reads a scan: its first scan waits for that process; a run that
 reads none (``go_to_goal``) never waits, and the process is stopped when the
 run ends (the next run that scans compiles it then). The still part (what
 robots standing still can see) is only a speed-up: no run waits for it, its
-robots are pinned once it is done. The time spent compiling or waiting is on
-``mimics.engine.compile_clock``, which the summary reports on a line of its own
-and the run's wall time leaves out.
+robots are pinned once it is done; while the ray part is missing, it starts
+once that part is done (a run that reads no scan leaves it to the next). The
+time spent compiling or waiting is on ``mimics.engine.compile_clock``, which
+the summary reports on a line of its own and the run's wall time leaves out.
 
 The processes start before the run's own process imports NumPy, Numba and the
 engine (about 0.5 s on one core): the CLI calls :func:`start_compiles` first,
@@ -66,7 +67,9 @@ def stop_compiles() -> None:
 
 
 def _start(missing: list[str]) -> dict[str, subprocess.Popen[bytes]]:
-    """The compile processes of the missing parts but the index part (this process's)."""
+    """The compile processes of the missing parts but the index part (this process's)
+    and, while the ray part is missing, the still part (started once the ray part is
+    done: even at the lowest priority it took 3 s of CPU from the others, measured)."""
     if {"index", "motion"} & set(missing):  # what every run waits for (ray: at a scan)
         # No figure here: the measured one lives in docs/explanation/performance.md alone
         note("mimics: first run: compiling the simulation kernels (once: they are cached on "
@@ -75,7 +78,8 @@ def _start(missing: list[str]) -> dict[str, subprocess.Popen[bytes]]:
     return {part: subprocess.Popen(dying_with_parent(
                 [sys.executable, "-c", _NICE.get(part, "") + _COMPILE.format(part=part)]),
                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            for part in missing if part != "index"}
+            for part in missing
+            if part != "index" and not (part == "still" and "ray" in missing)}
 
 
 @contextmanager
@@ -99,9 +103,9 @@ def kernels_compiled_ahead() -> Iterator[None]:
             with waiting():
                 aside["motion"].wait()
         if "ray" in aside:
-            warm_up.ray_part_compiling_elsewhere(lambda: _await_ray(aside["ray"]))
-        if "still" in aside:  # never waited for: robots are pinned once it is done
-            warm_up.still_part_compiling_elsewhere(lambda: aside["still"].poll() is not None)
+            warm_up.ray_part_compiling_elsewhere(lambda: _await_ray(aside, missing))
+        if "still" in aside:
+            _still_part_elsewhere(aside["still"])
         yield
     finally:
         for process in aside.values():
@@ -112,11 +116,23 @@ def kernels_compiled_ahead() -> Iterator[None]:
         warm_up.forget_still_part()
 
 
-def _await_ray(process: subprocess.Popen[bytes]) -> None:
+def _await_ray(aside: dict[str, subprocess.Popen[bytes]], missing: list[str]) -> None:
     from mimics.engine.warm_up import compile_ray_helpers
 
+    process = aside["ray"]
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
              "(once: it is cached on disk for the next runs)")
         compile_ray_helpers()  # here, while the process compiles the kernel itself
         process.wait()
+    if "still" in missing and process.returncode == 0:  # its turn, the ray part done
+        # (not when the process was stopped: the run ended without reading a scan)
+        aside.update(_start(["still"]))
+        _still_part_elsewhere(aside["still"])
+
+
+def _still_part_elsewhere(process: subprocess.Popen[bytes]) -> None:
+    """Never waited for: the robots standing still are pinned once it is done."""
+    from mimics.engine.warm_up import still_part_compiling_elsewhere
+
+    still_part_compiling_elsewhere(lambda: process.poll() is not None)
