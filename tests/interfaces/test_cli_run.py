@@ -7,6 +7,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -16,7 +17,7 @@ import mimics
 from mimics.engine import warm_up
 from mimics.interfaces.cli import first_run, kernel_cache
 from mimics.interfaces.cli import program as cli
-from tests.processes import left_running, marked_environment
+from tests.processes import alive_with, left_running, marked_environment
 
 runner = CliRunner()
 
@@ -68,6 +69,36 @@ def test_a_first_run_that_scans_waits_for_the_ray_part(tmp_path, fresh_install):
     # the still part starts once the ray part is done, not with the others
     assert [compiled_part(p) for p in fresh_install] == ["motion", "ray", "still"]
     assert json.loads((out / "summary.json").read_text())["robots"] == 4
+
+
+def test_compiles_started_before_a_bad_option_is_found_are_stopped(tmp_path, fresh_install):
+    result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--view", "sometimes",
+                                     "--out", str(tmp_path / "run")])
+    assert result.exit_code == 2, result.output
+    assert "--view: expected one of" in result.output
+    assert [compiled_part(p) for p in fresh_install] == ["motion", "ray"]  # started early
+    assert all(p.returncode is not None for p in fresh_install)  # and stopped
+    assert first_run._started == []
+
+
+def test_a_killed_run_leaves_no_compile_process(tmp_path):
+    """With an empty cache the compile processes start before the run imports Numba;
+    killing the run (SIGKILL: no handler of its own runs) ends them too."""
+    env, marker = marked_environment()
+    env["NUMBA_CACHE_DIR"] = str(tmp_path / "empty-cache")
+    run = subprocess.Popen([sys.executable, "-m", "mimics", "run", "line", "go_to_goal",
+                            "--robots", "2", "--out", "run"], cwd=tmp_path, env=env,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        while (len([p for p in alive_with(marker) if "compile_part" in p]) < 2
+               and time.monotonic() < deadline and run.poll() is None):
+            time.sleep(0.05)
+        assert len([p for p in alive_with(marker) if "compile_part" in p]) == 2  # motion, ray
+    finally:
+        run.kill()
+        run.wait()
+    assert left_running(marker) == []
 
 
 def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path):
