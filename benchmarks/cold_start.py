@@ -8,8 +8,8 @@
 index, motion, the ray kernel, its helpers, still) alone in a fresh process with
 an empty cache and prints its CPU seconds (median) and its kernels' own compile
 times (nested compiles subtracted), slowest first: where a cold run's CPU goes,
-whatever the machine's load (the parts run in other processes than the run, so
-the run's own table does not list them). Not saved.
+whatever the machine's load (the cold run's table below gives wall seconds, which
+depend on how the parts share the cores). Not saved.
 
 ``--laser`` times issue 39's command instead, ``mimics run cave deployment
 --time 1``: the first run that reads the laser, whose bar is the whole

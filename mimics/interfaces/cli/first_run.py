@@ -15,7 +15,7 @@ time spent compiling or waiting is on ``mimics.engine.compile_clock``, which
 the summary reports on a line of its own and the run's wall time leaves out.
 
 The processes start before the run's own process imports NumPy, Numba and the
-engine (about 0.5 s on one core): the CLI calls :func:`start_compiles` first,
+engine (on one core, the other idle): the CLI calls :func:`start_compiles` first,
 which tells what the cache lacks without Numba
 (:mod:`mimics.interfaces.cli.kernel_cache`), so the ray part, the run's longest
 path, compiles on the other core meanwhile. Where that check cannot tell, the
@@ -69,7 +69,7 @@ def stop_compiles() -> None:
 def _start(missing: list[str]) -> dict[str, subprocess.Popen[bytes]]:
     """The compile processes of the missing parts but the index part (this process's)
     and, while the ray part is missing, the still part (started once the ray part is
-    done: even at the lowest priority it took 3 s of CPU from the others, measured)."""
+    done: even at the lowest priority it took the others' CPU; benchmarks/NOTES.md)."""
     if {"index", "motion"} & set(missing):  # what every run waits for (ray: at a scan)
         # No figure here: the measured one lives in docs/explanation/performance.md alone
         note("mimics: first run: compiling the simulation kernels (once: they are cached on "
