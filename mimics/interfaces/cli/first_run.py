@@ -96,6 +96,8 @@ def kernels_compiled_ahead() -> Iterator[None]:
     if not missing:
         yield
         return
+    # the parts to start once the ray part is done (at the run's first scan)
+    later = ["still"] if "still" in missing and "still" not in aside else []
     try:
         if "index" in missing:
             warm_up.compile_index_kernels()
@@ -103,11 +105,12 @@ def kernels_compiled_ahead() -> Iterator[None]:
             with waiting():
                 aside["motion"].wait()
         if "ray" in aside:
-            warm_up.ray_part_compiling_elsewhere(lambda: _await_ray(aside, missing))
+            warm_up.ray_part_compiling_elsewhere(lambda: _await_ray(aside, later))
         if "still" in aside:
             _still_part_elsewhere(aside["still"])
         yield
     finally:
+        later.clear()  # the run is over: nothing more to start
         for process in aside.values():
             if process.poll() is None:  # the ray part, unneeded: the next scanning run's
                 process.kill()
@@ -116,7 +119,7 @@ def kernels_compiled_ahead() -> Iterator[None]:
         warm_up.forget_still_part()
 
 
-def _await_ray(aside: dict[str, subprocess.Popen[bytes]], missing: list[str]) -> None:
+def _await_ray(aside: dict[str, subprocess.Popen[bytes]], later: list[str]) -> None:
     from mimics.engine.warm_up import compile_ray_helpers
 
     process = aside["ray"]
@@ -125,9 +128,9 @@ def _await_ray(aside: dict[str, subprocess.Popen[bytes]], missing: list[str]) ->
              "(once: it is cached on disk for the next runs)")
         compile_ray_helpers()  # here, while the process compiles the kernel itself
         process.wait()
-    if "still" in missing and process.returncode == 0:  # its turn, the ray part done
-        # (not when the process was stopped: the run ended without reading a scan)
-        aside.update(_start(["still"]))
+    if later and process.returncode == 0:  # their turn, the ray part done
+        aside.update(_start(later))
+        later.clear()
         _still_part_elsewhere(aside["still"])
 
 
