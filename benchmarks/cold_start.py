@@ -8,8 +8,8 @@
 index, motion, the ray kernel, its helpers, still) alone in a fresh process with
 an empty cache and prints its CPU seconds (median) and its kernels' own compile
 times (nested compiles subtracted), slowest first: where a cold run's CPU goes,
-whatever the machine's load (the parts run in other processes than the run, so
-the run's own table does not list them). Not saved.
+whatever the machine's load (the cold run's table below gives wall seconds, which
+depend on how the parts share the cores). Not saved.
 
 ``--laser`` times issue 39's command instead, ``mimics run cave deployment
 --time 1``: the first run that reads the laser, whose bar is the whole
@@ -29,9 +29,14 @@ the child, ``getrusage(RUSAGE_CHILDREN)``: on a shared machine wall time is
 noisy, CPU time less so. The first step is timed by a small wrapper around
 ``Simulation.step`` inside the child (the last simulation a run starts is the
 user's; the CLI's first-run compile runs a tiny one before it). One more cold
-run records every Numba compile (``numba.core.event``) and prints the
-per-kernel table: seconds per kernel and signature, nested compiles included
-in their caller's time. Targets (issue 21): cold <= 10 s, warm <= 1.5 s.
+run records every Numba compile (``numba.core.event``) in every process of the
+run, the run's own and the compile processes it starts (``index`` is compiled
+by the run's process, ``motion``, ``ray`` and ``still`` each by a process of
+their own; a ``sitecustomize`` put on the children's ``PYTHONPATH`` registers
+the listener, so this run is untimed), and prints the per-kernel table:
+seconds per kernel and signature, with the process that compiled it, nested
+compiles included in their caller's time. A kernel listed by two processes
+was compiled twice. Targets (issue 21): cold <= 10 s, warm <= 1.5 s.
 Merges the figures into benchmarks/results.json under ``cold_start``.
 """
 
@@ -57,27 +62,12 @@ LASER_COMMAND = ["run", "cave", "deployment", "--time", "1"]
 COLD_TARGET_S, WARM_TARGET_S = 10.0, 1.5
 
 # Runs inside the child: the CLI as `python -m mimics` would, plus a clock on the first
-# step of each simulation and, if asked, a listener on Numba's compile events.
+# step of each simulation.
 CHILD = r"""
 import atexit, json, sys, time
-out, events = sys.argv[1], sys.argv[2] == "1"
-sys.argv = ["mimics", *sys.argv[3:]]
-firsts, compiles, open_ = [], [], []
-if events:
-    from numba.core import event
-
-    class Timer(event.Listener):
-        def on_start(self, ev):
-            open_.append(time.monotonic())
-
-        def on_end(self, ev):
-            began = open_.pop()
-            d = ev.data["dispatcher"]
-            compiles.append({"kernel": d.py_func.__module__ + "." + d.py_func.__qualname__,
-                             "args": str(ev.data["args"]), "depth": len(open_),
-                             "s": time.monotonic() - began})
-
-    event.register("numba:compile", Timer())
+out = sys.argv[1]
+sys.argv = ["mimics", *sys.argv[2:]]
+firsts = []
 from mimics.engine.simulation import Simulation
 
 step = Simulation.step
@@ -94,29 +84,71 @@ Simulation.step = timed_step
 @atexit.register
 def _dump():
     with open(out, "w") as f:
-        json.dump({"first_steps": firsts, "compiles": compiles}, f)
+        json.dump({"first_steps": firsts}, f)
 
 from mimics.interfaces.cli.leave import console  # what `mimics` and `python -m mimics` run
 console()
 """
 
+# The sitecustomize of the run that lists the compiles: every Python process of the run
+# (the run's own, the compile processes) appends each compile to a file of its own as it
+# ends (a compile process ends by os._exit, without exit handlers). The process is named
+# by the part its command line compiles, or "run".
+EVENTS_SITE = r"""
+import json, os, re, time
+folder = os.environ["MIMICS_BENCH_COMPILES"]
+with open("/proc/self/cmdline", "rb") as f:
+    found = re.search(rb"compile_part\('(\w+)'\)", f.read())
+process = found.group(1).decode() if found else "run"
+from numba.core import event
+
+class _Timer(event.Listener):
+    def __init__(self):
+        self.open = []
+
+    def on_start(self, ev):
+        self.open.append(time.monotonic())
+
+    def on_end(self, ev):
+        began = self.open.pop()
+        d = ev.data["dispatcher"]
+        row = {"kernel": d.py_func.__module__ + "." + d.py_func.__qualname__,
+               "args": str(ev.data["args"]), "depth": len(self.open),
+               "s": time.monotonic() - began, "process": process}
+        with open(os.path.join(folder, f"{os.getpid()}.jsonl"), "a") as f:
+            f.write(json.dumps(row) + "\n")
+
+event.register("numba:compile", _Timer())
+"""
+
 
 def one_run(cache: Path, folder: Path, command: list[str], events: bool = False
             ) -> dict[str, Any]:
-    """Wall and CPU seconds of one ``mimics run`` in a fresh interpreter using ``cache``."""
+    """Wall and CPU seconds of one ``mimics run`` in a fresh interpreter using ``cache``;
+    with ``events``, also every Numba compile of its processes (``compiles``)."""
     dump = folder / "child.json"
     env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    compiles = folder / "compiles"
+    if events:
+        (folder / "site").mkdir(exist_ok=True)
+        (folder / "site" / "sitecustomize.py").write_text(EVENTS_SITE)
+        compiles.mkdir(exist_ok=True)
+        env["PYTHONPATH"] = os.pathsep.join(
+            p for p in (str(folder / "site"), env.get("PYTHONPATH")) if p)
+        env["MIMICS_BENCH_COMPILES"] = str(compiles)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     began = time.monotonic()
-    subprocess.run([sys.executable, "-c", CHILD, str(dump), "1" if events else "0", *command,
+    subprocess.run([sys.executable, "-c", CHILD, str(dump), *command,
                     "--out", str(folder / "run")], check=True, env=env,
                    stdout=subprocess.DEVNULL)
     wall = time.monotonic() - began
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     child = json.loads(dump.read_text())
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    rows = [json.loads(line) for path in sorted(compiles.glob("*.jsonl"))
+            for line in path.read_text().splitlines()] if events else []
     return {"first_step_s": child["first_steps"][-1] - began, "whole_s": wall, "cpu_s": cpu,
-            "compiles": child["compiles"]}
+            "compiles": rows}
 
 
 def summary(runs: list[dict[str, Any]]) -> dict[str, Any]:
@@ -132,7 +164,8 @@ def summary(runs: list[dict[str, Any]]) -> dict[str, Any]:
 def kernel_table(compiles: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """One row per kernel and signature, slowest first."""
     rows = [{"kernel": c["kernel"].removeprefix("mimics.engine."), "depth": c["depth"],
-             "s": round(c["s"], 3), "args": c["args"]} for c in compiles]
+             "s": round(c["s"], 3), "args": c["args"], "process": c["process"]}
+            for c in compiles]
     return sorted(rows, key=lambda r: -r["s"])
 
 
@@ -244,12 +277,15 @@ def main() -> None:
         print(f"  {name}: first step {s['first_step_s']:.2f} s ({lo:.2f}-{hi:.2f}), whole "
               f"command {s['whole_s']:.2f} s, child CPU {s['cpu_s']:.2f} s; target first "
               f"step <= {target:g} s: {'met' if s['first_step_s'] <= target else 'NOT met'}")
-    top = [r for r in table if r["depth"] == 0]
-    print(f"Numba compiles of one cold run: {len(table)} (kernel, signature) pairs, "
-          f"{sum(r['s'] for r in top):.2f} s in top-level calls")
-    print(f"  {'s':>6} depth  kernel")
-    for row in table:
-        print(f"  {row['s']:>6.2f} {row['depth']:>5}  {row['kernel']}")
+    if table:
+        top = [r for r in table if r["depth"] == 0]
+        processes = sorted({r["process"] for r in table})
+        print(f"Numba compiles of one cold run: {len(table)} (kernel, signature) pairs in "
+              f"{len(processes)} processes ({', '.join(processes)}), "
+              f"{sum(r['s'] for r in top):.2f} s in top-level calls (wall, each process's own)")
+        print(f"  {'s':>6} depth  {'process':<7}  kernel")
+        for row in table:
+            print(f"  {row['s']:>6.2f} {row['depth']:>5}  {row['process']:<7}  {row['kernel']}")
     key = "cold_start_laser" if args.laser else "cold_start"
     save(key, {"command": "mimics " + " ".join(command), "repeats": repeats,
                         "cold": {**cold_s, "target_s": COLD_TARGET_S,

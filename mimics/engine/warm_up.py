@@ -54,7 +54,9 @@ from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_g
 from mimics.engine.stall import _record_and_screen
 from mimics.engine.step_checks import _check_kernel
 
-# a kernel of each part whose index file in Numba's cache tells the part was compiled
+# a kernel of each part whose index file in Numba's cache tells the part was compiled (named
+# again in mimics/interfaces/cli/kernel_cache.py, which the CLI reads before importing Numba:
+# a test fails when the two lists differ)
 _WITNESSES = {"index": (_build_csr, _bucket, _record_and_screen),
               "motion": (_check_kernel, move_robots, _finish_and_wait, _join),
               "ray": (_cast_rows, _near_lists, cull_hidden, beam_fans, _add_noise),

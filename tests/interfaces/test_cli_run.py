@@ -7,6 +7,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -14,9 +15,9 @@ from typer.testing import CliRunner
 
 import mimics
 from mimics.engine import warm_up
-from mimics.interfaces.cli import first_run
+from mimics.interfaces.cli import first_run, kernel_cache
 from mimics.interfaces.cli import program as cli
-from tests.processes import left_running, marked_environment
+from tests.processes import alive_with, left_running, marked_environment
 
 runner = CliRunner()
 
@@ -34,6 +35,7 @@ def fresh_install(monkeypatch) -> list[subprocess.Popen]:
         return started[-1]
 
     monkeypatch.setattr(warm_up, "missing_parts", lambda: list(warm_up.PARTS))
+    monkeypatch.setattr(kernel_cache, "missing_parts", lambda: list(warm_up.PARTS))
     monkeypatch.setattr(first_run.subprocess, "Popen", spy)
     return started
 
@@ -50,7 +52,8 @@ def test_first_run_compiles_ahead_and_stops_the_unneeded_ray_part(tmp_path, fres
     assert result.exit_code == 0, result.output
     assert "compiling the simulation kernels" in result.output
     assert "finishing the ray kernel" not in result.output  # go_to_goal reads no scan
-    assert [compiled_part(p) for p in fresh_install] == ["motion", "ray", "still"]
+    # the still part waits for the ray part, which this run never needed
+    assert [compiled_part(p) for p in fresh_install] == ["motion", "ray"]
     assert all(p.returncode is not None for p in fresh_install)  # none left running
     assert json.loads((out / "summary.json").read_text())["robots"] == 2
     assert warm_up._ray_part_elsewhere == []
@@ -63,7 +66,39 @@ def test_a_first_run_that_scans_waits_for_the_ray_part(tmp_path, fresh_install):
     assert result.exit_code == 0, result.output
     (ray,) = [p for p in fresh_install if compiled_part(p) == "ray"]
     assert ray.returncode == 0  # it finished its compile: the run waited for it
+    # the still part starts once the ray part is done, not with the others
+    assert [compiled_part(p) for p in fresh_install] == ["motion", "ray", "still"]
     assert json.loads((out / "summary.json").read_text())["robots"] == 4
+
+
+def test_compiles_started_before_a_bad_option_is_found_are_stopped(tmp_path, fresh_install):
+    result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--view", "sometimes",
+                                     "--out", str(tmp_path / "run")])
+    assert result.exit_code == 2, result.output
+    assert "--view: expected one of" in result.output
+    assert [compiled_part(p) for p in fresh_install] == ["motion", "ray"]  # started early
+    assert all(p.returncode is not None for p in fresh_install)  # and stopped
+    assert first_run._started == []
+
+
+def test_a_killed_run_leaves_no_compile_process(tmp_path):
+    """With an empty cache the compile processes start before the run imports Numba;
+    killing the run (SIGKILL: no handler of its own runs) ends them too."""
+    env, marker = marked_environment()
+    env["NUMBA_CACHE_DIR"] = str(tmp_path / "empty-cache")
+    run = subprocess.Popen([sys.executable, "-m", "mimics", "run", "line", "go_to_goal",
+                            "--robots", "2", "--out", "run"], cwd=tmp_path, env=env,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        while (len([p for p in alive_with(marker) if "compile_part" in p]) < 2
+               and time.monotonic() < deadline and run.poll() is None):
+            time.sleep(0.05)
+        assert len([p for p in alive_with(marker) if "compile_part" in p]) == 2  # motion, ray
+    finally:
+        run.kill()
+        run.wait()
+    assert left_running(marker) == []
 
 
 def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path):
@@ -85,6 +120,7 @@ def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path):
 
 def test_warm_cache_says_nothing_about_compiling(tmp_path, monkeypatch):
     monkeypatch.setattr(warm_up, "missing_parts", lambda: [])
+    monkeypatch.setattr(kernel_cache, "missing_parts", lambda: [])
     result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--robots", "2", "--time",
                                      "0.5", "--out", str(tmp_path / "run")])
     assert result.exit_code == 0, result.output

@@ -9,9 +9,17 @@ to a run that reads a scan: its first scan waits for that process; a run that
 reads none (``go_to_goal``) never waits, and the process is stopped when the
 run ends (the next run that scans compiles it then). The still part (what
 robots standing still can see) is only a speed-up: no run waits for it, its
-robots are pinned once it is done. The time spent compiling or waiting is on
-``mimics.engine.compile_clock``, which the summary reports on a line of its own
-and the run's wall time leaves out.
+robots are pinned once it is done; while the ray part is missing, it starts
+once that part is done (a run that reads no scan leaves it to the next). The
+time spent compiling or waiting is on ``mimics.engine.compile_clock``, which
+the summary reports on a line of its own and the run's wall time leaves out.
+
+The processes start before the run's own process imports NumPy, Numba and the
+engine (on one core, the other idle): the CLI calls :func:`start_compiles` first,
+which tells what the cache lacks without Numba
+(:mod:`mimics.interfaces.cli.kernel_cache`), so the ray part, the run's longest
+path, compiles on the other core meanwhile. Where that check cannot tell, the
+processes start in :func:`kernels_compiled_ahead`, after Numba's own check.
 """
 
 from __future__ import annotations
@@ -21,8 +29,9 @@ import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from mimics.engine.compile_clock import waiting
+# nothing of mimics.engine here: importing it imports Numba (start_compiles runs before)
 from mimics.interfaces.child_processes import dying_with_parent
+from mimics.interfaces.cli import kernel_cache
 from mimics.interfaces.cli.output import note
 
 # A compile process ends at once when its part is done (Numba writes its cache files as it
@@ -34,24 +43,61 @@ _COMPILE = ("from mimics.engine.warm_up import compile_part; compile_part({part!
 _NICE = {"ray": "import os; os.nice(5); ", "still": "import os; os.nice(19); "}
 
 
-@contextmanager
-def kernels_compiled_ahead() -> Iterator[None]:
-    """Compile what Numba's cache lacks around the run in the ``with`` block."""
-    from mimics.engine import warm_up
+# the parts start_compiles found missing and the processes it started for them
+_started: list[tuple[list[str], dict[str, subprocess.Popen[bytes]]]] = []
 
-    missing = warm_up.missing_parts()
-    if not missing:
-        yield
-        return
+
+def start_compiles() -> None:
+    """Start compiling what Numba's cache lacks, before this process imports Numba.
+
+    :func:`kernels_compiled_ahead` then waits for these processes. Does nothing
+    when the cache cannot be read without Numba (that function starts them then)."""
+    stop_compiles()  # any left by an earlier command of this process that failed
+    missing = kernel_cache.missing_parts()
+    if missing is not None:
+        _started.append((missing, _start(missing)))
+
+
+def stop_compiles() -> None:
+    """Stop the processes :func:`start_compiles` started (the command ends before its run)."""
+    while _started:
+        for process in _started.pop()[1].values():
+            process.kill()
+            process.wait()
+
+
+def _start(missing: list[str]) -> dict[str, subprocess.Popen[bytes]]:
+    """The compile processes of the missing parts but the index part (this process's)
+    and, while the ray part is missing, the still part (started once the ray part is
+    done: even at the lowest priority it took the others' CPU; benchmarks/NOTES.md)."""
     if {"index", "motion"} & set(missing):  # what every run waits for (ray: at a scan)
         # No figure here: the measured one lives in docs/explanation/performance.md alone
         note("mimics: first run: compiling the simulation kernels (once: they are cached on "
              "disk for the next runs)")
     # the compiles die with the run, even a killed one (no orphan left compiling)
-    aside = {part: subprocess.Popen(dying_with_parent(
+    return {part: subprocess.Popen(dying_with_parent(
                 [sys.executable, "-c", _NICE.get(part, "") + _COMPILE.format(part=part)]),
                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-             for part in missing if part != "index"}
+            for part in missing
+            if part != "index" and not (part == "still" and "ray" in missing)}
+
+
+@contextmanager
+def kernels_compiled_ahead() -> Iterator[None]:
+    """Compile what Numba's cache lacks around the run in the ``with`` block."""
+    from mimics.engine import warm_up
+    from mimics.engine.compile_clock import waiting
+
+    if _started:
+        missing, aside = _started.pop()
+    else:
+        missing = warm_up.missing_parts()
+        aside = _start(missing)
+    if not missing:
+        yield
+        return
+    # the parts to start once the ray part is done (at the run's first scan)
+    later = ["still"] if "still" in missing and "still" not in aside else []
     try:
         if "index" in missing:
             warm_up.compile_index_kernels()
@@ -59,11 +105,12 @@ def kernels_compiled_ahead() -> Iterator[None]:
             with waiting():
                 aside["motion"].wait()
         if "ray" in aside:
-            warm_up.ray_part_compiling_elsewhere(lambda: _await_ray(aside["ray"]))
-        if "still" in aside:  # never waited for: robots are pinned once it is done
-            warm_up.still_part_compiling_elsewhere(lambda: aside["still"].poll() is not None)
+            warm_up.ray_part_compiling_elsewhere(lambda: _await_ray(aside, later))
+        if "still" in aside:
+            _still_part_elsewhere(aside["still"])
         yield
     finally:
+        later.clear()  # the run is over: nothing more to start
         for process in aside.values():
             if process.poll() is None:  # the ray part, unneeded: the next scanning run's
                 process.kill()
@@ -72,11 +119,23 @@ def kernels_compiled_ahead() -> Iterator[None]:
         warm_up.forget_still_part()
 
 
-def _await_ray(process: subprocess.Popen[bytes]) -> None:
+def _await_ray(aside: dict[str, subprocess.Popen[bytes]], later: list[str]) -> None:
     from mimics.engine.warm_up import compile_ray_helpers
 
+    process = aside["ray"]
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
              "(once: it is cached on disk for the next runs)")
         compile_ray_helpers()  # here, while the process compiles the kernel itself
         process.wait()
+    if later and process.returncode == 0:  # their turn, the ray part done
+        aside.update(_start(later))
+        later.clear()
+        _still_part_elsewhere(aside["still"])
+
+
+def _still_part_elsewhere(process: subprocess.Popen[bytes]) -> None:
+    """Never waited for: the robots standing still are pinned once it is done."""
+    from mimics.engine.warm_up import still_part_compiling_elsewhere
+
+    still_part_compiling_elsewhere(lambda: process.poll() is not None)

@@ -71,8 +71,6 @@ def ros_command(
         parse_params,
         print_summary,
     )
-    from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
-
     if robots is not None and robots < 1:
         raise fail(f"--robots: expected a whole number >= 1, got {robots}")
     if time is not None and not time > 0:
@@ -86,8 +84,6 @@ def ros_command(
                    f"got {map_resolution}")
     if robot_logs not in ("auto", "on", "off"):
         raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
-    if view not in VIEW_CHOICES:
-        raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
     from mimics.interfaces.ros.names import check_name_set
 
     try:
@@ -105,11 +101,24 @@ def ros_command(
         require_master()
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    from mimics.interfaces.cli.first_run import kernels_compiled_ahead
-    from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
-    from mimics.records.naming import new_run_folder
+    from mimics.interfaces.cli.first_run import (
+        kernels_compiled_ahead,
+        start_compiles,
+        stop_compiles,
+    )
 
-    live = make_live_view(view)
+    start_compiles()  # a fresh install's compiles start before Numba is imported, below
+    try:
+        from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
+        from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
+        from mimics.records.naming import new_run_folder
+
+        if view not in VIEW_CHOICES:
+            raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
+        live = make_live_view(view)
+    except BaseException:
+        stop_compiles()
+        raise
     try:
         # the default name, never one taken (-2, -3...): a run never replaces another
         folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed)

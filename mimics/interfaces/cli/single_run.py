@@ -71,9 +71,6 @@ def run(
             out=out, policy=policy, param=param, wall_limit=wall_limit, robot_logs=robot_logs,
             view=view, video=video, record_scans=record_scans, allow_overlap=allow_overlap,
             ros_timeout=ros_timeout, ros_names=ros_names)))
-    from mimics.records.naming import new_run_folder
-    from mimics.records.runner import prepare, run_to_folder
-
     if policy not in ("abort", "deactivate"):
         raise fail(f"--policy: expected abort or deactivate, got {policy!r}")
     if robots is not None and robots < 1:
@@ -100,18 +97,30 @@ def run(
     elif ros_timeout is not None or ros_names is not None:
         option = "--ros-timeout" if ros_timeout is not None else "--ros-names"
         raise fail(f"{option}: only for ros: algorithms (ros:PROGRAM [ARGS...])")
-    from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
+    from mimics.interfaces.cli.first_run import (
+        kernels_compiled_ahead,
+        start_compiles,
+        stop_compiles,
+    )
 
-    if video is not None:
-        from mimics.interfaces.replay import VIDEO_SUFFIXES
+    start_compiles()  # a fresh install's compiles start before Numba is imported, below
+    try:
+        from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
+        from mimics.records.naming import new_run_folder
+        from mimics.records.runner import prepare, run_to_folder
 
-        if video.suffix.lower() not in VIDEO_SUFFIXES:  # checked before the run, not after
-            raise fail(f"--video {video}: expected a file ending in {', '.join(VIDEO_SUFFIXES)}")
-    if view not in VIEW_CHOICES:
-        raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
-    live = make_live_view(view)
-    from mimics.interfaces.cli.first_run import kernels_compiled_ahead
+        if video is not None:
+            from mimics.interfaces.replay import VIDEO_SUFFIXES
 
+            if video.suffix.lower() not in VIDEO_SUFFIXES:  # checked before the run, not after
+                raise fail(f"--video {video}: expected a file ending in "
+                           f"{', '.join(VIDEO_SUFFIXES)}")
+        if view not in VIEW_CHOICES:
+            raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
+        live = make_live_view(view)
+    except BaseException:
+        stop_compiles()
+        raise
     with kernels_compiled_ahead():
         try:
             params = parse_params(param or [])
