@@ -52,6 +52,15 @@ than in them, so these things are changed:
   same set: tested) and the module is parsed when a compile first links it.
   Other object formats load as Numba ships.
 
+* **Numba's implementations are not imported to load a kernel that inlined them.**
+  A cached kernel names the environment of each of Numba's implementations it
+  inlined (``np.empty``'s, ``math.hypot``'s), and Numba imports each one's
+  module to rebuild it: ``numba.np.arrayobj`` alone pulls in Numba's strings,
+  hashing and random number modules, 50 ms of every warm run. Such an
+  environment, when it holds no constants, is rebuilt without its module:
+  nopython code reads only an environment's constants (its module's globals
+  serve object mode, which none of them is compiled in).
+
 All leave the kernels' machine code and results as they are: the same cache
 files are loaded, only less of Numba is imported or compiled around them. With
 a Numba whose internals differ, each change is skipped and Numba behaves as
@@ -68,6 +77,7 @@ import pickle
 import struct
 import sys
 import tempfile
+import weakref
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -175,6 +185,28 @@ def _quiet_llvm_lock() -> Iterator[None]:
         lock._cblist = saved  # type: ignore[union-attr]
 
 
+# while one of mimics' kernels loads: how the environments it names are rebuilt
+_light_env: list[Any] = []
+
+
+@contextlib.contextmanager
+def _loading_ours() -> Iterator[None]:
+    """Numba's ``_rebuild_env`` swapped for the light one of
+    :func:`_environments_without_imports` during the block only: a compile's cache
+    files must name Numba's own function (a cached environment is pickled with it)."""
+    if not _light_env:
+        yield
+        return
+    from numba.core import environment
+
+    full = environment._rebuild_env
+    environment._rebuild_env = _light_env[0]
+    try:
+        yield
+    finally:
+        environment._rebuild_env = full
+
+
 def set_up_numba() -> None:
     """Make the changes of the module's docstring (once per process)."""
     _import_numba()
@@ -201,7 +233,7 @@ def set_up_numba() -> None:
         if not _is_ours(getattr(self, "_py_func", None)):
             return full_load(self, sig, target_context)
         rtsys.initialize(target_context)  # the runtime that the loaded code calls
-        with self._guard_against_spurious_io_errors(), _quiet_llvm_lock():
+        with self._guard_against_spurious_io_errors(), _quiet_llvm_lock(), _loading_ours():
             return self._load_overload(sig, target_context)
         # None when the guard swallowed an error: Numba compiles, as it would
 
@@ -216,6 +248,7 @@ def set_up_numba() -> None:
     dispatcher_class._compilation_chain_init_hook = compilation_chain_init_hook
     _cache_runtime_library()
     _link_modules_when_needed()
+    _environments_without_imports()
 
 
 def _runtime_anchor() -> None:
@@ -344,3 +377,30 @@ def defined_symbols(object_code: bytes) -> set[str] | None:
         return names
     except (struct.error, ValueError, IndexError, UnicodeDecodeError):
         return None
+
+
+def _environments_without_imports() -> None:
+    """While a kernel of mimics loads, the environment of an implementation of Numba's own
+    that holds no constants is made without importing its module (see the docstring)."""
+    try:
+        from numba.core import environment
+    except ImportError:
+        return
+    full_rebuild = getattr(environment, "_rebuild_env", None)
+    make = getattr(environment, "Environment", None)
+    if full_rebuild is None or make is None or _light_env \
+            or not isinstance(getattr(make, "_memo", None), weakref.WeakValueDictionary):
+        return
+
+    def rebuild_env(module: str, consts: Any, name: str) -> Any:
+        if consts or not str(module).startswith("numba.") or module in sys.modules \
+                or environment.lookup_environment(name) is not None:
+            return full_rebuild(module, consts, name)
+        # nopython code reads only an environment's constants; its globals serve object
+        # mode, which none of Numba's implementations is compiled in
+        env = make({"__name__": module})
+        env.env_name = name
+        make._memo[name] = env
+        return env
+
+    _light_env[:] = [rebuild_env]

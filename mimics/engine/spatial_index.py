@@ -256,7 +256,10 @@ def choose_cell_size(segments: np.ndarray, bounds: Bounds | None) -> float:
     if len(segs) == 0:
         return float(longest)
     lengths = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
-    cell = 2.0 * float(np.median(lengths))
+    # np.median's value (the two middle lengths' mean), without the numpy.ma it imports
+    low, high = (len(lengths) - 1) // 2, len(lengths) // 2
+    middle = np.partition(lengths, (low, high))
+    cell = 2.0 * float((middle[low] + middle[high]) / 2)
     cell = max(cell, math.sqrt(w * h / (4 * len(segs) + 1024)), longest / 4096)
     return float(min(cell, longest))
 

@@ -50,9 +50,10 @@ def jitter_start(scenario: Scenario, seed: int, purpose: str, position: float = 
         first, second = overlapping_robots(bodies)
         xmin, ymin, xmax, ymax = scenario.map.bounds
         x, y = stages[:, 0], stages[:, 1]
-        outside = np.flatnonzero((x < xmin) | (x > xmax) | (y < ymin) | (y > ymax))
-        bad = np.unique(np.concatenate([robots, first, second, outside]))
-        bad = bad[~kept[bad]]
+        # the robots to revert, in order (a mask: np.unique would import numpy.ma, 5 ms)
+        flagged = (x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)
+        flagged[np.concatenate([robots, first, second])] = True
+        bad = np.flatnonzero(flagged & ~kept)
         if bad.size == 0:
             return candidate
         stages[bad] = nominal[bad]

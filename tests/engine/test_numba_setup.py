@@ -98,6 +98,10 @@ def test_cached_kernels_load_without_refreshing_numba_and_others_as_shipped(tmp_
     assert loaded["doubled"] == [0.0, 2.0, 4.0]
     # the runtime's machine code was kept beside the engine's kernels, and loaded
     assert list(runtime_cache_folder().glob("numba_runtime-*.pkl"))
+    # a kernel cached by a process that loaded the engine's kernels names only Numba's
+    # own functions (none of mimics' stand-ins is pickled into another cache)
+    (cached,) = (tmp_path / "__pycache__").glob("user_kernel.plus_one-*.nbc")
+    assert b"mimics" not in cached.read_bytes()
 
 
 IMPORTS = textwrap.dedent("""
@@ -107,11 +111,24 @@ IMPORTS = textwrap.dedent("""
 
     before = {name: name in sys.modules for name in ("scipy", "yaml")}
     warm_up.compile_index_kernels()  # loads (or compiles) kernels of mimics
+    warm_up.compile_motion_kernels()
+    warm_up.compile_ray_kernel()
+    arrays_imported = "numba.np.arrayobj" in sys.modules  # np.empty's implementation
+    import numpy as np
     import numba
+
+    @numba.njit
+    def twos(n):  # compiled now: inlines np.empty's implementation, whose environment
+        out = np.empty(n)  # the loads made without its module
+        out[:] = 2.0
+        return out
+
+    twos_made = twos(3).tolist()
     import llvmlite.binding.ffi as ffi
     import scipy, yaml  # what Numba skipped imports as usual afterwards
 
     print(json.dumps({"before": before, "developer_mode": numba.config.DEVELOPER_MODE,
+                      "arrays_imported": arrays_imported, "twos": twos_made,
                       "lock_callbacks": len(ffi.lib._lock._cblist),
                       "scipy": scipy.__version__.count(".") >= 1, "yaml": yaml.safe_load("a: 1")}))
 """)
@@ -125,9 +142,14 @@ def run_imports(folder: Path) -> dict[str, object]:
 
 def test_numba_is_imported_without_its_scipy_check_and_yaml_unless_a_config_file_is_there(
         tmp_path):
+    run_imports(tmp_path)  # compiles what the caches lack (a fresh checkout's first run)
     plain = run_imports(tmp_path)
     assert plain["before"] == {"scipy": False, "yaml": False}
     assert plain["scipy"] is True and plain["yaml"] == {"a": 1}
+    # a warm load of the kernels imports none of Numba's implementations they inlined,
+    # and a compile afterwards that inlines one of them runs as it should
+    assert plain["arrays_imported"] is False
+    assert plain["twos"] == [2.0, 2.0, 2.0]
     # Numba's own callbacks around LLVM calls are back after the kernels' loads
     assert plain["lock_callbacks"] >= 1
     # a Numba config file in the working folder is read, as Numba documents (PyYAML kept)

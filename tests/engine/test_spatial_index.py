@@ -135,6 +135,17 @@ def test_choose_cell_size_bounds_the_number_of_cells():
 
 
 @settings(max_examples=150, deadline=None)
+@given(segs=arrays(np.float64, st.tuples(st.integers(1, 40), st.just(4)), elements=coords))
+def test_choose_cell_size_is_twice_the_median_length_when_no_limit_applies(segs):
+    lengths = np.hypot(segs[:, 2] - segs[:, 0], segs[:, 3] - segs[:, 1])
+    box = (-7.0, -7.0, 7.0, 7.0)
+    expected = 2.0 * float(np.median(lengths))  # NumPy's median: the rule's own words
+    limits = (math.sqrt(14.0 * 14.0 / (4 * len(segs) + 1024)), 14.0 / 4096)
+    if expected > max(limits) and expected < 14.0:  # neither floor nor ceiling applies
+        assert choose_cell_size(segs, box) == expected
+
+
+@settings(max_examples=150, deadline=None)
 @given(segs=arrays(np.float64, st.tuples(st.integers(0, 6), st.just(4)), elements=coords),
        cell=st.sampled_from([0.37, 1.0, 2.5, None]))
 def test_every_segment_is_in_every_cell_it_crosses(segs, cell):

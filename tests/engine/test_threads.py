@@ -1,6 +1,10 @@
 """Whole runs are bit-identical whatever the number of Numba threads."""
 
 import hashlib
+import json
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -53,3 +57,27 @@ def test_a_forked_process_runs_on_threads_of_its_own():
         child.join(10)
         if child.is_alive():
             child.kill()
+
+
+NUMBA_POOL = """
+import json, numba
+from numba.np.ufunc import parallel
+from mimics.algorithms import deployment_team
+from mimics.catalog import load_scenario
+from mimics.engine.helper_threads.threads import helpers_worth
+from mimics.engine.simulation import Simulation
+
+Simulation(load_scenario("cave", robots=6), deployment_team, seed=1, time_limit=0.5).run()
+started = parallel._is_initialized  # Numba's own pool, which mimics never uses
+worth = helpers_worth(8)
+numba.set_num_threads(1)  # the user's knob still counts
+print(json.dumps({"started": started, "worth": worth, "after": helpers_worth(8)}))
+"""
+
+
+def test_helpers_follow_numbas_thread_count_without_starting_its_pool():
+    env = {**os.environ, "NUMBA_NUM_THREADS": "2"}
+    done = subprocess.run([sys.executable, "-c", NUMBA_POOL], capture_output=True, text=True,
+                          check=True, env=env)
+    seen = json.loads(done.stdout.strip().splitlines()[-1])
+    assert seen == {"started": False, "worth": 1, "after": 0}

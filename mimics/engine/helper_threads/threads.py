@@ -48,7 +48,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from numba import get_num_threads, njit
+from numba import config, get_num_threads, njit
 
 from mimics.engine.helper_threads.chunks import (
     BACK,
@@ -278,7 +278,17 @@ def helpers_worth(parts: int) -> int:
     """How many helpers a call of ``parts`` parts, each worth a thread, should take: at
     most Numba's thread count less the calling thread (``NUMBA_NUM_THREADS``, or
     ``numba.set_num_threads``)."""
-    return min(get_num_threads(), parts) - 1 if parts > 1 else 0
+    return min(numba_threads(), parts) - 1 if parts > 1 else 0
+
+
+def numba_threads() -> int:
+    """Numba's thread count (``NUMBA_NUM_THREADS``, or ``numba.set_num_threads``) without
+    starting Numba's own thread pool, which mimics never uses (5 ms, and idle threads)."""
+    from numba.np.ufunc import parallel
+
+    if getattr(parallel, "_is_initialized", True):  # started (set_num_threads starts it)
+        return get_num_threads()
+    return int(config.NUMBA_NUM_THREADS)
 
 
 def _stop_all() -> None:

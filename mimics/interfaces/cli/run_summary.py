@@ -13,7 +13,7 @@ from rich.table import Table
 from mimics.interfaces.cli.output import fail
 from mimics.world.errors import MimicsError
 
-console = Console()
+console = Console(emoji=False)  # names print as given (and no emoji table to load)
 
 
 def parse_params(items: list[str]) -> dict[str, Any]:
