@@ -40,26 +40,10 @@ than in them, so these things are changed:
   newer one) and PyYAML to read a ``.numba_config.yaml`` that is not there:
   10 to 40 ms of a warm run, skipped (the first import of each by Numba's own
   module fails once; a config file in the working folder keeps PyYAML's).
-  And while one of mimics' own kernels loads, Numba's bookkeeping around each
-  call into LLVM (an event per lock, for compile statistics) is off: about
-  3,500 calls of a warm Cave run, 10 ms.
 
-* **A library loaded from the cache reads its symbols from its machine code.**
-  Numba keeps each cached kernel's LLVM module beside its machine code, for a
-  later compile to link in, and parses it at every load to list the names the
-  library defines (1.5 to 2.5 ms a kernel, a third of a warm Cave run's
-  loads). The names are read from the ELF object's symbol table instead (the
-  same set: tested) and the module is parsed when a compile first links it.
-  Other object formats load as Numba ships.
-
-* **Numba's implementations are not imported to load a kernel that inlined them.**
-  A cached kernel names the environment of each of Numba's implementations it
-  inlined (``np.empty``'s, ``math.hypot``'s), and Numba imports each one's
-  module to rebuild it: ``numba.np.arrayobj`` alone pulls in Numba's strings,
-  hashing and random number modules, 50 ms of every warm run. Such an
-  environment, when it holds no constants, is rebuilt without its module:
-  nopython code reads only an environment's constants (its module's globals
-  serve object mode, which none of them is compiled in).
+* **A kernel of mimics loads with less of Numba around it**
+  (:mod:`mimics.engine.numba_library_loads`): its names from its machine code,
+  Numba's implementations it inlined without their modules, no lock events.
 
 All leave the kernels' machine code and results as they are: the same cache
 files are loaded, only less of Numba is imported or compiled around them. With
@@ -74,13 +58,16 @@ import hashlib
 import importlib.util
 import os
 import pickle
-import struct
 import sys
 import tempfile
-import weakref
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+
+from mimics.engine.numba_library_loads import (
+    environments_without_imports,
+    link_modules_when_needed,
+    loading_ours,
+)
 
 
 def _defer_numba_blas_check() -> None:
@@ -169,44 +156,6 @@ def _import_numba() -> None:
             sys.meta_path.remove(hook)
 
 
-@contextlib.contextmanager
-def _quiet_llvm_lock() -> Iterator[None]:
-    """Numba's callbacks on each call into LLVM (events for its compile statistics) off
-    for the block: a cache load makes thousands of calls and records no statistics."""
-    ffi = sys.modules.get("llvmlite.binding.ffi")
-    lock = getattr(getattr(ffi, "lib", None), "_lock", None)
-    if not isinstance(getattr(lock, "_cblist", None), list):  # laid out otherwise: as shipped
-        yield
-        return
-    saved, lock._cblist = lock._cblist, []  # type: ignore[union-attr]
-    try:
-        yield
-    finally:
-        lock._cblist = saved  # type: ignore[union-attr]
-
-
-# while one of mimics' kernels loads: how the environments it names are rebuilt
-_light_env: list[Any] = []
-
-
-@contextlib.contextmanager
-def _loading_ours() -> Iterator[None]:
-    """Numba's ``_rebuild_env`` swapped for the light one of
-    :func:`_environments_without_imports` during the block only: a compile's cache
-    files must name Numba's own function (a cached environment is pickled with it)."""
-    if not _light_env:
-        yield
-        return
-    from numba.core import environment
-
-    full = environment._rebuild_env
-    environment._rebuild_env = _light_env[0]
-    try:
-        yield
-    finally:
-        environment._rebuild_env = full
-
-
 def set_up_numba() -> None:
     """Make the changes of the module's docstring (once per process)."""
     _import_numba()
@@ -233,7 +182,7 @@ def set_up_numba() -> None:
         if not _is_ours(getattr(self, "_py_func", None)):
             return full_load(self, sig, target_context)
         rtsys.initialize(target_context)  # the runtime that the loaded code calls
-        with self._guard_against_spurious_io_errors(), _quiet_llvm_lock(), _loading_ours():
+        with self._guard_against_spurious_io_errors(), loading_ours():
             return self._load_overload(sig, target_context)
         # None when the guard swallowed an error: Numba compiles, as it would
 
@@ -247,8 +196,8 @@ def set_up_numba() -> None:
     cache_class.load_overload = load_overload
     dispatcher_class._compilation_chain_init_hook = compilation_chain_init_hook
     _cache_runtime_library()
-    _link_modules_when_needed()
-    _environments_without_imports()
+    link_modules_when_needed()
+    environments_without_imports()
 
 
 def _runtime_anchor() -> None:
@@ -309,98 +258,3 @@ def _write_atomically(path: Path, data: bytes) -> None:
         with contextlib.suppress(OSError):
             os.unlink(name)
         raise
-
-
-def _link_modules_when_needed() -> None:
-    """A library loaded from the cache reads its symbols from its machine code; its LLVM
-    module (kept for a later compile to link in) is parsed only when one does."""
-    try:
-        import llvmlite.binding as ll
-        from numba.core.codegen import CPUCodeLibrary
-    except ImportError:
-        return
-    full_unserialize = CPUCodeLibrary.__dict__.get("_unserialize")
-    full_linking_module = CPUCodeLibrary.__dict__.get("_get_module_for_linking")
-    if not isinstance(full_unserialize, classmethod) or full_linking_module is None \
-            or getattr(full_linking_module, "light_by_mimics", False):
-        return
-    needed = ("create_library", "_engine")
-
-    def unserialize(cls: Any, codegen: Any, state: Any) -> Any:
-        name, kind, data = state
-        symbols = defined_symbols(data[0]) if kind == "object" else None
-        engine = getattr(codegen, "_engine", None)
-        if symbols is None or not isinstance(getattr(engine, "_defined_symbols", None), set) \
-                or not all(hasattr(codegen, part) for part in needed):
-            return full_unserialize.__func__(cls, codegen, state)
-        object_code, shared_bitcode = data
-        library = codegen.create_library(name)
-        library.enable_object_caching()
-        library._set_compiled_object(object_code)
-        library._linking_bitcode_by_mimics = shared_bitcode
-        library._finalize_final_module()
-        engine._defined_symbols |= symbols  # what Numba reads from the parsed module
-        return library
-
-    def get_module_for_linking(self: Any) -> Any:
-        bitcode = self.__dict__.pop("_linking_bitcode_by_mimics", None)
-        if bitcode is not None:
-            self._shared_module = ll.parse_bitcode(bitcode)
-        return full_linking_module(self)
-
-    get_module_for_linking.light_by_mimics = True  # type: ignore[attr-defined]
-    CPUCodeLibrary._unserialize = classmethod(unserialize)  # type: ignore[assignment]
-    CPUCodeLibrary._get_module_for_linking = get_module_for_linking  # type: ignore[method-assign]
-
-
-def defined_symbols(object_code: bytes) -> set[str] | None:
-    """The names an ELF64 little-endian object file defines (its symbol table's entries
-    in a section, files and sections aside), or None for any other object format."""
-    if object_code[:6] != b"\x7fELF\x02\x01":
-        return None
-    try:
-        (section_table,) = struct.unpack_from("<Q", object_code, 0x28)
-        entry_size, count = struct.unpack_from("<HH", object_code, 0x3A)
-        sections = [struct.unpack_from("<IIQQQQIIQQ", object_code, section_table + i * entry_size)
-                    for i in range(count)]
-        names: set[str] = set()
-        for _, kind, _, _, offset, size, link, _, _, symbol_size in sections:
-            if kind != 2 or symbol_size <= 0:  # SHT_SYMTAB
-                continue
-            strings = sections[link][4]
-            for start in range(offset, offset + size, symbol_size):
-                name, info, _, section, _, _ = struct.unpack_from("<IBBHQQ", object_code, start)
-                # defined (in a section) and named; not a file or section symbol
-                if name and section != 0 and (info & 0xF) not in (3, 4):
-                    end = object_code.index(b"\0", strings + name)
-                    names.add(object_code[strings + name:end].decode())
-        return names
-    except (struct.error, ValueError, IndexError, UnicodeDecodeError):
-        return None
-
-
-def _environments_without_imports() -> None:
-    """While a kernel of mimics loads, the environment of an implementation of Numba's own
-    that holds no constants is made without importing its module (see the docstring)."""
-    try:
-        from numba.core import environment
-    except ImportError:
-        return
-    full_rebuild = getattr(environment, "_rebuild_env", None)
-    make = getattr(environment, "Environment", None)
-    if full_rebuild is None or make is None or _light_env \
-            or not isinstance(getattr(make, "_memo", None), weakref.WeakValueDictionary):
-        return
-
-    def rebuild_env(module: str, consts: Any, name: str) -> Any:
-        if consts or not str(module).startswith("numba.") or module in sys.modules \
-                or environment.lookup_environment(name) is not None:
-            return full_rebuild(module, consts, name)
-        # nopython code reads only an environment's constants; its globals serve object
-        # mode, which none of Numba's implementations is compiled in
-        env = make({"__name__": module})
-        env.env_name = name
-        make._memo[name] = env
-        return env
-
-    _light_env[:] = [rebuild_env]

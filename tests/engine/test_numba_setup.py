@@ -163,7 +163,7 @@ LINKING = textwrap.dedent("""
     import json
     import llvmlite.binding as ll
     from numba import njit
-    from mimics.engine import numba_setup, warm_up
+    from mimics.engine import numba_library_loads, warm_up
     from mimics.engine.spatial_index import grid_frame
     from numba.core.codegen import CPUCodeLibrary
 
@@ -189,7 +189,7 @@ LINKING = textwrap.dedent("""
         module = ll.parse_bitcode(bitcode)  # what Numba would have parsed at the load
         numba_names = {value.name for values in (module.functions, module.global_variables)
                        for value in values if not value.is_declaration}
-        from_object = numba_setup.defined_symbols(objects[id(library)])
+        from_object = numba_library_loads.defined_symbols(objects[id(library)])
         checked.append(from_object == numba_names and numba_names <= engine._defined_symbols)
 
     @njit
@@ -217,7 +217,7 @@ def test_a_cached_kernel_loads_its_symbols_from_its_machine_code_and_links_later
 
 
 def test_defined_symbols_reads_only_elf64_little_endian_objects():
-    from mimics.engine.numba_setup import defined_symbols
+    from mimics.engine.numba_library_loads import defined_symbols
 
     assert defined_symbols(b"\xcf\xfa\xed\xfe" + bytes(60)) is None  # Mach-O
     assert defined_symbols(b"\x7fELF\x02\x01" + bytes(10)) is None  # cut short
