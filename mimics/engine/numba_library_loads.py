@@ -90,9 +90,10 @@ def link_modules_when_needed() -> None:
 
     def unserialize(cls: Any, codegen: Any, state: Any) -> Any:
         name, kind, data = state
+        # no names read (another format, or none found): Numba's own load
         symbols = defined_symbols(data[0]) if kind == "object" else None
         engine = getattr(codegen, "_engine", None)
-        if symbols is None or not isinstance(getattr(engine, "_defined_symbols", None), set) \
+        if not symbols or not isinstance(getattr(engine, "_defined_symbols", None), set) \
                 or not all(hasattr(codegen, part) for part in needed):
             return full_unserialize.__func__(cls, codegen, state)
         object_code, shared_bitcode = data
