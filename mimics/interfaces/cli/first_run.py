@@ -15,7 +15,7 @@ time spent compiling or waiting is on ``mimics.engine.compile_clock``, which
 the summary reports on a line of its own and the run's wall time leaves out.
 
 The processes start before the run's own process imports NumPy, Numba and the
-engine (on one core, the other idle): the CLI calls :func:`start_compiles` first,
+engine (on one core, the other idle): the CLI enters :func:`compiles_started` first,
 which tells what the cache lacks without Numba
 (:mod:`mimics.interfaces.cli.kernel_cache`), so the ray part, the run's longest
 path, compiles on the other core meanwhile. Where that check cannot tell, the
@@ -56,6 +56,18 @@ def start_compiles() -> None:
     missing = kernel_cache.missing_parts()
     if missing is not None:
         _started.append((missing, _start(missing)))
+
+
+@contextmanager
+def compiles_started() -> Iterator[None]:
+    """:func:`start_compiles`, then the ``with`` block (the command's checks and heavy
+    imports); the compiles are stopped if the block raises (no run follows)."""
+    start_compiles()
+    try:
+        yield
+    except BaseException:
+        stop_compiles()
+        raise
 
 
 def stop_compiles() -> None:

@@ -101,14 +101,9 @@ def ros_command(
         require_master()
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    from mimics.interfaces.cli.first_run import (
-        kernels_compiled_ahead,
-        start_compiles,
-        stop_compiles,
-    )
+    from mimics.interfaces.cli.first_run import compiles_started, kernels_compiled_ahead
 
-    start_compiles()  # a fresh install's compiles start before Numba is imported, below
-    try:
+    with compiles_started():  # a fresh install's compiles start before Numba is imported
         from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
         from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
         from mimics.records.naming import new_run_folder
@@ -116,9 +111,6 @@ def ros_command(
         if view not in VIEW_CHOICES:
             raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
         live = make_live_view(view)
-    except BaseException:
-        stop_compiles()
-        raise
     try:
         # the default name, never one taken (-2, -3...): a run never replaces another
         folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed)

@@ -97,14 +97,9 @@ def run(
     elif ros_timeout is not None or ros_names is not None:
         option = "--ros-timeout" if ros_timeout is not None else "--ros-names"
         raise fail(f"{option}: only for ros: algorithms (ros:PROGRAM [ARGS...])")
-    from mimics.interfaces.cli.first_run import (
-        kernels_compiled_ahead,
-        start_compiles,
-        stop_compiles,
-    )
+    from mimics.interfaces.cli.first_run import compiles_started, kernels_compiled_ahead
 
-    start_compiles()  # a fresh install's compiles start before Numba is imported, below
-    try:
+    with compiles_started():  # a fresh install's compiles start before Numba is imported
         from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
         from mimics.records.naming import new_run_folder
         from mimics.records.runner import prepare, run_to_folder
@@ -118,9 +113,6 @@ def run(
         if view not in VIEW_CHOICES:
             raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
         live = make_live_view(view)
-    except BaseException:
-        stop_compiles()
-        raise
     with kernels_compiled_ahead():
         try:
             params = parse_params(param or [])
