@@ -29,9 +29,10 @@ import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-# nothing of mimics.engine here: importing it imports Numba (start_compiles runs before)
+# nothing of mimics.engine here: importing it imports Numba (start_compiles runs before);
+# the module itself, not the package's __init__ (which imports the commands: a circle)
+import mimics.interfaces.cli.kernel_cache as kernel_cache
 from mimics.interfaces.child_processes import dying_with_parent
-from mimics.interfaces.cli import kernel_cache
 from mimics.interfaces.cli.output import note
 
 # A compile process ends at once when its part is done (Numba writes its cache files as it
