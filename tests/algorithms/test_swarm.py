@@ -82,3 +82,22 @@ def test_per_robot_and_team_forms_are_identical() -> None:
 def test_bad_robot_counts_are_refused(robots: object) -> None:
     with pytest.raises(ScenarioError, match=r"swarm: robots must be a whole number"):
         swarm.scenario(robots=robots)  # type: ignore[arg-type]
+
+
+def test_both_forms_agree_on_a_team_of_two_robot_types() -> None:
+    """Beams that differ between robots (other counts, NaN pads) take the row-by-row path
+    of dispersion_team's constants; one type takes the one-row path: both as per robot."""
+    from mimics.world.maps import Map
+    from mimics.world.robot_types import EPUCK, PIONEER_2DX
+    from mimics.world.scenario import Scenario
+
+    rows = [[x, y, 0.3 * x, 0.0] for x in (-0.7, 0.0, 0.7) for y in (-0.7, 0.05, 0.7)]
+    scenario = Scenario.from_matrix(rows, Map.empty((-8, -8, 8, 8)), [EPUCK, PIONEER_2DX],
+                                    type_index=[0, 1] * 4 + [0])
+    poses = []
+    for algorithm in (dispersion, dispersion_team):
+        sim = Simulation(scenario, algorithm, seed=2, time_limit=4.0)
+        sim.run()
+        poses.append(sim.state.pose.copy())
+    assert np.array_equal(poses[0], poses[1])
+    assert np.abs(poses[0][:, :3] - scenario.stages[:, :3]).max() > 0.05  # they did turn
