@@ -67,13 +67,19 @@ def test_stopped_robots_stay_put_when_alone() -> None:
     assert np.array_equal(sim.state.pose[:, :2], scenario.stages[:, :2])
 
 
-def test_per_robot_and_team_forms_are_identical() -> None:
-    scenario = swarm.scenario(robots=40, time_limit=8.0)
+def _final_poses(scenario, seed: int, time_limit: float) -> list[np.ndarray]:
+    """The robots' last poses under ``dispersion`` and under ``dispersion_team``."""
     poses = []
     for algorithm in (dispersion, dispersion_team):
-        sim = Simulation(scenario, algorithm, seed=4, time_limit=8.0)
+        sim = Simulation(scenario, algorithm, seed=seed, time_limit=time_limit)
         sim.run()
         poses.append(sim.state.pose.copy())
+    return poses
+
+
+def test_per_robot_and_team_forms_are_identical() -> None:
+    scenario = swarm.scenario(robots=40, time_limit=8.0)
+    poses = _final_poses(scenario, 4, 8.0)
     assert np.array_equal(poses[0], poses[1])
     assert np.abs(poses[0][:, :2] - scenario.stages[:, :2]).max() > 0.05  # they did move
 
@@ -94,10 +100,6 @@ def test_both_forms_agree_on_a_team_of_two_robot_types() -> None:
     rows = [[x, y, 0.3 * x, 0.0] for x in (-0.7, 0.0, 0.7) for y in (-0.7, 0.05, 0.7)]
     scenario = Scenario.from_matrix(rows, Map.empty((-8, -8, 8, 8)), [EPUCK, PIONEER_2DX],
                                     type_index=[0, 1] * 4 + [0])
-    poses = []
-    for algorithm in (dispersion, dispersion_team):
-        sim = Simulation(scenario, algorithm, seed=2, time_limit=4.0)
-        sim.run()
-        poses.append(sim.state.pose.copy())
+    poses = _final_poses(scenario, 2, 4.0)
     assert np.array_equal(poses[0], poses[1])
     assert np.abs(poses[0][:, :3] - scenario.stages[:, :3]).max() > 0.05  # they did turn
