@@ -1,4 +1,5 @@
-"""Per-robot text logs in the paper's form (section 3.8, Listing 2), and their reader.
+"""Per-robot text logs in the paper's form (section 3.8, Listing 2): the writer
+(the reader and the rows of the format: ``robot_log_reader``).
 
 ``robots/robot_0000.log`` is robot 0, the engine's 0-based index (the same
 number as the ``robot`` column of trajectory.parquet and events.parquet, and
@@ -37,15 +38,13 @@ same whenever its log is written.
 
 from __future__ import annotations
 
-import csv
-import io
 import uuid
 from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import pyarrow as pa
@@ -65,21 +64,23 @@ from mimics.records.layout import (
 )
 from mimics.records.log_texts import number_texts, same_bits, time_texts
 from mimics.records.parts import part_files, read_table
+from mimics.records.robot_log_reader import (  # the reader, and the format's rows
+    DEACTIVATION,
+    LOG_COLUMNS,
+    LOG_UNITS,
+    RobotLog,
+    read_robot_log,
+)
 from mimics.records.trajectory import TRAJECTORY_SCHEMA
-
-if TYPE_CHECKING:  # pandas costs ~0.3 s to import: only the log reader needs it
-    import pandas as pd
 from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
 
-LOG_COLUMNS = ("time", "x_gt", "y_gt", "phi_gt", "v_gt", "w_gt", "x", "y", "phi", "v_ref",
-               "phi_ref", "user_msg", "sys_msg")
-LOG_UNITS = ("[s]", "[m]", "[m]", "[rad]", "[m/s]", "[rad/s]", "[m]", "[m]", "[rad]", "[m/s]",
-             "[rad]", "[]", "[]")
+__all__ = ["DEACTIVATION", "LOG_COLUMNS", "LOG_UNITS", "RobotLog", "header_lines", "log_uuid",
+           "read_robot_log", "write_robot_logs"]
+
 #: The trajectory.parquet column behind each numeric log column.
 SOURCE_COLUMNS = ("time", "x", "y", "theta", "v", "w", "x_meas", "y_meas", "theta_meas",
                   "v_ref", "heading_ref")
-DEACTIVATION = "Deactivation: "
 STATUS_KIND = {Status.REACHED_GOAL: "reached_goal", Status.COLLIDED: "collision",
                Status.ESCAPED: "escaped", Status.DEADLOCK: "deadlock",
                Status.ERROR: "exception", Status.REMOVED: "edit"}
@@ -91,25 +92,6 @@ _EVENTS_SOURCE = ("step", "robot", "kind", "detail")
 #: Measured pose columns that usually repeat the true pose bit for bit (the heading always,
 #: the position when the positioning sensor has no noise): then formatted once.
 _COPIES = {"x_meas": "x", "y_meas": "y", "theta_meas": "theta"}
-
-
-@dataclass(frozen=True)
-class RobotLog:
-    """A parsed per-robot log.
-
-    Attributes:
-        header: the ``key = value`` lines, values as text.
-        columns: the names row.
-        units: the units row.
-        table: one row per recorded step; numbers as float64, messages as text.
-        deactivation: the text after ``Deactivation:``.
-    """
-
-    header: dict[str, str]
-    columns: tuple[str, ...]
-    units: tuple[str, ...]
-    table: pd.DataFrame
-    deactivation: str
 
 
 def log_uuid(run_uuid: str, robot: int) -> str:
@@ -372,40 +354,3 @@ def _quoted(text: str) -> str:
     if any(c in text for c in _SPECIAL):
         return '"' + text.replace('"', '""') + '"'
     return text
-
-
-def read_robot_log(path: str | Path) -> RobotLog:
-    """Parse a per-robot log back into its header, table and deactivation.
-
-    Raises:
-        MimicsError: naming the file, when it is not a log in this form.
-    """
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise MimicsError(f"{path}: cannot read ({exc.strerror})") from None
-    except UnicodeDecodeError as exc:
-        raise MimicsError(f"{path}: not a robot log (not UTF-8 text: {exc.reason})") from None
-    head, sep, rest = text.partition("\n\n")
-    names, _, rest = rest.partition("\n")
-    units, _, rest = rest.partition("\n")
-    body, found, ending = rest.rpartition("\n" + DEACTIVATION)
-    if not sep or not found or tuple(names.split(";")) != LOG_COLUMNS:
-        raise MimicsError(f"{path}: not a per-robot log (expected a header, the row "
-                          f"{';'.join(LOG_COLUMNS)}, a units row and a Deactivation line)")
-    header = {}
-    for line in head.split("\n"):
-        key, _, value = line.partition(" = ")
-        header[key] = value
-    rows = list(csv.reader(io.StringIO(body.rstrip("\n")), delimiter=";"))
-    if any(len(row) != len(LOG_COLUMNS) for row in rows):
-        raise MimicsError(f"{path}: a table row does not have {len(LOG_COLUMNS)} fields")
-    import pandas as pd
-
-    table = pd.DataFrame(rows, columns=list(LOG_COLUMNS))
-    for name in LOG_COLUMNS[:-2]:
-        table[name] = table[name].astype(np.float64)
-    return RobotLog(header=header, columns=tuple(names.split(";")),
-                    units=tuple(units.split(";")), table=table,
-                    deactivation=ending.rstrip("\n"))
