@@ -49,6 +49,7 @@ from typing import Any
 
 import numpy as np
 from numba import config, get_num_threads, njit
+from numba.np.ufunc import parallel as numba_parallel  # where get_num_threads lives
 
 from mimics.engine.helper_threads.chunks import (
     BACK,
@@ -284,9 +285,7 @@ def helpers_worth(parts: int) -> int:
 def numba_threads() -> int:
     """Numba's thread count (``NUMBA_NUM_THREADS``, or ``numba.set_num_threads``) without
     starting Numba's own thread pool, which mimics never uses (5 ms, and idle threads)."""
-    from numba.np.ufunc import parallel
-
-    if getattr(parallel, "_is_initialized", True):  # started (set_num_threads starts it)
+    if getattr(numba_parallel, "_is_initialized", True):  # started (set_num_threads starts it)
         return get_num_threads()
     return int(config.NUMBA_NUM_THREADS)
 

@@ -19,11 +19,17 @@ def run_battery(battery):
                           capture_output=True, text=True, timeout=300, check=False)
 
 
+def node_battery(folder, node, text):
+    """``battery.toml`` of ``text`` in ``folder``, beside a copy of the test node ``node``."""
+    shutil.copy(NODES / node, folder / node)
+    battery = folder / "battery.toml"
+    battery.write_text(text)
+    return battery
+
+
 def test_battery_ros_timeout_ends_a_run_whose_node_died(tmp_path):
     require("ros")
-    shutil.copy(NODES / "failsafe_node.py", tmp_path / "failsafe_node.py")
-    battery = tmp_path / "battery.toml"
-    battery.write_text('''[battery]
+    battery = node_battery(tmp_path, "failsafe_node.py", '''[battery]
 algorithms = ["ros:failsafe_node.py --mode die --robots {robots} --at 0.3"]
 ros_timeout = 4
 time = 2
@@ -46,9 +52,7 @@ def test_a_node_waiting_on_ros_time_before_subscribing_runs_in_every_battery_run
     a node that sleeps on ROS time before it subscribes starts alike in every run of a
     worker (left set, the second run's node would wait for a clock that waits for it)."""
     require("ros")
-    shutil.copy(NODES / "control_node.py", tmp_path / "control_node.py")
-    battery = tmp_path / "battery.toml"
-    battery.write_text('''[battery]
+    battery = node_battery(tmp_path, "control_node.py", '''[battery]
 algorithms = ["ros:control_node.py --mode sleepy --robots {robots}"]
 seeds = 2
 time = 0.5
