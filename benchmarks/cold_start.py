@@ -30,10 +30,11 @@ noisy, CPU time less so. The first step is timed by a small wrapper around
 ``Simulation.step`` inside the child (the last simulation a run starts is the
 user's; the CLI's first-run compile runs a tiny one before it). One more cold
 run records every Numba compile (``numba.core.event``) in every process of the
-run, the run's own and the compile processes it starts (``index`` is compiled
-by the run's process, ``motion``, ``ray`` and ``still`` each by a process of
-their own; a ``sitecustomize`` put on the children's ``PYTHONPATH`` registers
-the listener, so this run is untimed), and prints the per-kernel table:
+run, the run's own and the compile processes it starts (``index`` and the ray
+kernel's helpers are compiled by the run's process, ``motion``, the ray kernel
+and ``still`` each by a process of its own, a fork of the run; a
+``sitecustomize`` put on the children's ``PYTHONPATH`` registers the listener,
+so this run is untimed), and prints the per-kernel table:
 seconds per kernel and signature, with the process that compiled it, nested
 compiles included in their caller's time. A kernel listed by two processes
 was compiled twice. Targets (issue 21): cold <= 10 s, warm <= 1.5 s.
@@ -93,14 +94,23 @@ console()
 # The sitecustomize of the run that lists the compiles: every Python process of the run
 # (the run's own, the compile processes) appends each compile to a file of its own as it
 # ends (a compile process ends by os._exit, without exit handlers). The process is named
-# by the part its command line compiles, or "run".
+# by the part it compiles, or "run".
 EVENTS_SITE = r"""
 import json, os, re, time
 folder = os.environ["MIMICS_BENCH_COMPILES"]
-with open("/proc/self/cmdline", "rb") as f:
-    found = re.search(rb"compile_part\('(\w+)'\)", f.read())
-process = found.group(1).decode() if found else "run"
 from numba.core import event
+
+
+def process_name():
+    # a compile process forked by the run is named mimics-PART (ps's comm); a spawned one
+    # calls compile_part('PART') on its command line
+    with open("/proc/self/comm") as f:
+        comm = f.read().strip()
+    if comm.startswith("mimics-"):
+        return comm.removeprefix("mimics-")
+    with open("/proc/self/cmdline", "rb") as f:
+        found = re.search(rb"compile_part\('(\w+)'", f.read())
+    return found.group(1).decode() if found else "run"
 
 class _Timer(event.Listener):
     def __init__(self):
@@ -114,7 +124,7 @@ class _Timer(event.Listener):
         d = ev.data["dispatcher"]
         row = {"kernel": d.py_func.__module__ + "." + d.py_func.__qualname__,
                "args": str(ev.data["args"]), "depth": len(self.open),
-               "s": time.monotonic() - began, "process": process}
+               "s": time.monotonic() - began, "process": process_name()}
         with open(os.path.join(folder, f"{os.getpid()}.jsonl"), "a") as f:
             f.write(json.dumps(row) + "\n")
 

@@ -169,9 +169,16 @@ def load_step_kernels(ranging: bool) -> bool:
 _step_kernels_loaded: list[bool] = []
 
 
-def compile_part(part: str) -> None:
-    """Compile one part (``PARTS``): what a process of the first-run compile runs."""
-    COMPILERS[part]()
+def compile_part(part: str, *, helpers: bool = True) -> None:
+    """Compile one part (``PARTS``): what a process of the first-run compile runs.
+
+    ``helpers=False``: of the ray part, the kernel alone. The run that starts such a
+    process compiles the helpers itself meanwhile, at its first scan; compiled in both,
+    the ranger's noise took a second of CPU twice (benchmarks/NOTES.md)."""
+    if part == "ray" and not helpers:
+        compile_ray_kernel()
+    else:
+        COMPILERS[part]()
 
 
 def missing_parts() -> list[str]:

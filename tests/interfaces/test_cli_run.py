@@ -2,9 +2,9 @@
 timed run; the ray part's process is waited for by a run that scans and stopped otherwise.
 A step that never returns ends at --wall-limit, naming its line, with nothing left running."""
 
+import contextlib
 import json
 import os
-import re
 import subprocess
 import sys
 import time
@@ -23,26 +23,26 @@ runner = CliRunner()
 
 
 @pytest.fixture
-def fresh_install(monkeypatch) -> list[subprocess.Popen]:
+def fresh_install(monkeypatch) -> list:
     """Every part looks missing from the cache; returns the compile processes started.
 
     The processes really run (and find this process's kernels in the cache)."""
-    started: list[subprocess.Popen] = []
-    popen = subprocess.Popen
+    started: list = []
+    start = first_run.start_compile
 
-    def spy(*args, **kwargs):
-        started.append(popen(*args, **kwargs))
+    def spy(part):
+        started.append(start(part))
         return started[-1]
 
     monkeypatch.setattr(warm_up, "missing_parts", lambda: list(warm_up.PARTS))
     monkeypatch.setattr(kernel_cache, "missing_parts", lambda: list(warm_up.PARTS))
-    monkeypatch.setattr(first_run.subprocess, "Popen", spy)
+    monkeypatch.setattr(first_run, "start_compile", spy)
     return started
 
 
-def compiled_part(process: subprocess.Popen) -> str:
-    """The part a compile process was started for (its ``compile_part('...')`` call)."""
-    return re.search(r"compile_part\('(\w+)'\)", process.args[-1]).group(1)
+def compiled_part(process) -> str:
+    """The part a compile process was started for."""
+    return process.part
 
 
 def test_first_run_compiles_ahead_and_stops_the_unneeded_ray_part(tmp_path, fresh_install):
@@ -71,18 +71,24 @@ def test_a_first_run_that_scans_waits_for_the_ray_part(tmp_path, fresh_install):
     assert json.loads((out / "summary.json").read_text())["robots"] == 4
 
 
-def test_compiles_started_before_a_bad_option_is_found_are_stopped(tmp_path, fresh_install):
+@pytest.mark.parametrize("forks", [True, False])
+def test_compiles_started_before_a_bad_option_is_found_are_stopped(tmp_path, fresh_install,
+                                                                   monkeypatch, forks):
+    """Spawned compiles start before the command's checks and are stopped by a bad option;
+    forks of the run would start after them, so none starts."""
+    monkeypatch.setattr(first_run, "can_fork", lambda: forks)
     result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--view", "sometimes",
                                      "--out", str(tmp_path / "run")])
     assert result.exit_code == 2, result.output
     assert "--view: expected one of" in result.output
-    assert [compiled_part(p) for p in fresh_install] == ["motion", "ray"]  # started early
+    started = ["motion", "ray"] if not forks else []
+    assert [compiled_part(p) for p in fresh_install] == started
     assert all(p.returncode is not None for p in fresh_install)  # and stopped
     assert first_run._started == []
 
 
 def test_a_killed_run_leaves_no_compile_process(tmp_path):
-    """With an empty cache the compile processes start before the run imports Numba;
+    """With an empty cache the run starts its compile processes (forks of itself);
     killing the run (SIGKILL: no handler of its own runs) ends them too."""
     env, marker = marked_environment()
     env["NUMBA_CACHE_DIR"] = str(tmp_path / "empty-cache")
@@ -91,31 +97,47 @@ def test_a_killed_run_leaves_no_compile_process(tmp_path):
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 120
-        while (len([p for p in alive_with(marker) if "compile_part" in p]) < 2
+        while (len(compiling(marker, run.pid)) < 2
                and time.monotonic() < deadline and run.poll() is None):
             time.sleep(0.05)
-        assert len([p for p in alive_with(marker) if "compile_part" in p]) == 2  # motion, ray
+        assert sorted(compiling(marker, run.pid)) == ["mimics-motion", "mimics-ray"]
     finally:
         run.kill()
         run.wait()
     assert left_running(marker) == []
 
 
-def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path):
-    """The compile processes end without Python's teardown (os._exit): what they compiled
-    must be on disk by then, so that the run finds the part in Numba's cache."""
+def compiling(marker: str, run: int) -> list[str]:
+    """The names (``ps``'s ``comm``) of the marked processes but ``run``."""
+    pids = [int(line.split()[0]) for line in alive_with(marker)]
+    names = []
+    for pid in pids:
+        if pid != run:
+            with contextlib.suppress(OSError):
+                names.append(Path(f"/proc/{pid}/comm").read_text().strip())
+    return names
+
+
+@pytest.mark.parametrize("form", ["_Forked", "_spawn"])
+def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path, form):
+    """A compile process, a fork of the run or a fresh interpreter, ends without Python's
+    teardown (os._exit): what it compiled must be on disk by then, so that the run finds
+    the part in Numba's cache."""
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    check = ("from mimics.engine import warm_up; "
-             "print(' '.join(warm_up.missing_parts()))")
-    before = subprocess.run([sys.executable, "-c", check], env=env, capture_output=True,
-                            text=True, check=True).stdout.split()
-    assert "index" in before  # an empty cache
-    done = subprocess.run([sys.executable, "-c", first_run._COMPILE.format(part="index")],
-                          env=env, capture_output=True, text=True, timeout=300, check=False)
+    script = ("from mimics.engine import warm_up\n"
+              "from mimics.interfaces.cli import compile_processes\n"
+              "before = warm_up.missing_parts()\n"
+              f"process = compile_processes.{form}('motion')\n"
+              "print(process.wait(), process.part, ' '.join(before))\n"
+              "print(' '.join(warm_up.missing_parts()))\n")
+    done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
+                          text=True, timeout=300, check=False)
     assert done.returncode == 0, done.stderr
-    after = subprocess.run([sys.executable, "-c", check], env=env, capture_output=True,
-                           text=True, check=True).stdout.split()
-    assert after == [part for part in before if part != "index"]
+    first, after = done.stdout.splitlines()
+    code, part, *before = first.split()
+    assert (code, part) == ("0", "motion")
+    assert "motion" in before  # an empty cache
+    assert after.split() == [p for p in before if p != "motion"]
 
 
 def test_warm_cache_says_nothing_about_compiling(tmp_path, monkeypatch):

@@ -2,10 +2,11 @@
 
 ``mimics run`` and ``mimics ros`` wrap their run in :func:`kernels_compiled_ahead`.
 What Numba's disk cache lacks is compiled in parallel (``mimics.engine.warm_up``):
-the index part here, the motion part and the ray part each in a process of its
-own. The run starts once index and motion are ready, so its summary reports
-the simulation's own speed. The ray part, the largest, only matters
-to a run that reads a scan: its first scan waits for that process; a run that
+the index part here, the motion part and the ray kernel each in a process of its
+own, the ray kernel's helpers here at the first scan. The run starts once index and
+motion are ready, so its summary reports the simulation's own speed. The ray part,
+the largest, only matters to a run that reads a scan: its first scan waits for that
+process (and compiles the helpers meanwhile); a run that
 reads none (``go_to_goal``) never waits, and the process is stopped when the
 run ends (the next run that scans compiles it then). The still part (what
 robots standing still can see) is only a speed-up: no run waits for it, its
@@ -14,49 +15,42 @@ once that part is done (a run that reads no scan leaves it to the next). The
 time spent compiling or waiting is on ``mimics.engine.compile_clock``, which
 the summary reports on a line of its own and the run's wall time leaves out.
 
-The processes start before the run's own process imports NumPy, Numba and the
-engine (on one core, the other idle): the CLI enters :func:`compiles_started` first,
-which tells what the cache lacks without Numba
-(:mod:`mimics.interfaces.cli.kernel_cache`), so the ray part, the run's longest
-path, compiles on the other core meanwhile. Where that check cannot tell, the
-processes start in :func:`kernels_compiled_ahead`, after Numba's own check.
+A compile process is a fork of the run's process, made once the run has imported
+the engine, where that is safe (:mod:`mimics.interfaces.cli.compile_processes`):
+it compiles at once, without importing NumPy, Numba and the engine again. Where
+it is not (another OS, or threads running), it is a fresh interpreter, started as
+soon as the CLI enters :func:`compiles_started`, which tells what the cache lacks
+without Numba (:mod:`mimics.interfaces.cli.kernel_cache`), so that its imports
+overlap the run's own.
 """
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 
 # nothing of mimics.engine here: importing it imports Numba (start_compiles runs before);
 # the module itself, not the package's __init__ (which imports the commands: a circle)
 import mimics.interfaces.cli.kernel_cache as kernel_cache
-from mimics.interfaces.child_processes import dying_with_parent
+from mimics.interfaces.cli.compile_processes import CompileProcess, can_fork, start_compile
 from mimics.interfaces.cli.output import note
 
-# A compile process ends at once when its part is done (Numba writes its cache files as it
-# compiles): Python's teardown, releasing the LLVM objects one by one, would add half a
-# second that the run waiting for the process waits too (`mimics` itself ends so: leave.py).
-_COMPILE = ("from mimics.engine.warm_up import compile_part; compile_part({part!r}); "
-            "import os; os._exit(0)")
-# the ray part yields the cores to the parts the run waits for: it runs at the lowest priority
-_NICE = {"ray": "import os; os.nice(5); ", "still": "import os; os.nice(19); "}
-
-
-# the parts start_compiles found missing and the processes it started for them
-_started: list[tuple[list[str], dict[str, subprocess.Popen[bytes]]]] = []
+# the parts start_compiles found missing and the processes it started for them (none yet
+# when they are to be forks of the run, made once it has imported the engine)
+_started: list[tuple[list[str], dict[str, CompileProcess]]] = []
 
 
 def start_compiles() -> None:
-    """Start compiling what Numba's cache lacks, before this process imports Numba.
+    """Tell what Numba's cache lacks, before this process imports Numba, and start
+    compiling it when the compiles cannot be forks of this process.
 
-    :func:`kernels_compiled_ahead` then waits for these processes. Does nothing
-    when the cache cannot be read without Numba (that function starts them then)."""
+    :func:`kernels_compiled_ahead` then starts or waits for these processes. Does
+    nothing when the cache cannot be read without Numba (that function starts them)."""
     stop_compiles()  # any left by an earlier command of this process that failed
     missing = kernel_cache.missing_parts()
     if missing is not None:
-        _started.append((missing, _start(missing)))
+        _announce(missing)
+        _started.append((missing, {} if can_fork() else _start(missing)))
 
 
 @contextmanager
@@ -79,19 +73,18 @@ def stop_compiles() -> None:
             process.wait()
 
 
-def _start(missing: list[str]) -> dict[str, subprocess.Popen[bytes]]:
-    """The compile processes of the missing parts but the index part (this process's)
-    and, while the ray part is missing, the still part (started once the ray part is
-    done: even at the lowest priority it took the others' CPU; benchmarks/NOTES.md)."""
+def _announce(missing: list[str]) -> None:
     if {"index", "motion"} & set(missing):  # what every run waits for (ray: at a scan)
         # No figure here: the measured one lives in docs/explanation/performance.md alone
         note("mimics: first run: compiling the simulation kernels (once: they are cached on "
              "disk for the next runs)")
-    # the compiles die with the run, even a killed one (no orphan left compiling)
-    return {part: subprocess.Popen(dying_with_parent(
-                [sys.executable, "-c", _NICE.get(part, "") + _COMPILE.format(part=part)]),
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            for part in missing
+
+
+def _start(missing: list[str]) -> dict[str, CompileProcess]:
+    """The compile processes of the missing parts but the index part (this process's)
+    and, while the ray part is missing, the still part (started once the ray part is
+    done: even at the lowest priority it took the others' CPU; benchmarks/NOTES.md)."""
+    return {part: start_compile(part) for part in missing
             if part != "index" and not (part == "still" and "ray" in missing)}
 
 
@@ -103,8 +96,10 @@ def kernels_compiled_ahead() -> Iterator[None]:
 
     if _started:
         missing, aside = _started.pop()
+        aside = aside or _start(missing)  # forks: now that the engine is imported
     else:
         missing = warm_up.missing_parts()
+        _announce(missing)
         aside = _start(missing)
     if not missing:
         yield
@@ -132,22 +127,22 @@ def kernels_compiled_ahead() -> Iterator[None]:
         warm_up.forget_still_part()
 
 
-def _await_ray(aside: dict[str, subprocess.Popen[bytes]], later: list[str]) -> None:
+def _await_ray(aside: dict[str, CompileProcess], later: list[str]) -> None:
     from mimics.engine.warm_up import compile_ray_helpers
 
     process = aside["ray"]
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
              "(once: it is cached on disk for the next runs)")
-        compile_ray_helpers()  # here, while the process compiles the kernel itself
-        process.wait()
+    compile_ray_helpers()  # here, while the process compiles the kernel itself
+    process.wait()
     if later and process.returncode == 0:  # their turn, the ray part done
         aside.update(_start(later))
         later.clear()
         _still_part_elsewhere(aside["still"])
 
 
-def _still_part_elsewhere(process: subprocess.Popen[bytes]) -> None:
+def _still_part_elsewhere(process: CompileProcess) -> None:
     """Never waited for: the robots standing still are pinned once it is done."""
     from mimics.engine.warm_up import still_part_compiling_elsewhere
 
