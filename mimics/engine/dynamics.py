@@ -16,6 +16,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 
 TAU = 2.0 * math.pi
@@ -50,7 +51,7 @@ def _pid(error: float, rate: float, integral: float, kp: float, ki: float, kd: f
     """One PID update of one loop: ``(actuation, new integral)``."""
     candidate = integral + error * dt
     raw = kp * error + ki * candidate - kd * rate
-    actuation = min(max(raw, -1.0), 1.0)
+    actuation = smaller(larger(raw, -1.0), 1.0)
     # conditional integration: hold the integral while saturated and pushing further
     if raw != actuation and np.sign(error) == np.sign(raw):
         return actuation, integral

@@ -43,6 +43,7 @@ from numba import njit
 
 from mimics.engine.helper_threads.chunks import LEAD, begin_run, end_run, next_chunk
 from mimics.engine.helper_threads.threads import helpers, helpers_worth, solo_arrays
+from mimics.engine.kernel_minmax import larger, smaller
 
 GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # SplitMix64's increment
 MIX1, MIX2 = np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)
@@ -147,7 +148,7 @@ def _add_noise(ranges: np.ndarray, hit_owner: np.ndarray, max_range: np.ndarray,
     begin_run(control, share, role)
     chunk = next_chunk(share)
     while chunk < chunks:
-        for row in range(chunk * CHUNK_ROWS, min(rows, (chunk + 1) * CHUNK_ROWS)):
+        for row in range(chunk * CHUNK_ROWS, smaller(rows, (chunk + 1) * CHUNK_ROWS)):
             spread, top = sigma[row], max_range[row]
             if spread == 0.0:  # a noise-free type in a mixed team
                 continue
@@ -163,7 +164,7 @@ def _add_noise(ranges: np.ndarray, hit_owner: np.ndarray, max_range: np.ndarray,
                 z = -x if negative else x
                 hit = owner[beam] != NO_RETURN
                 inside = bits < INNER[layer]
-                noisy = min(max(reading[beam] + spread * z, 0.0), top)
+                noisy = smaller(larger(reading[beam] + spread * z, 0.0), top)
                 reading[beam] = noisy if hit and inside else reading[beam]
                 flag = hit and not inside
                 flags[beam] = flag
@@ -172,7 +173,7 @@ def _add_noise(ranges: np.ndarray, hit_owner: np.ndarray, max_range: np.ndarray,
             while flagged:  # (the flagged beams are about 2 a row)
                 if flags[beam]:
                     z = _normal(robot_state + np.uint64(beam + 1) * GOLDEN)
-                    reading[beam] = min(max(reading[beam] + spread * z, 0.0), top)
+                    reading[beam] = smaller(larger(reading[beam] + spread * z, 0.0), top)
                     flagged -= 1
                 beam += 1
         chunk = next_chunk(share)

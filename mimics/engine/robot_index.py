@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 from mimics.engine.spatial_index import cell_span, coerce_array, grid_frame
 
@@ -100,22 +101,22 @@ def _bucket(centers: np.ndarray, headings: np.ndarray, half_length: np.ndarray,
     for i in range(n):
         if include[i]:
             k += 1
-            max_radius = max(max_radius, radius[i])
-            xmin, xmax = min(xmin, centers[i, 0]), max(xmax, centers[i, 0])
-            ymin, ymax = min(ymin, centers[i, 1]), max(ymax, centers[i, 1])
+            max_radius = larger(max_radius, radius[i])
+            xmin, xmax = smaller(xmin, centers[i, 0]), larger(xmax, centers[i, 0])
+            ymin, ymax = smaller(ymin, centers[i, 1]), larger(ymax, centers[i, 1])
     if k == 0:
         xmin, ymin, xmax, ymax = 0.0, 0.0, 1.0, 1.0
     w, h = xmax - xmin, ymax - ymin
-    cell = max(cell_hint, math.sqrt(w * h / (MAX_CELLS_PER_ROBOT * k + 1024)),
-               max(w, h) / 65536.0, 1e-9)
+    cell = larger(cell_hint, math.sqrt(w * h / (MAX_CELLS_PER_ROBOT * k + 1024)),
+               larger(w, h) / 65536.0, 1e-9)
     origin, shape, cell = grid_frame(xmin, ymin, xmax, ymax, cell)
     nx, ny = shape[0], shape[1]
     start = np.zeros(nx * ny + 1, dtype=np.int64)
     where = np.empty(n, dtype=np.int64)
     for i in range(n):
         if include[i]:
-            ix = min(max(int((centers[i, 0] - origin[0]) / cell), 0), nx - 1)
-            iy = min(max(int((centers[i, 1] - origin[1]) / cell), 0), ny - 1)
+            ix = smaller(larger(int((centers[i, 0] - origin[0]) / cell), 0), nx - 1)
+            iy = smaller(larger(int((centers[i, 1] - origin[1]) / cell), 0), ny - 1)
             where[i] = iy * nx + ix
             start[where[i] + 1] += 1
     for c in range(nx * ny):

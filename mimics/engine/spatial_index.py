@@ -29,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 
 Bounds = tuple[float, float, float, float]
@@ -69,7 +70,7 @@ def grid_pad(origin: np.ndarray, shape: np.ndarray, cell: float) -> float:
     """How much every cell is enlarged when segments are listed in it (m)."""
     x1 = origin[0] + shape[0] * cell
     y1 = origin[1] + shape[1] * cell
-    span = max(1.0, abs(origin[0]), abs(origin[1]), abs(x1), abs(y1))
+    span = larger(1.0, abs(origin[0]), abs(origin[1]), abs(x1), abs(y1))
     return PAD_RELATIVE * span
 
 
@@ -84,7 +85,7 @@ def clip_to_slab(start: float, delta: float, lo: float, hi: float, s0: float,
     if delta == 0.0:
         return (s0, s1) if lo <= start <= hi else (1.0, 0.0)
     a, b = (lo - start) / delta, (hi - start) / delta
-    return max(s0, min(a, b)), min(s1, max(a, b))
+    return larger(s0, smaller(a, b)), smaller(s1, larger(a, b))
 
 
 @njit(**INNER)
@@ -96,8 +97,8 @@ def cell_span(lo: float, hi: float, start: float, cell: float, n: int) -> tuple[
     if hi < start or lo > start + n * cell or lo > hi:
         return 0, -1
     # clamp as floats first: far-away coordinates must not overflow int64
-    a = min(max(math.floor((lo - start) / cell), 0.0), n - 1.0)
-    b = min(max(math.floor((hi - start) / cell), 0.0), n - 1.0)
+    a = smaller(larger(math.floor((lo - start) / cell), 0.0), n - 1.0)
+    b = smaller(larger(math.floor((hi - start) / cell), 0.0), n - 1.0)
     return int(a), int(b)
 
 
@@ -108,18 +109,18 @@ def _x_extent_in_slab(x1: float, y1: float, x2: float, y2: float,
     if y1 == y2:
         if y1 < ylo or y1 > yhi:
             return False, 0.0, 0.0
-        return True, min(x1, x2), max(x1, x2)
+        return True, smaller(x1, x2), larger(x1, x2)
     s0 = (ylo - y1) / (y2 - y1)
     s1 = (yhi - y1) / (y2 - y1)
     if s0 > s1:
         s0, s1 = s1, s0
-    s0 = max(s0, 0.0)
-    s1 = min(s1, 1.0)
+    s0 = larger(s0, 0.0)
+    s1 = smaller(s1, 1.0)
     if s0 > s1:
         return False, 0.0, 0.0
     xa = x1 + s0 * (x2 - x1)
     xb = x1 + s1 * (x2 - x1)
-    return True, min(xa, xb), max(xa, xb)
+    return True, smaller(xa, xb), larger(xa, xb)
 
 
 @njit(**INNER)
@@ -133,7 +134,7 @@ def _index_segment(seg: np.ndarray, origin: np.ndarray, shape: np.ndarray, cell:
     """
     x1, y1, x2, y2 = seg[0], seg[1], seg[2], seg[3]
     nx, ny = shape[0], shape[1]
-    iy0, iy1 = cell_span(min(y1, y2) - pad, max(y1, y2) + pad, origin[1], cell, ny)
+    iy0, iy1 = cell_span(smaller(y1, y2) - pad, larger(y1, y2) + pad, origin[1], cell, ny)
     for iy in range(iy0, iy1 + 1):
         ylo = origin[1] + iy * cell - pad
         yhi = origin[1] + (iy + 1) * cell + pad
@@ -179,12 +180,13 @@ def grid_frame(xmin: float, ymin: float, xmax: float, ymax: float,
     The margin keeps segments on the box's sides off the grid's own sides; the
     cell is stretched by about the margin rather than adding a row of cells.
     """
-    margin = MARGIN_RELATIVE * max(1.0, abs(xmin), abs(ymin), abs(xmax), abs(ymax))
+    margin = MARGIN_RELATIVE * larger(1.0, abs(xmin), abs(ymin), abs(xmax), abs(ymax))
     origin = np.array([xmin - margin, ymin - margin])
     shape = np.empty(2, dtype=np.int64)
-    shape[0] = max(1, math.ceil((xmax - xmin) / cell - 1e-9))
-    shape[1] = max(1, math.ceil((ymax - ymin) / cell - 1e-9))
-    cell = max(cell, (xmax - xmin + 2 * margin) / shape[0], (ymax - ymin + 2 * margin) / shape[1])
+    shape[0] = larger(1, math.ceil((xmax - xmin) / cell - 1e-9))
+    shape[1] = larger(1, math.ceil((ymax - ymin) / cell - 1e-9))
+    cell = larger(cell, (xmax - xmin + 2 * margin) / shape[0],
+                  (ymax - ymin + 2 * margin) / shape[1])
     return origin, shape, cell
 
 

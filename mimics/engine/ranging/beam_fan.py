@@ -16,6 +16,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 
 COLLINEAR_EPS = 1e-10  # a parallel segment this close to the beam's line lies on it (m)
@@ -49,10 +50,10 @@ def fast_atan2(y: float, x: float) -> float:
     exactly.
     """
     ax, ay = abs(x), abs(y)
-    big = max(ax, ay)
+    big = larger(ax, ay)
     if big == 0.0:
         return 0.0
-    a = min(ax, ay) / big
+    a = smaller(ax, ay) / big
     s = a * a
     # atan on [0, 1], Abramowitz & Stegun 4.4.47 (error below 1.15e-5): a short chain of
     # dependent multiply-adds, two per swept segment
@@ -82,8 +83,8 @@ def _beam_range(rel: float, span: float, layout: Layout) -> tuple[int, int]:
     if rel + span < -(margin + 1.0) * spacing or rel > (count + margin) * spacing:
         return 1, 0
     # products by the reciprocal differ from quotients by rounding only: the margin covers it
-    first = max(math.ceil(rel * per_rad) - int(margin), 0)
-    last = min(math.floor((rel + span) * per_rad) + int(margin), int(count) - 1)
+    first = larger(math.ceil(rel * per_rad) - int(margin), 0)
+    last = smaller(math.floor((rel + span) * per_rad) + int(margin), int(count) - 1)
     return first, last
 
 
@@ -131,7 +132,7 @@ def _layout(offsets: np.ndarray) -> Layout:
         return unordered
     deviation = 0.0
     for j in range(count):
-        deviation = max(deviation, abs(offsets[j] - (offsets[0] + j * spacing)))
+        deviation = larger(deviation, abs(offsets[j] - (offsets[0] + j * spacing)))
     margin = 1.0 + math.ceil((deviation + ANGLE_SLACK) / spacing)
     if margin > 3.0:
         return unordered
@@ -152,7 +153,7 @@ def _field_of_view(offsets: np.ndarray) -> Cone:
     low, high, count = math.inf, -math.inf, 0
     for j in range(offsets.shape[0]):
         if not math.isnan(offsets[j]):
-            low, high, count = min(low, offsets[j]), max(high, offsets[j]), count + 1
+            low, high, count = smaller(low, offsets[j]), larger(high, offsets[j]), count + 1
     width = high - low
     if count == 0 or width >= TAU - 1e-6:
         return (1.0, 0.0, 1.0, 0.0, 0.0)

@@ -15,6 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_fan import (
     COLLINEAR_EPS,
@@ -88,10 +89,10 @@ def ray_segment_distance(ox: float, oy: float, dx: float, dy: float, x1: float, 
         return math.inf
     tp = wx * dx + wy * dy
     tq = (x2 - ox) * dx + (y2 - oy) * dy
-    near, far = min(tp, tq), max(tp, tq)
+    near, far = smaller(tp, tq), larger(tp, tq)
     if far < 0:
         return math.inf
-    return max(near, 0.0)
+    return larger(near, 0.0)
 
 
 @njit(**INNER)
@@ -122,8 +123,8 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
     t0, t1 = clip_to_slab(oy, dy, gy, gy + ny * c, t0, t1)
     if t0 > t1:
         return best_t, best_o
-    ix = int(min(max(math.floor((ox + t0 * dx - gx) / c), 0.0), nx - 1.0))
-    iy = int(min(max(math.floor((oy + t0 * dy - gy) / c), 0.0), ny - 1.0))
+    ix = int(smaller(larger(math.floor((ox + t0 * dx - gx) / c), 0.0), nx - 1.0))
+    iy = int(smaller(larger(math.floor((oy + t0 * dy - gy) / c), 0.0), ny - 1.0))
     step_x = 1 if dx > 0 else -1
     step_y = 1 if dy > 0 else -1
     segs, owner = grid.segments, grid.owner
@@ -141,7 +142,7 @@ def _trace(grid: SegmentGrid, ox: float, oy: float, dx: float, dy: float, limit:
                                      segs[s, 3])
             if t <= limit and (t < best_t or (t == best_t and o < best_o)):
                 best_t, best_o = t, o
-        t_exit = min(tx, ty)
+        t_exit = smaller(tx, ty)
         # farther cells only hold hits beyond t_exit (segments near a cell side
         # are listed on both sides of it, see grid_pad)
         if best_t <= t_exit or t_exit >= limit:
@@ -210,7 +211,7 @@ def _sweep_block(start: int, ox: float, oy: float, x1: float, y1: float, x2: flo
                 _consider(ox, oy, work, j, x1, y1, x2, y2, o, limit, best_o)
     far = -math.inf
     for j in range(start, start + BLOCK):  # apart: a float max above would keep it scalar
-        far = max(far, work[NEAR, j])
+        far = larger(far, work[NEAR, j])
     return far
 
 
@@ -331,7 +332,7 @@ def robot_plan(cx: float, cy: float, radius: float, row: np.ndarray) -> None:
     cy)`` from the sensor whatever the headings: its distance bound (as the scan's own),
     the span of its circle, and 1.0 when the sensor is inside it (else 0.0)."""
     inside, start, width = _robot_span(cx, cy, radius)
-    row[DISTANCE] = max(_below(math.sqrt(cx * cx + cy * cy) - radius), 0.0)
+    row[DISTANCE] = larger(_below(math.sqrt(cx * cx + cy * cy) - radius), 0.0)
     row[LOW], row[SPAN], row[EVERY] = start, width, 1.0 if inside else 0.0
 
 

@@ -35,6 +35,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_sweep import PLAN
 from mimics.engine.ranging.wall_index import point_segment_distance
@@ -106,7 +107,7 @@ def _add(arcs: np.ndarray, count: int, low: float, high: float) -> int:
             arcs[0, kept], arcs[1, kept] = arcs[0, k], arcs[1, k]
             kept += 1
         else:
-            low, high = min(low, arcs[0, k]), max(high, arcs[1, k])
+            low, high = smaller(low, arcs[0, k]), larger(high, arcs[1, k])
     at = kept
     while at > 0 and arcs[0, at - 1] > low:
         arcs[0, at], arcs[1, at] = arcs[0, at - 1], arcs[1, at - 1]
@@ -167,9 +168,10 @@ def sight_lists(ox: float, oy: float, limit: float, me: int, walls: np.ndarray,
         x1, y1, x2, y2 = _around(segments, walls[p], ox, oy)
         near[p] = point_segment_distance(0.0, 0.0, x1, y1, x2, y2)
         low, high = _span(x1, y1, x2, y2)
-        start[p], width[p] = low, max(high - low, -1.0)
+        start[p], width[p] = low, larger(high - low, -1.0)
         if width[p] >= 0.0:
-            pieces[p] = min(MAX_PIECES, max(1, math.ceil(math.hypot(x2 - x1, y2 - y1) / PIECE)))
+            pieces[p] = smaller(MAX_PIECES,
+                                larger(1, math.ceil(math.hypot(x2 - x1, y2 - y1) / PIECE)))
     # occluders: robots' inscribed circles and pieces of walls; span and farthest point
     total = nr + np.sum(pieces)
     depth = np.empty(total)
@@ -210,9 +212,9 @@ def sight_lists(ox: float, oy: float, limit: float, me: int, walls: np.ndarray,
                 continue
             # the piece's span, unwrapped next to the wall's, clipped to its drawn-in one
             shift = TAU * round((start[p] - low) / TAU)
-            low, high = max(low + shift, first), min(high + shift, last)
+            low, high = larger(low + shift, first), smaller(high + shift, last)
             o_start[count], o_width[count] = low, high - low
-            depth[count] = max(math.sqrt(ax * ax + ay * ay), math.sqrt(bx * bx + by * by))
+            depth[count] = larger(math.sqrt(ax * ax + ay * ay), math.sqrt(bx * bx + by * by))
             # a piece farther than the range could only hide what lies beyond it
             count += depth[count] <= limit
     # nearest items first, each against the occluders clearly nearer than it

@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit
 
 from mimics.engine.helper_threads.chunks import begin, chunk_done, end, take
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_fan import _beyond_edges, _outside_view
 from mimics.engine.ranging.beam_sweep import (
@@ -92,7 +93,7 @@ def _by_distance(distance: np.ndarray, count: int, limit: float, lists: np.ndarr
     counts = np.zeros(RINGS + 1, dtype=np.int64)
     for p in range(count):
         d = distance[p]
-        ring = -1 if d > limit else (0 if d <= 0.0 else min(int(d / limit * RINGS), RINGS - 1))
+        ring = -1 if d > limit else (0 if d <= 0.0 else smaller(int(d / limit * RINGS), RINGS - 1))
         lists[RING, p] = ring
         if ring >= 0:
             counts[ring + 1] += 1
@@ -190,7 +191,7 @@ def _scan_row(query: RangerQuery, i: int, grid: SegmentGrid,
         elif planned:
             distance[walls + f] = sight.plan[seen_first + f, DISTANCE]
         else:
-            distance[walls + f] = max(_below(math.sqrt(cx * cx + cy * cy) - radius[r]), 0.0)
+            distance[walls + f] = larger(_below(math.sqrt(cx * cx + cy * cy) - radius[r]), 0.0)
     # walls and robots together, nearest first: farther ones then skip the beams already
     # hit (most beams of a crowded scan end on a neighbour, in front of the walls)
     for q in range(_by_distance(distance, walls + found, limit, lists)):
@@ -253,7 +254,7 @@ def _cast_rows(beams: tuple, wall_grid: tuple, near_lists: tuple, reach: float,
     begin(control, share, role)
     chunk = take(share, role, until, chunks)
     while chunk >= 0:
-        for i in range(chunk * CHUNK_ROBOTS, min(k, (chunk + 1) * CHUNK_ROBOTS)):
+        for i in range(chunk * CHUNK_ROBOTS, smaller(k, (chunk + 1) * CHUNK_ROBOTS)):
             _scan_row(query, i, grid, near, reach, robots, sight, ranges[i], hit_owner[i], work,
                       best_o, distance, lists)
         chunk_done(share, chunk)
@@ -266,5 +267,5 @@ def _list_capacity(near: SegmentGrid, robots: RobotIndex) -> int:
     """The most walls and robots a scan can list: the longest near list and every robot."""
     most = 0
     for c in range(near.cell_start.shape[0] - 1):
-        most = max(most, near.cell_start[c + 1] - near.cell_start[c])
+        most = larger(most, near.cell_start[c + 1] - near.cell_start[c])
     return most + robots.grid_items.shape[0]

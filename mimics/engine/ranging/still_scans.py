@@ -21,6 +21,7 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_sweep import PLAN, robot_plan, wall_plan
 from mimics.engine.ranging.point_cull import SightLists, sight_lists
@@ -62,8 +63,8 @@ MIN_BEAMS = 32
 @njit(**INNER)
 def _cell(x: float, y: float, index: RobotIndex) -> tuple[int, int]:
     """The index grid's cell of ``(x, y)``, clamped to the grid."""
-    ix = min(max(math.floor((x - index.origin[0]) / index.cell), 0.0), index.shape[0] - 1.0)
-    iy = min(max(math.floor((y - index.origin[1]) / index.cell), 0.0), index.shape[1] - 1.0)
+    ix = smaller(larger(math.floor((x - index.origin[0]) / index.cell), 0.0), index.shape[0] - 1.0)
+    iy = smaller(larger(math.floor((y - index.origin[1]) / index.cell), 0.0), index.shape[1] - 1.0)
     return int(ix), int(iy)
 
 
@@ -111,8 +112,8 @@ def _settle(centers: np.ndarray, before: np.ndarray, solid_before: np.ndarray,
         settled = not everyone and not moved[i]
         if settled and anyone:
             ix, iy = _cell(centers[i, 0], centers[i, 1], index)
-            x0, x1 = max(ix - cells, 0), min(ix + cells, nx - 1)
-            y0, y1 = max(iy - cells, 0), min(iy + cells, ny - 1)
+            x0, x1 = larger(ix - cells, 0), smaller(ix + cells, nx - 1)
+            y0, y1 = larger(iy - cells, 0), smaller(iy + cells, ny - 1)
             settled = (movers[y1 + 1, x1 + 1] - movers[y0, x1 + 1] - movers[y1 + 1, x0]
                        + movers[y0, x0]) == 0
         if settled:
@@ -146,7 +147,7 @@ def _reserve(items: np.ndarray, plan: np.ndarray, used: int,
     if needed)."""
     if used + more <= items.shape[0]:
         return items, plan
-    size = max(2 * items.shape[0], used + more)
+    size = larger(2 * items.shape[0], used + more)
     grown, grown_plan = np.empty(size, dtype=np.int64), np.empty((size, PLAN))
     _copy_rows(items, plan, 0, grown, grown_plan, 0, used)
     return grown, grown_plan

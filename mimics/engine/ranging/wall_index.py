@@ -33,6 +33,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.wall_occlusion import MARGIN, cull_hidden
 from mimics.engine.spatial_index import (
@@ -70,8 +71,8 @@ class WallIndex(NamedTuple):
 @njit(**INNER)
 def _point_box_distance(px: float, py: float, x0: float, y0: float, x1: float,
                         y1: float) -> float:
-    dx = max(x0 - px, 0.0, px - x1)
-    dy = max(y0 - py, 0.0, py - y1)
+    dx = larger(x0 - px, 0.0, px - x1)
+    dy = larger(y0 - py, 0.0, py - y1)
     return math.hypot(dx, dy)
 
 
@@ -83,7 +84,7 @@ def point_segment_distance(px: float, py: float, x1: float, y1: float, x2: float
     length2 = ex * ex + ey * ey
     s = 0.0
     if length2 > 0.0:
-        s = min(max(((px - x1) * ex + (py - y1) * ey) / length2, 0.0), 1.0)
+        s = smaller(larger(((px - x1) * ex + (py - y1) * ey) / length2, 0.0), 1.0)
     gx, gy = px - x1 - s * ex, py - y1 - s * ey
     return math.sqrt(gx * gx + gy * gy)  # hypot's overflow care costs 3x here
 
@@ -106,10 +107,10 @@ def segment_box_distance(x1: float, y1: float, x2: float, y2: float, x0: float, 
     """
     if _segment_crosses_box(x1, y1, x2, y2, x0, y0, xb, yb):
         return 0.0
-    d = min(_point_box_distance(x1, y1, x0, y0, xb, yb),
+    d = smaller(_point_box_distance(x1, y1, x0, y0, xb, yb),
             _point_box_distance(x2, y2, x0, y0, xb, yb))
     for cx, cy in ((x0, y0), (xb, y0), (x0, yb), (xb, yb)):
-        d = min(d, point_segment_distance(cx, cy, x1, y1, x2, y2))
+        d = smaller(d, point_segment_distance(cx, cy, x1, y1, x2, y2))
     return d
 
 
@@ -129,8 +130,10 @@ def _near_lists(segments: np.ndarray, origin: np.ndarray, shape: np.ndarray, cel
             cursor = start[: nx * ny].copy()
         for s in range(segments.shape[0]):
             x1, y1, x2, y2 = segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3]
-            ix0, ix1 = cell_span(min(x1, x2) - reach, max(x1, x2) + reach, origin[0], cell, nx)
-            iy0, iy1 = cell_span(min(y1, y2) - reach, max(y1, y2) + reach, origin[1], cell, ny)
+            ix0, ix1 = cell_span(smaller(x1, x2) - reach, larger(x1, x2) + reach, origin[0],
+                                 cell, nx)
+            iy0, iy1 = cell_span(smaller(y1, y2) - reach, larger(y1, y2) + reach, origin[1],
+                                 cell, ny)
             for iy in range(iy0, iy1 + 1):
                 y0 = origin[1] + iy * cell
                 for ix in range(ix0, ix1 + 1):

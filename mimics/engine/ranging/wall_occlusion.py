@@ -36,6 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mimics.engine.kernel_minmax import larger, smaller
 from mimics.engine.kernel_options import INNER
 
 MARGIN = 1e-6  # m: how clearly a sight line must cross an occluder (rounding is far smaller)
@@ -83,7 +84,7 @@ def _occluder(segments: np.ndarray, s: int, box: np.ndarray, margin: float,
     for k in range(4):
         cx, cy = _corner(box, k)
         side = nx * (cx - ax) + ny * (cy - ay)
-        low, high = min(low, side), max(high, side)
+        low, high = smaller(low, side), larger(high, side)
     if low >= margin:  # the box on the normal's side: W must be on the other
         nx, ny = -nx, -ny
     elif high > -margin:
@@ -129,7 +130,7 @@ def cull_hidden(segments: np.ndarray, origin: np.ndarray, shape: np.ndarray, cel
     kept = np.empty_like(items)
     longest = 0
     for c in range(nx * ny):
-        longest = max(longest, start[c + 1] - start[c])
+        longest = larger(longest, start[c + 1] - start[c])
     occluders = np.zeros((6, longest))
     beyond = np.empty(longest, dtype=np.bool_)
     box = np.empty(4)
