@@ -40,17 +40,17 @@ parameter point and seed.
 
 from __future__ import annotations
 
-import itertools
-import json
 import math
-import re
 import tomllib
-from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from mimics.batteries.references import algorithm_label, check_algorithms, is_path, resolve
-from mimics.batteries.until import UntilRule, parse_until
+from mimics.batteries.references import check_algorithms, is_path, resolve
+
+# the spec as plain data lives in spec_data; its names are read from here too
+from mimics.batteries.spec_data import DEFAULT_TIMEOUT, BatterySpec, ScenarioEntry, value_text
+from mimics.batteries.spec_data import RunSpec as RunSpec
+from mimics.batteries.until import parse_until
 from mimics.world.errors import MimicsError, read_input_text
 from mimics.world.limits import MAX_SEED
 
@@ -59,120 +59,7 @@ BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "rob
 TOP_KEYS = ("battery", "scenarios")
 POLICIES = ("abort", "deactivate")
 ROBOT_LOGS = ("off", "auto", "on")
-DEFAULT_TIMEOUT = 300.0
 MAX_RUNS = 1_000_000  # runs of one battery (each is a folder on disk and a database row)
-_SAFE = re.compile(r"[^A-Za-z0-9._=+-]+")
-
-
-@dataclass(frozen=True)
-class ScenarioEntry:
-    """One ``[[scenarios]]`` table: a scenario and its parameters (lists sweep).
-
-    Attributes:
-        ref: the built-in name, or the absolute path of a ``.py``/``.toml`` file.
-        name: the display name (the built-in name or the file's stem).
-        params: parameter values as written; a list is a sweep.
-    """
-
-    ref: str
-    name: str
-    params: dict[str, Any] = field(default_factory=dict)
-
-    def points(self) -> list[dict[str, Any]]:
-        """Every parameter point of the sweep, in file order."""
-        keys = list(self.params)
-        values = [v if isinstance(v, list) else [v] for v in self.params.values()]
-        return [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*values)]
-
-
-@dataclass(frozen=True)
-class RunSpec:
-    """One run of a battery: an algorithm on a scenario at a parameter point with a seed."""
-
-    algorithm_ref: str
-    algorithm: str
-    scenario_ref: str
-    scenario: str
-    params: dict[str, Any]
-    seed: int
-
-    @property
-    def label(self) -> str:
-        """The parameter point as ``"robots=10, spacing=2.0"`` (empty without parameters)."""
-        return ", ".join(f"{k}={_text(v)}" for k, v in self.params.items())
-
-    def folder_name(self, run_id: int) -> str:
-        """The run's folder name inside ``runs/``: id, names, parameters and seed."""
-        params = "-".join(f"{k}={_text(v)}" for k, v in self.params.items())
-        parts = [f"{run_id:05d}", self.algorithm, self.scenario, params, f"s{self.seed}"]
-        name = _SAFE.sub("_", "-".join(p for p in parts if p))
-        return name if len(name) <= 120 else f"{name[:110]}-s{self.seed}"
-
-
-@dataclass(frozen=True)
-class BatterySpec:
-    """A validated battery: what to run and how.
-
-    Attributes:
-        algorithms: built-in names or absolute ``.py`` paths.
-        scenarios: the ``[[scenarios]]`` tables.
-        seeds: the seeds of every combination.
-        time: simulated seconds per run (None: each scenario's own limit).
-        timeout: wall-clock seconds per run; past it the run is stopped (and
-            its worker killed if it does not stop by itself) and recorded ``timeout``.
-        policy: ``"abort"`` or ``"deactivate"`` on exceptions in user code.
-        robot_logs: per-robot text logs in run folders (``"off"``, ``"auto"``, ``"on"``).
-        record_every: record every n-th step of the trajectory.
-        record_scans: also record the laser scans in each run folder.
-        name: a label for the battery.
-        source: the file it was read from ("" when built in memory).
-        until: the stopping rule (None: a fixed battery); ``seeds`` is then its first
-            round, 1..min_seeds, and later rounds are added as cells finish them.
-        ros_timeout: ``ros:`` algorithms' lockstep time-out in seconds (None: 10 s).
-    """
-
-    algorithms: tuple[str, ...]
-    scenarios: tuple[ScenarioEntry, ...]
-    seeds: tuple[int, ...] = (1,)
-    time: float | None = None
-    timeout: float = DEFAULT_TIMEOUT
-    policy: str = "abort"
-    robot_logs: str = "off"
-    record_every: int = 1
-    record_scans: bool = False
-    name: str = ""
-    source: str = ""
-    until: UntilRule | None = None
-    ros_timeout: float | None = None
-
-    def runs(self) -> list[RunSpec]:
-        """Every run, in order: algorithm, scenario, parameter point, seed."""
-        runs = []
-        for algorithm in self.algorithms:
-            label = algorithm_label(algorithm)
-            for entry in self.scenarios:
-                for point in entry.points():
-                    runs.extend(RunSpec(algorithm, label, entry.ref, entry.name, point, seed)
-                                for seed in self.seeds)
-        return runs
-
-    def to_json(self) -> str:
-        """The spec as JSON (stored in the battery's database)."""
-        return json.dumps(asdict(self), sort_keys=True)
-
-    @classmethod
-    def from_json(cls, text: str) -> BatterySpec:
-        """The spec stored by :meth:`to_json`."""
-        data = json.loads(text)
-        scenarios = tuple(ScenarioEntry(**s) for s in data.pop("scenarios"))
-        until = data.pop("until", None)
-        return cls(algorithms=tuple(data.pop("algorithms")), scenarios=scenarios,
-                   seeds=tuple(data.pop("seeds")),
-                   until=None if until is None else UntilRule(**until), **data)
-
-
-def _text(value: Any) -> str:
-    return json.dumps(value) if isinstance(value, list | dict) else str(value)
 
 
 # -- reading and checking ------------------------------------------------------
@@ -263,7 +150,7 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
         for k, entry in enumerate(scenarios, start=1):
             if "time_limit" in entry.params:
                 raise fail(f"[battery] time = {time!r} and [[scenarios]] #{k} ({entry.name}) "
-                           f"time_limit = {_text(entry.params['time_limit'])}: two values for "
+                           f"time_limit = {value_text(entry.params['time_limit'])}: two values for "
                            "the simulated time; give one")
     count = len(algorithms) * (until.max_seeds if until else len(seeds)) * sum(
         math.prod(len(v) if isinstance(v, list) else 1 for v in entry.params.values())
@@ -340,9 +227,9 @@ def _no_shared_points(entry: ScenarioEntry, earlier: list[ScenarioEntry], where:
             continue
         shared = next((p for p in other.points() if p in points), None)
         if shared is not None:
-            given = ", ".join(f"{key} = {_text(v)}" for key, v in entry.params.items())
-            before = ", ".join(f"{key} = {_text(v)}" for key, v in other.params.items())
-            point = ", ".join(f"{key} = {_text(v)}" for key, v in shared.items())
+            given = ", ".join(f"{key} = {value_text(v)}" for key, v in entry.params.items())
+            before = ", ".join(f"{key} = {value_text(v)}" for key, v in other.params.items())
+            point = ", ".join(f"{key} = {value_text(v)}" for key, v in shared.items())
             raise fail(f"{where}: {given or 'no parameters'} repeats runs of [[scenarios]] #{k} "
                        f"({before or 'no parameters'}): {point or 'the defaults'}; give each "
                        "point once")
