@@ -17,7 +17,9 @@ With ``--old PATH`` (a folder holding another ``mimics`` package, e.g.
 ``git archive REV mimics | tar -x -C PATH``), that code's runs alternate with
 this tree's (old, new, new, old, ...), so that both meet the same minutes of a
 busy machine. Issue 39's bars (idle machine): Cave <= 0.5 s, Hospital <= 1.0 s,
-line <= 0.4 s. Merges the figures into benchmarks/results.json under ``startup``.
+line <= 0.4 s. Then the floor under them all: fresh processes that only import the
+libraries a run imports (NumPy, Numba as mimics sets it up, Typer, Rich, pyarrow,
+tomli_w) and end. Merges the figures into benchmarks/results.json under ``startup``.
 """
 
 from __future__ import annotations
@@ -36,6 +38,8 @@ from pathlib import Path
 
 from common import save
 
+from mimics.world.data_folder import data_folder
+
 COMMANDS = {"cave": ["run", "cave", "deployment", "--time", "0.1"],
             "hospital": ["run", "hospital", "deployment_team", "--time", "0.1"],
             "line": ["run", "line", "go_to_goal", "--time", "0.1"]}
@@ -51,6 +55,8 @@ def whole_process_env(old: Path | None = None) -> dict[str, str]:
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     if old is not None:
         env["PYTHONPATH"] = str(old)
+        # a tree outside this checkout does not find shared/data by walking up from itself
+        env.setdefault("MIMICS_DATA", str(data_folder()))
     return env
 
 
@@ -61,13 +67,35 @@ def one_run(command: list[str], folder: Path, old: Path | None) -> dict[str, flo
     env = whole_process_env(old)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     began = time.perf_counter()
+    # run in ``folder``: ``python -m`` puts the working folder first on the path, where a
+    # checkout's mimics/ would shadow the one PYTHONPATH names
     subprocess.run([sys.executable, "-m", "mimics", *command, "--out", str(out)], check=True,
-                   stdout=subprocess.DEVNULL, env=env)
+                   stdout=subprocess.DEVNULL, env=env, cwd=folder)
     wall = time.perf_counter() - began
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     loop = json.loads((out / "summary.json").read_text())["wall_time"]
     return {"wall": wall, "cpu": cpu, "loop": loop, "fixed": wall - loop}
+
+
+# What a run imports that is not mimics' own code (NumPy, and Numba as mimics sets it up, by
+# importing mimics.engine; Typer, Click and Rich for the command; pyarrow and tomli_w for the
+# records): a process that imports only these and ends is the floor under every run's fixed
+# cost, whatever mimics' own code does.
+FLOOR = ("import mimics.engine, typer, rich.console, rich.table, pyarrow.parquet, tomli_w; "
+         "import os; os._exit(0)")
+
+
+def import_floor(repeats: int, old: Path | None) -> list[float]:
+    """Wall seconds of fresh processes that only import what a run imports (``FLOOR``)."""
+    env = whole_process_env(old)
+    subprocess.run([sys.executable, "-c", FLOOR], check=True, env=env)  # bytecode written
+    walls = []
+    for _ in range(repeats):
+        began = time.perf_counter()
+        subprocess.run([sys.executable, "-c", FLOOR], check=True, env=env)
+        walls.append(time.perf_counter() - began)
+    return walls
 
 
 def spread(values: list[float]) -> str:
@@ -107,6 +135,10 @@ def main() -> None:
                     **{f"{key}_median_s": statistics.median(values)
                        for key, values in columns.items()},
                     "bar_s": BARS[name]}
+    floor = import_floor(args.repeats, None)
+    print(f"the imports alone (no mimics code run, os._exit): whole {spread(floor)} s")
+    figures["import_floor"] = {"command": f"python -c {FLOOR!r}",
+                               "wall_median_s": statistics.median(floor)}
     save("startup", figures)
 
 
