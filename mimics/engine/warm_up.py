@@ -39,6 +39,7 @@ from mimics.engine.ranging.ray_kernel import RangerQuery, _cast_rows
 # with the scanner that calls it; named here for the first-run compile that sets it)
 from mimics.engine.ranging.scanner import _ray_part_elsewhere as _ray_part_elsewhere
 from mimics.engine.ranging.scanner import await_ray_part as await_ray_part
+from mimics.engine.ranging.scanner import forget_ray_part as forget_ray_part
 from mimics.engine.ranging.scanner import (
     ray_part_compiling_elsewhere as ray_part_compiling_elsewhere,
 )

@@ -45,7 +45,10 @@ def compiled_part(process) -> str:
     return process.part
 
 
-def test_first_run_compiles_ahead_and_stops_the_unneeded_ray_part(tmp_path, fresh_install):
+def test_first_run_compiles_ahead_and_stops_the_unneeded_ray_part(tmp_path, fresh_install,
+                                                                  monkeypatch):
+    helpers = []
+    monkeypatch.setattr(warm_up, "compile_ray_helpers", lambda: helpers.append(True))
     out = tmp_path / "run"
     result = runner.invoke(cli.app, ["run", "line", "go_to_goal", "--robots", "2", "--time",
                                      "0.5", "--out", str(out)])
@@ -57,6 +60,7 @@ def test_first_run_compiles_ahead_and_stops_the_unneeded_ray_part(tmp_path, fres
     assert all(p.returncode is not None for p in fresh_install)  # none left running
     assert json.loads((out / "summary.json").read_text())["robots"] == 2
     assert warm_up._ray_part_elsewhere == []
+    assert helpers == []  # nor are the ray kernel's helpers compiled by the run
 
 
 def test_a_first_run_that_scans_waits_for_the_ray_part(tmp_path, fresh_install):

@@ -40,6 +40,12 @@ def ray_part_compiling_elsewhere(wait: Callable[[], None]) -> None:
     _ray_part_elsewhere.append(wait)
 
 
+def forget_ray_part() -> None:
+    """Drop the waits (the run is over, the compiling process stopped: a later scan of
+    this process compiles the part here)."""
+    _ray_part_elsewhere.clear()
+
+
 def await_ray_part() -> None:
     """Before a scan: wait for the processes compiling the ray part, if any (the wait
     goes on the compile clock, not on the run's time)."""

@@ -123,7 +123,7 @@ def kernels_compiled_ahead() -> Iterator[None]:
             if process.poll() is None:  # the ray part, unneeded: the next scanning run's
                 process.kill()
             process.wait()
-        warm_up.await_ray_part()  # forget a wait the run never needed
+        warm_up.forget_ray_part()  # a wait the run never needed
         warm_up.forget_still_part()
 
 
@@ -134,8 +134,10 @@ def _await_ray(aside: dict[str, CompileProcess], later: list[str]) -> None:
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
              "(once: it is cached on disk for the next runs)")
-    compile_ray_helpers()  # here, while the process compiles the kernel itself
-    process.wait()
+        compile_ray_helpers()  # here, while the process compiles the kernel itself
+        process.wait()
+    elif process.returncode == 0:  # the kernel was done before the first scan
+        compile_ray_helpers()
     if later and process.returncode == 0:  # their turn, the ray part done
         aside.update(_start(later))
         later.clear()
