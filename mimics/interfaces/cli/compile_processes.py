@@ -28,7 +28,7 @@ NICE = {"ray": 5, "still": 19}
 HELPERS = {"ray": False}
 # a compile process's name in ps and top (at most 15 bytes: the kernel's limit)
 NAME = "mimics-{part}"
-_COMMAND = ("import os; os.nice({nice}); from mimics.engine.warm_up import compile_part; "
+_COMMAND = ("import os; {nice}from mimics.engine.warm_up import compile_part; "
             "compile_part({part!r}, helpers={helpers}); os._exit(0)")
 _PR_SET_PDEATHSIG, _PR_SET_NAME = 1, 15
 
@@ -59,7 +59,8 @@ def can_fork() -> bool:
 
 
 def _spawn(part: str) -> CompileProcess:
-    command = _COMMAND.format(nice=NICE.get(part, 0), part=part, helpers=HELPERS.get(part, True))
+    nice = f"os.nice({NICE[part]}); " if part in NICE and hasattr(os, "nice") else ""
+    command = _COMMAND.format(nice=nice, part=part, helpers=HELPERS.get(part, True))
     process = subprocess.Popen(dying_with_parent([sys.executable, "-c", command]),
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     process.part = part  # type: ignore[attr-defined]
