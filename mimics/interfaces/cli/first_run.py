@@ -96,11 +96,14 @@ def kernels_compiled_ahead() -> Iterator[None]:
 
     if _started:
         missing, aside = _started.pop()
-        aside = aside or _start(missing)  # forks: now that the engine is imported
     else:
         missing = warm_up.missing_parts()
         _announce(missing)
-        aside = _start(missing)
+        aside = {}
+    if not aside and set(missing) - {"index"}:
+        if can_fork():  # the forks inherit Numba's compile machinery, set up once here
+            warm_up.ready_to_compile()
+        aside = _start(missing)  # forks: now that the engine is imported
     if not missing:
         yield
         return
