@@ -101,8 +101,8 @@ def kernels_compiled_ahead() -> Iterator[None]:
         _announce(missing)
         aside = {}
     if not aside and set(missing) - {"index"}:
-        if can_fork():  # the forks inherit Numba's compile machinery, set up once here
-            warm_up.ready_to_compile()
+        if can_fork() and "index" in missing:  # this process compiles too: it sets up
+            warm_up.ready_to_compile()         # Numba's compile machinery once, for the forks
         aside = _start(missing)  # forks: now that the engine is imported
     if not missing:
         yield
