@@ -24,12 +24,10 @@ from mimics.interfaces.child_processes import dying_with_parent
 
 # the ray part yields the cores to the parts the run waits for; still is never waited for
 NICE = {"ray": 5, "still": 19}
-# the ray part's process compiles the kernel alone: the run compiles its helpers meanwhile
-HELPERS = {"ray": False}
 # a compile process's name in ps and top (at most 15 bytes: the kernel's limit)
 NAME = "mimics-{part}"
 _COMMAND = ("import os; {nice}from mimics.engine.warm_up import compile_part; "
-            "compile_part({part!r}, helpers={helpers}); os._exit(0)")
+            "compile_part({part!r}, helpers=False); os._exit(0)")
 _PR_SET_PDEATHSIG, _PR_SET_NAME = 1, 15
 
 
@@ -60,7 +58,7 @@ def can_fork() -> bool:
 
 def _spawn(part: str) -> CompileProcess:
     nice = f"os.nice({NICE[part]}); " if part in NICE and hasattr(os, "nice") else ""
-    command = _COMMAND.format(nice=nice, part=part, helpers=HELPERS.get(part, True))
+    command = _COMMAND.format(nice=nice, part=part)
     process = subprocess.Popen(dying_with_parent([sys.executable, "-c", command]),
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     process.part = part  # type: ignore[attr-defined]
@@ -113,7 +111,7 @@ def _compile_in_fork(part: str, parent: int) -> None:
         os.nice(NICE.get(part, 0))
         from mimics.engine.warm_up import compile_part
 
-        compile_part(part, helpers=HELPERS.get(part, True))
+        compile_part(part, helpers=False)  # the ray kernel's helpers are the run's
         code = 0
     finally:
         os._exit(code)

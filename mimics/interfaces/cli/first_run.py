@@ -137,10 +137,8 @@ def _await_ray(aside: dict[str, CompileProcess], later: list[str]) -> None:
     if process.poll() is None:
         note("mimics: first run that reads the laser: finishing the ray kernel's compile "
              "(once: it is cached on disk for the next runs)")
-        compile_ray_helpers()  # here, while the process compiles the kernel itself
-        process.wait()
-    elif process.returncode == 0:  # the kernel was done before the first scan
-        compile_ray_helpers()
+    compile_ray_helpers()  # here, while the process compiles the kernel itself
+    process.wait()
     if later and process.returncode == 0:  # their turn, the ray part done
         aside.update(_start(later))
         later.clear()
