@@ -21,10 +21,9 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from rich.console import Console
-from rich.table import Table
 
-from mimics.batteries.metrics import SUMMARY_STATS, row_value
+from mimics.batteries.metrics import METRICS as METRIC_TABLE
+from mimics.batteries.metrics import SUMMARY_STATS, row_value, stored_metrics
 from mimics.batteries.store import RUNS_DIR, BatteryStore
 from mimics.batteries.tasks import COUNTS, FAILED_STATES
 from mimics.world.errors import MimicsError
@@ -36,7 +35,8 @@ METRICS = ("reached_goal", "collisions", "deadlocks", "livelocks", "escaped", "e
            "wall_time")
 #: Columns of the CSV/Parquet export, in order (``param_NAME`` columns follow ``parameters``).
 EXPORT_COLUMNS = ("id", "algorithm", "scenario", "parameters", "seed", "state", "misbehaving",
-                  "status", *COUNTS, "success", *SUMMARY_STATS, "sim_time", "wall_time",
+                  "status", *COUNTS, "success", *SUMMARY_STATS, "goal_robots", "horizon",
+                  "sim_time", "wall_time",
                   "digest", "attempts", "worker", "started", "ended", "error", "folder")
 
 
@@ -63,9 +63,14 @@ def runs_table(folder: str | Path) -> pd.DataFrame:
         return table
     for metric in ("success", *SUMMARY_STATS):
         table[metric] = [row_value(row, metric) for row in rows]
+    stored = [stored_metrics(row) if row.get("state") == "done" else {} for row in rows]
+    table["goal_robots"] = pd.array([s.get("goal_robots") for s in stored], dtype="Int64")
+    table["horizon"] = [float(s.get("horizon") or math.nan) for s in stored]
+    table["arrival_times"] = [s.get("arrival_times") for s in stored]
     for column in COUNTS:
         table[column] = table[column].astype("Int64")
     table["parameters"] = table["label"]
+    _no_goal_cells(table)
     params = [json.loads(p) for p in table["params"]]
     names = list(dict.fromkeys(k for p in params for k in p))
     for name in names:
@@ -75,6 +80,20 @@ def runs_table(folder: str | Path) -> pd.DataFrame:
     table["misbehaving"] = ((table["state"] != "done") & ~unfinished) | trouble
     table["folder"] = [str(Path(folder) / RUNS_DIR / f) for f in table["folder"]]
     return table
+
+
+def _no_goal_cells(table: pd.DataFrame) -> None:
+    """Mark (``goal_less``) the runs of cells whose finished runs have no robot with a goal,
+    and make their goal metrics n/a (NaN): a failed run there brought no robot home
+    because none had a home to go to."""
+    needs_goal = [name for name, metric in METRIC_TABLE.items()
+                  if metric.needs_goal and name in table.columns]
+    table["goal_less"] = False
+    for _, group in table.groupby(["algorithm", "scenario", "label"], sort=False):
+        known = group["goal_robots"].dropna()
+        if len(known) and (known == 0).all():
+            table.loc[group.index, needs_goal] = math.nan
+            table.loc[group.index, "goal_less"] = True
 
 
 def aggregate(table: pd.DataFrame) -> pd.DataFrame:
@@ -142,61 +161,3 @@ def export_table(table: pd.DataFrame, path: str | Path, fmt: str | None = None) 
     except (OSError, ValueError, ImportError) as exc:
         raise MimicsError(f"{out}: cannot write the table: {exc}") from None
     return out
-
-
-# -- printing ------------------------------------------------------------------------
-
-def print_report(table: pd.DataFrame, console: Console, *, only_misbehaving: bool = False,
-                 runs: bool = True, baseline: str | None = None,
-                 metrics: list[str] | None = None) -> None:
-    """Print the per-run table, the failures, the intervals per cell, the paired
-    comparison (with two or more algorithms) and the identical-seed warnings."""
-    from mimics.batteries.comparison import (
-        cell_intervals,
-        identical_seed_warnings,
-        paired_comparison,
-        randomize_hints,
-    )
-    from mimics.batteries.tables import comparison_rich, intervals_rich
-
-    if table.empty:
-        console.print("the battery has no runs", markup=False)
-        return
-    shown = table[table["misbehaving"]] if only_misbehaving else table
-    if runs:
-        console.print(_runs_rich(shown))
-    failures = table[table["state"].isin(FAILED_STATES)]
-    if len(failures):
-        console.print(f"\n{len(failures)} failed run(s):", style="bold red")
-        for row in failures.itertuples():
-            console.print(f"  #{row.id} {row.state}: {row.error}", markup=False,
-                          highlight=False)
-    console.print(intervals_rich(cell_intervals(table, metrics), metrics))
-    if table["algorithm"].nunique() > 1:
-        console.print(comparison_rich(paired_comparison(table, baseline, metrics)))
-    for line in identical_seed_warnings(table, randomize_hints(table)):
-        console.print(f"warning: {line}", style="yellow", markup=False, highlight=False)
-
-
-def _cell(value: Any, digits: int = 0) -> str:
-    if value is None or value is pd.NA or (isinstance(value, float) and math.isnan(value)):
-        return "-"
-    return f"{value:.{digits}f}" if digits else str(value)
-
-
-def _runs_rich(table: pd.DataFrame) -> Table:
-    rich = Table(title="Runs (! = misbehaved)", show_lines=False, header_style="bold")
-    for name in ("", "#", "algorithm", "scenario", "parameters", "seed", "state", "reached",
-                 "collisions", "deadlocks", "livelocks", "escaped", "exceptions", "wall (s)",
-                 "sim (s)"):
-        rich.add_column(name, justify="right" if name not in ("algorithm", "scenario",
-                                                              "parameters", "state") else "left")
-    for row in table.itertuples():
-        style = ("red" if row.state in FAILED_STATES else
-                 "yellow" if row.misbehaving else "dim" if row.state != "done" else None)
-        rich.add_row("!" if row.misbehaving else "", str(row.id), row.algorithm, row.scenario,
-                     row.parameters, str(row.seed), row.state, _cell(row.reached_goal),
-                     _cell(row.collisions), _cell(row.deadlocks), _cell(row.livelocks),
-                     _cell(row.escaped), _cell(row.exceptions), _cell(row.wall_time, 2),
-                     _cell(row.sim_time, 1), style=style)
-    return rich

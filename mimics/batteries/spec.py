@@ -12,6 +12,7 @@ combination is one run::
     robot_logs = "off"    # per-robot text logs in run folders: "off", "auto" or "on"
     record_every = 1      # record every n-th step of the trajectory
     record_scans = false  # also record the laser scans (scans.parquet)
+    primary = "success"   # the metric the battery answers, marked in comparisons
 
     [battery.until]       # instead of `seeds`: seeds 1, 2... in rounds until the answer is known
     metric = "time_to_goal"
@@ -45,6 +46,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+from mimics.batteries.metrics import METRICS
 from mimics.batteries.references import check_algorithms, is_path, resolve
 
 # the spec as plain data lives in spec_data; its names are read from here too
@@ -52,10 +54,17 @@ from mimics.batteries.spec_data import DEFAULT_TIMEOUT, BatterySpec, ScenarioEnt
 from mimics.batteries.spec_data import RunSpec as RunSpec
 from mimics.batteries.until import parse_until
 from mimics.world.errors import MimicsError, read_input_text
-from mimics.world.limits import MAX_SEED
+from mimics.world.limits import (
+    MAX_ROBOTS,
+    MAX_SEED,
+    MAX_STEPS,
+    check_time,
+    check_wall_seconds,
+    check_whole,
+)
 
 BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
-                "record_every", "record_scans", "until", "ros_timeout")
+                "record_every", "record_scans", "until", "ros_timeout", "primary")
 TOP_KEYS = ("battery", "scenarios")
 POLICIES = ("abort", "deactivate")
 ROBOT_LOGS = ("off", "auto", "on")
@@ -114,13 +123,10 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     else:
         seeds = _seeds(table.get("seeds", 1), fail)
     time = table.get("time")
-    if time is not None and not (_is_number(time) and time > 0 and math.isfinite(time)):
-        raise fail(f"[battery] time: expected a positive number of simulated seconds, got "
-                   f"{time!r}")
+    if time is not None:
+        _limited(check_time, "[battery] time", time, fail)
     timeout = table.get("timeout", DEFAULT_TIMEOUT)
-    if not (_is_number(timeout) and timeout > 0 and math.isfinite(timeout)):
-        raise fail(f"[battery] timeout: expected a positive number of wall-clock seconds, got "
-                   f"{timeout!r}")
+    _limited(check_wall_seconds, "[battery] timeout", timeout, fail)
     policy = table.get("policy", "abort")
     if policy not in POLICIES:
         raise fail(f"[battery] policy: expected \"abort\" or \"deactivate\", got {policy!r}")
@@ -129,22 +135,22 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
         raise fail(f"[battery] robot_logs: expected one of {', '.join(ROBOT_LOGS)}, got "
                    f"{robot_logs!r}")
     every = table.get("record_every", 1)
-    if isinstance(every, bool) or not isinstance(every, int) or every < 1:
-        raise fail(f"[battery] record_every: expected a whole number >= 1, got {every!r}")
+    if isinstance(every, bool) or not isinstance(every, int) or not 1 <= every <= MAX_STEPS:
+        raise fail(f"[battery] record_every: expected a whole number from 1 to {MAX_STEPS}, "
+                   f"got {every!r}")
     scans = table.get("record_scans", False)
     if not isinstance(scans, bool):
         raise fail(f"[battery] record_scans: expected true or false, got {scans!r}")
     ros_timeout = table.get("ros_timeout")
-    if ros_timeout is not None and not (_is_number(ros_timeout) and ros_timeout > 0
-                                        and math.isfinite(ros_timeout)):
-        raise fail(f"[battery] ros_timeout: expected a positive number of seconds, got "
-                   f"{ros_timeout!r}")
+    if ros_timeout is not None:
+        _limited(check_wall_seconds, "[battery] ros_timeout", ros_timeout, fail)
     if ros_timeout is not None and not any(a.startswith("ros:") for a in algorithms):
         raise fail("[battery] ros_timeout: only for ros: algorithms (ros:PROGRAM [ARGS...]), "
                    "and this battery has none")
     name = table.get("name", "")
     if not isinstance(name, str):
         raise fail(f"[battery] name: expected a string, got {name!r}")
+    primary = _primary(table.get("primary", ""), fail)
     scenarios = _scenarios(data.get("scenarios"), base, fail)
     if time is not None:
         for k, entry in enumerate(scenarios, start=1):
@@ -163,7 +169,26 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
                        policy=policy, robot_logs=robot_logs, record_every=every,
                        record_scans=scans, name=name,
                        source=str(Path(source).resolve()) if source else "", until=until,
-                       ros_timeout=None if ros_timeout is None else float(ros_timeout))
+                       ros_timeout=None if ros_timeout is None else float(ros_timeout),
+                       primary=primary)
+
+
+def _primary(value: Any, fail: Any) -> str:
+    """``[battery] primary``: an outcome metric's name ("" for the default)."""
+    outcomes = [name for name, metric in METRICS.items() if not metric.cost]
+    if value != "" and (not isinstance(value, str) or value not in outcomes):
+        raise fail(f"[battery] primary: expected one of {', '.join(outcomes)} (the metric the "
+                   f"battery answers; costs such as wall_time are not outcomes), got {value!r}")
+    return value
+
+
+def _limited(check: Any, name: str, value: Any, fail: Any) -> None:
+    """``check`` (a :mod:`mimics.world.limits` check: a number, not a bool or a text, within
+    the limit) of ``value``, its error naming the file too."""
+    try:
+        check(name, value)
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
 
 
 def _is_number(value: Any) -> bool:
@@ -257,6 +282,15 @@ def _check_scenario(entry: ScenarioEntry, where: str, fail: Any) -> None:
             if not _same_kind(v, default):
                 raise fail(f"{where}: {key}: expected a value like the default {default!r}, got "
                            f"{v!r}")
+            try:  # the counts every scenario shares, checked here rather than in each run
+                if key == "robots":
+                    check_whole(f"{key}", v, 1, MAX_ROBOTS)
+                elif key == "seed":
+                    check_whole(f"{key}", v, 0, MAX_SEED)
+                elif key == "time_limit":
+                    check_time(key, v)
+            except MimicsError as exc:
+                raise fail(f"{where}: {exc}") from None
 
 
 def _same_kind(value: Any, default: Any) -> bool:

@@ -83,6 +83,8 @@ class BatterySpec:
         until: the stopping rule (None: a fixed battery); ``seeds`` is then its first
             round, 1..min_seeds, and later rounds are added as cells finish them.
         ros_timeout: ``ros:`` algorithms' lockstep time-out in seconds (None: 10 s).
+        primary: the metric the battery was run to answer, marked in comparisons (""
+            when the file names none: ``success`` where robots have goals).
     """
 
     algorithms: tuple[str, ...]
@@ -98,6 +100,7 @@ class BatterySpec:
     source: str = ""
     until: UntilRule | None = None
     ros_timeout: float | None = None
+    primary: str = ""
 
     def runs(self) -> list[RunSpec]:
         """Every run, in order: algorithm, scenario, parameter point, seed."""

@@ -6,6 +6,9 @@ battery compare``, the stopping rule and the workbench:
 - :func:`t_interval`: the mean and its 95% Student-t interval;
 - :func:`wilson_interval`: a proportion (a success rate) and its 95% Wilson
   score interval, right also near 0 and 1 where the normal interval is not;
+- :func:`bootstrap_interval`: the mean and its 95% bias-corrected and
+  accelerated (BCa) bootstrap interval (Efron 1987; :func:`scipy.stats.bootstrap`),
+  for skewed metrics where the t interval's symmetry misleads;
 - :func:`paired_difference`: the mean of paired differences (same scenario,
   parameters and seed), its t interval, and the two-sided Wilcoxon signed-rank
   p-value (:func:`scipy.stats.wilcoxon`), or the reason there is none.
@@ -51,6 +54,16 @@ class Interval:
         if math.isnan(self.low) or math.isnan(self.high):
             return math.inf
         return (self.high - self.low) / 2.0
+
+    @property
+    def degenerate(self) -> bool:
+        """True when the interval is a single point: values without spread (n >= 1).
+
+        A zero-width interval says "no spread in this sample", not "known exactly";
+        a report should say so rather than print ``1.00 [1.00, 1.00]`` as if certain.
+        One value (NaN ends: no interval at all) is not degenerate.
+        """
+        return self.n >= 1 and self.low == self.high == self.estimate
 
 
 @dataclass(frozen=True)
@@ -102,6 +115,36 @@ def t_interval(values: np.ndarray | list[float]) -> Interval:
         return Interval(mean, mean, mean, n)
     half = _t_quantile(n - 1) * float(data.std(ddof=1)) / math.sqrt(n)
     return Interval(mean, mean - half, mean + half, n)
+
+
+def bootstrap_interval(values: np.ndarray | list[float], *, seed: int = 0,
+                       resamples: int = 9999) -> Interval:
+    """The mean and its 95% BCa bootstrap interval, reproducible from ``seed``.
+
+    NaN values are left out. As :func:`t_interval`: no values give NaN
+    everywhere, one value NaN ends, values without spread a point interval
+    (BCa's acceleration is 0/0 there).
+
+    Raises:
+        ValueError: when ``resamples`` is below 1.
+    """
+    if resamples < 1:
+        raise ValueError(f"resamples: expected at least 1, got {resamples}")
+    data = finite(values)
+    n = len(data)
+    if n == 0:
+        return Interval(math.nan, math.nan, math.nan, 0)
+    mean = float(data.mean())
+    if n < 2:
+        return Interval(mean, math.nan, math.nan, 1)
+    if data.min() == data.max():
+        return Interval(mean, mean, mean, n)
+    from scipy.stats import bootstrap
+
+    result = bootstrap((data,), np.mean, n_resamples=resamples, confidence_level=CONFIDENCE,
+                       method="BCa", random_state=np.random.default_rng(seed))
+    ends = result.confidence_interval
+    return Interval(mean, float(ends.low), float(ends.high), n)
 
 
 def wilson_interval(successes: int, n: int) -> Interval:

@@ -24,8 +24,9 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-STATES = ("pending", "running", "done", "error", "timeout", "crashed")
-FAILED_STATES = ("error", "timeout", "crashed")
+from mimics.batteries.states import FAILED_STATES as FAILED_STATES
+from mimics.batteries.states import STATES as STATES
+
 #: Engine status at the end of a run -> battery state.
 STATE_OF_STATUS = {"completed": "done", "time_limit": "done", "stopped": "done",
                    "error": "error", "wall_limit": "timeout"}
@@ -73,7 +74,7 @@ class Outcome:
     wall_time: float | None = None
     sim_time: float | None = None
     counts: dict[str, int] = field(default_factory=dict)
-    metrics: dict[str, float | None] = field(default_factory=dict)  # from the summary's stats
+    metrics: dict[str, Any] = field(default_factory=dict)  # metrics.summary_metrics
     digest: str = ""  # the run's fingerprint (metrics.run_digest)
 
     def to_json(self) -> str:

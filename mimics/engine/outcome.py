@@ -119,6 +119,8 @@ class RunResult:
     error: str = ""
     trajectory_digest: str = ""  # Simulation.run_digest: poses of every step and outcomes
     compile_time: float = 0.0  # s spent compiling kernels during the run (not in wall_time)
+    has_goal: np.ndarray | None = None  # (n,) robots with a goal at the end (None: unknown)
+    time_limit: float = float("nan")  # the run's horizon (s): a non-arrival counts as this
 
     def count(self, status: Status) -> int:
         """Robots whose final status is ``status``."""
@@ -168,8 +170,33 @@ class RunResult:
             "time_to_goal": _stats(times),
             "path_length": _stats(self.path_length),
             "path_efficiency": _stats(efficiency),
+            "arrivals": self.arrivals(),
             "trajectory_digest": self.trajectory_digest,
         }
+
+    def arrivals(self) -> dict[str, Any]:
+        """Time to goal as time to an event: every robot with a goal counts.
+
+        ``restricted_mean`` is the mean over the goal robots of their arrival time,
+        each robot that never arrived (deactivated, deadlocked, still driving)
+        counted at the horizon, the run's time limit: defined for every run with a
+        goal robot, and never rewarding robots that fail to arrive. Robots removed
+        by an edit are left out.
+        """
+        removed = self.final_status == Status.REMOVED
+        with_goal = (np.ones(self.robots, dtype=bool) if self.has_goal is None
+                     else np.asarray(self.has_goal, dtype=bool)) & ~removed
+        reached = (self.final_status == Status.REACHED_GOAL) & with_goal
+        times = np.sort(self.goal_time[reached])
+        horizon = float(self.time_limit)
+        goal_robots = int(with_goal.sum())
+        restricted = None
+        if goal_robots and np.isfinite(horizon):
+            total = float(np.minimum(times, horizon).sum()) + horizon * (goal_robots - len(times))
+            restricted = total / goal_robots
+        return {"goal_robots": goal_robots, "arrived": len(times),
+                "horizon": horizon if np.isfinite(horizon) else None,
+                "times": [float(t) for t in times], "restricted_mean": restricted}
 
     def events_as_dicts(self) -> list[dict[str, Any]]:
         """Events as plain dicts."""

@@ -232,7 +232,8 @@ class Simulation(RobotDeactivations, WorldEdits):
             ever_livelocked=self._ever_livelocked.copy(), events=list(self.events),
             user_timing=self.timing.summary(), parameters=dict(self.scenario.parameters),
             error=self.error, trajectory_digest=self.run_digest(),
-            compile_time=self.compile_time,
+            compile_time=self.compile_time, has_goal=~np.isnan(self.state.goal[:, 0]),
+            time_limit=self.time_limit,
         )
 
     def run_digest(self) -> str:

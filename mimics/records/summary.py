@@ -81,6 +81,13 @@ def _stats(stats: dict[str, Any] | None, unit: str, digits: int = 4) -> str:
             f"max {stats['max']:.{digits}g}")
 
 
+def _restricted(arrivals: dict[str, Any]) -> str:
+    """The restricted mean time to goal, its horizon and how many arrived."""
+    return (f"{arrivals['restricted_mean']:.4g} s restricted mean, each robot that never "
+            f"arrived counted at the {arrivals['horizon']:g} s horizon "
+            f"({arrivals['arrived']} of {arrivals['goal_robots']} arrived)")
+
+
 def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str]]:
     """``(label, value)`` rows of a summary, the same for summary.txt and ``mimics report``.
 
@@ -118,9 +125,18 @@ def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str]]:
         rows.append(("user code per call", f"mean {_seconds(timing['mean'])}, p95 "
                      f"{_seconds(timing['p95'])}, max {_seconds(timing['max'])} "
                      f"({timing['calls']} calls)"))
-    add("time to goal", "time_to_goal", text=_stats(s.get("time_to_goal"), "s"))
+    arrivals = s.get("arrivals")
+    if isinstance(arrivals, dict) and arrivals.get("restricted_mean") is not None:
+        rows.append(("time to goal", _restricted(arrivals)))
+        if arrivals.get("arrived"):
+            add("  of those that arrived", "time_to_goal",
+                text=_stats(s.get("time_to_goal"), "s") + f" (n = {arrivals['arrived']})")
+    else:
+        add("time to goal", "time_to_goal", text=_stats(s.get("time_to_goal"), "s"))
     add("path length", "path_length", text=_stats(s.get("path_length"), "m"))
-    add("path efficiency", "path_efficiency", text=_stats(s.get("path_efficiency"), ""))
+    efficiency = _stats(s.get("path_efficiency"), "")
+    add("path efficiency", "path_efficiency",
+        text=efficiency + (" (of those that arrived)" if efficiency != "-" else ""))
     add("user messages", "user_messages")
     records = s.get("records")
     if isinstance(records, dict) and "trajectory_rows" in records:

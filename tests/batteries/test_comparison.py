@@ -51,9 +51,10 @@ def test_paired_comparison_against_a_hand_computation() -> None:
     # all seven differences positive: the exact two-sided p-value is 2 / 2^7
     assert row["p_value"] == pytest.approx(2 / 128, rel=1e-12)
     assert row["p_value"] == pytest.approx(scipy_stats.wilcoxon(differences).pvalue)
-    same = found.loc["success"]
+    same = found.loc["success"]  # seven pairs (1, 1): Newcombe's interval, no McNemar test
     assert same["mean_difference"] == 0.0 and math.isnan(same["p_value"])
-    assert same["note"] == "all 7 differences are zero"
+    assert same["ci95_low"] < 0.0 < same["ci95_high"]
+    assert same["note"] == "no discordant pairs among 7: nothing for McNemar's test to weigh"
 
 
 def test_pairs_are_within_one_scenario_and_parameter_point() -> None:
@@ -117,16 +118,33 @@ def test_the_digest_reads_the_trajectory_digest_when_the_summary_has_one() -> No
     assert with_trajectory != run_digest(summary(trajectory_digest="ab13"))  # poses differ
     assert run_digest(summary(sim_time=4.5)) != plain  # outcomes differ
     assert run_digest(summary(wall_time=9.0)) == plain  # wall time is not an outcome
-    assert summary_metrics(summary()) == {"time_to_goal": 4.4, "path_length": 3.0,
-                                          "path_efficiency": None}
+    assert summary_metrics(summary()) == {"time_to_goal": None, "time_to_goal_arrived": 4.4,
+                                          "path_length": 3.0, "path_efficiency": None,
+                                          "user_time": None}  # no arrivals: an older summary
+    arrivals = {"goal_robots": 2, "arrived": 1, "horizon": 10.0, "times": [4.4],
+                "restricted_mean": 7.2}
+    found = summary_metrics(summary(arrivals=arrivals))
+    assert (found["time_to_goal"], found["goal_robots"], found["horizon"],
+            found["arrival_times"]) == (7.2, 2, 10.0, [4.4])
 
 
 def test_row_values() -> None:
     row = {"state": "done", "robots": 3, "reached_goal": 2, "collisions": 1,
-           "metrics": '{"time_to_goal": 7.5, "path_length": null}'}
+           "metrics": '{"time_to_goal": 8.5, "time_to_goal_arrived": 7.5, "path_length": null,'
+                      ' "goal_robots": 3}'}
     assert row_value(row, "success") == 0.0 and row_value(row, "collisions") == 1.0
-    assert row_value(row, "time_to_goal") == 7.5 and math.isnan(row_value(row, "path_length"))
-    assert math.isnan(row_value({**row, "state": "timeout"}, "collisions"))
+    assert row_value(row, "time_to_goal") == 8.5 and math.isnan(row_value(row, "path_length"))
+    assert row_value(row, "time_to_goal_arrived") == 7.5
+    failed = {**row, "state": "timeout"}  # brought no robot home; no finished-run metrics
+    assert row_value(failed, "success") == 0.0 and row_value(failed, "reached_goal") == 0.0
+    assert math.isnan(row_value(failed, "collisions"))
+    assert math.isnan(row_value(failed, "time_to_goal"))
+    assert math.isnan(row_value(failed, "success", count_failed=False))
+    no_goal = {**row, "metrics": '{"goal_robots": 0}'}  # success does not apply: n/a
+    assert math.isnan(row_value(no_goal, "success"))
+    older = {**row, "metrics": '{"time_to_goal": 7.5}'}  # the mean over arrivals, then
+    assert row_value(older, "time_to_goal_arrived") == 7.5
+    assert math.isnan(row_value(older, "time_to_goal"))
 
 
 def test_a_real_battery_compares_and_warns(tmp_path: Path) -> None:

@@ -18,9 +18,26 @@ Baseline = Annotated[str | None, typer.Option(
     help="The algorithm the others are compared with [default: the battery's first].")]
 Metrics = Annotated[list[str] | None, typer.Option(
     "--metric", "-m", help="A per-run metric (repeatable): success, reached_goal, collisions, "
-    "deadlocks, livelocks, escaped, exceptions, time_to_goal, path_length, path_efficiency, "
-    "sim_time, wall_time [default: success, reached_goal, collisions, time_to_goal, "
-    "path_efficiency, wall_time].")]
+    "deadlocks, livelocks, escaped, exceptions, time_to_goal (restricted mean: non-arrivals at "
+    "the horizon), time_to_goal_arrived, path_length, path_efficiency, sim_time, wall_time, "
+    "user_time [default: the battery's primary metric, success, time_to_goal, reached_goal, "
+    "collisions].")]
+ExcludeFailed = Annotated[bool, typer.Option(
+    "--exclude-failed", help="Leave failed runs (error, time-out, crash) out of rates and "
+    "comparisons, on purpose [default: they count, as success 0 and reached 0].")]
+Adjust = Annotated[str, typer.Option(
+    help="How p-values are adjusted for the number of tests shown: holm, bh or none.")]
+Interval = Annotated[str, typer.Option(
+    "--interval", help="Interval of a mean: t (Student) or bootstrap (BCa, for skewed "
+    "metrics).")]
+
+
+def _evidence(folder: Path, baseline: str | None, metric: list[str] | None,
+              exclude_failed: bool, adjust: str, interval: str) -> Any:
+    from mimics.batteries.evidence import battery_evidence
+
+    return battery_evidence(folder, baseline=baseline, metrics=metric,
+                            exclude_failed=exclude_failed, adjust=adjust, method=interval)
 
 
 def report_command(
@@ -39,23 +56,25 @@ def report_command(
         "--marks", help="Where --grade writes the marks [default: FOLDER/marks.csv].")] = None,
     baseline: Baseline = None,
     metric: Metrics = None,
+    exclude_failed: ExcludeFailed = False,
+    adjust: Adjust = "holm",
+    interval: Interval = "t",
 ) -> None:
-    """The top-tier table: one row per run (misbehaving runs marked), each cell's means
-    with 95% intervals, the paired comparison against a baseline, identical-seed warnings."""
-    from mimics.batteries.comparison import check_metrics
-    from mimics.batteries.report import export_table, print_report, runs_table
+    """The top-tier table: one row per run (misbehaving runs marked), the failed runs,
+    each cell's intervals, the paired comparison against a baseline, the costs and the
+    identical-seed warnings."""
+    from mimics.batteries.printing import print_report
+    from mimics.batteries.report import export_table
 
     try:
-        chosen = check_metrics(metric)
-        table = runs_table(folder)
-        print_report(table, table_console(), only_misbehaving=misbehaving, runs=runs,
-                     baseline=baseline, metrics=chosen)
+        evidence = _evidence(folder, baseline, metric, exclude_failed, adjust, interval)
+        print_report(evidence, table_console(), only_misbehaving=misbehaving, runs=runs)
         for path, fmt in ((csv, "csv"), (parquet, "parquet")):
             if path is not None:
-                export_table(table, path, fmt)
+                export_table(evidence.table, path, fmt)
                 table_console().print(f"wrote {path}", markup=False)
         if grade is not None:
-            _print_marks(table, grade, marks_csv or Path(folder) / "marks.csv")
+            _print_marks(evidence.table, grade, marks_csv or Path(folder) / "marks.csv")
     except MimicsError as exc:
         raise _fail(str(exc)) from None
 
@@ -83,35 +102,37 @@ def compare_command(
     baseline: Baseline = None,
     metric: Metrics = None,
     csv: Annotated[Path | None, typer.Option(help="Also write the comparison as CSV.")] = None,
+    exclude_failed: ExcludeFailed = False,
+    adjust: Adjust = "holm",
+    interval: Interval = "t",
 ) -> None:
-    """Each algorithm against the baseline, paired by scenario, parameters and seed: the mean
-    difference of each metric with its 95% t interval, the Wilcoxon signed-rank p-value
-    (SciPy) and the number of pairs; then each cell's intervals."""
-    from mimics.batteries.comparison import cell_intervals, check_metrics, paired_comparison
-    from mimics.batteries.report import runs_table
-    from mimics.batteries.tables import comparison_rich, intervals_rich
+    """Each algorithm against the baseline, paired by scenario, parameters and seed. Failed
+    runs are named first and count (success 0); success rates by Newcombe's paired interval
+    and McNemar's exact test, means by the t interval and the Wilcoxon signed-rank test;
+    each p-value also Holm-adjusted for the tests shown; then each cell's intervals."""
+    from mimics.batteries.printing import print_evidence, print_warnings
 
     try:
-        chosen = check_metrics(metric)
-        table = runs_table(folder)
-        if table.empty:
+        evidence = _evidence(folder, baseline, metric, exclude_failed, adjust, interval)
+        if evidence.table.empty:
             raise MimicsError(f"{folder}: the battery has no runs")
-        comparison = paired_comparison(table, baseline, chosen)
         console = table_console()
-        console.print(intervals_rich(cell_intervals(table, chosen), chosen))
-        if comparison.empty:
+        print_evidence(evidence, console)
+        if evidence.comparison.empty:
             console.print("one algorithm only: nothing to compare", markup=False)
         else:
-            console.print(comparison_rich(comparison))
+            console.print(f"{evidence.tests} tests; p adjusted by {adjust}"
+                          + (f"; primary metric: {evidence.primary}" if evidence.primary
+                             else ""), markup=False)
         if csv is not None:
             try:
-                comparison.to_csv(csv, index=False)
+                evidence.comparison.to_csv(csv, index=False)
             except OSError as exc:
                 raise MimicsError(f"--csv {csv}: cannot write it ({exc.strerror})") from None
             console.print(f"wrote {csv}", markup=False)
     except MimicsError as exc:
         raise _fail(str(exc)) from None
-    print_warnings(folder)
+    print_warnings(evidence, Console(stderr=True, highlight=False, soft_wrap=True))
 
 
 def with_until(spec: Any, text: str) -> Any:
@@ -130,12 +151,11 @@ def with_until(spec: Any, text: str) -> Any:
 
 def print_warnings(folder: Path) -> None:
     """One line on stderr per cell whose seeds gave identical runs."""
-    from mimics.batteries.comparison import identical_seed_warnings, randomize_hints
     from mimics.batteries.report import runs_table
+    from mimics.batteries.seed_warnings import identical_seed_warnings
 
-    table = runs_table(folder)
     console = Console(stderr=True, highlight=False, soft_wrap=True)
-    for line in identical_seed_warnings(table, randomize_hints(table) if len(table) else {}):
+    for line in identical_seed_warnings(runs_table(folder)):
         console.print(f"mimics: warning: {line}", markup=False)
 
 

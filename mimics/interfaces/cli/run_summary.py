@@ -44,6 +44,15 @@ def check_repeated(params: dict[str, Any], *, robots: int | None = None,
                               f"for the same parameter; give one")
 
 
+def _time_to_goal(summary: dict[str, Any]) -> list[tuple[str, str]]:
+    """The restricted mean time to goal, for runs whose robots have goals."""
+    arrivals = summary.get("arrivals") or {}
+    if arrivals.get("restricted_mean") is None:
+        return []
+    return [("time to goal", f"{arrivals['restricted_mean']:.2f} s ({arrivals['arrived']} of "
+             f"{arrivals['goal_robots']} arrived by the {arrivals['horizon']:g} s horizon)")]
+
+
 def print_summary(summary: dict[str, Any], out: Path | None) -> None:
     """A short table of a run's outcome."""
     table = Table(title=f"{summary['scenario']} / {summary['algorithm']} / seed "
@@ -54,6 +63,7 @@ def print_summary(summary: dict[str, Any], out: Path | None) -> None:
             ("collisions", summary["collisions"]), ("escaped", summary["escaped"]),
             ("deadlocks", summary["deadlocks"]), ("livelocks", summary["livelocks"]),
             ("exceptions", summary["exceptions"]),
+            *_time_to_goal(summary),
             ("simulated time", f"{summary['sim_time']:.2f} s"),
             ("wall time", f"{summary['wall_time']:.2f} s"),
             ("speed", f"{summary['sim_speed']:.2f} s_sim/s" if summary["sim_speed"] else "-")]

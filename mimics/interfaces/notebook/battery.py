@@ -62,66 +62,93 @@ class BatteryView:
 
     # -- the battery report ----------------------------------------------------------
 
+    def evidence(self, baseline: str | None = None, metrics: list[str] | None = None, *,
+                 exclude_failed: bool = False, adjust: str = "holm", method: str = "t"
+                 ) -> Any:
+        """Everything ``mimics battery report`` reads from the battery
+        (:class:`mimics.batteries.evidence.Evidence`): intervals, comparison, costs,
+        failed runs, cells a stopping rule left short of their target, warnings.
+
+        Raises:
+            MimicsError: an unknown baseline, metric, adjustment or method.
+        """
+        from mimics.batteries.evidence import battery_evidence
+
+        return battery_evidence(self.folder, baseline=baseline, metrics=metrics,
+                                exclude_failed=exclude_failed, adjust=adjust, method=method)
+
     def report_tables(self) -> dict[str, pd.DataFrame]:
         """The battery report's tables, by name, as ``mimics battery report`` shows them.
 
         ``runs``: one row per run; ``failures``: the failed runs; ``aggregate``: per
         algorithm x scenario (x parameters), runs by outcome and each count's mean
         with its 95% interval over the done runs; ``intervals``: each metric's
-        estimate and 95% interval per cell (t for means, Wilson for proportions);
-        ``comparison``: each algorithm against the first, paired by seed.
+        estimate and 95% interval per cell (t for means, Wilson for proportions;
+        failed runs count as success 0); ``comparison``: each algorithm against the
+        first, paired by seed, p-values Holm-adjusted; ``costs``: wall and user-code
+        time per cell.
         """
-        from mimics.batteries.comparison import cell_intervals, paired_comparison
-        from mimics.batteries.report import aggregate, runs_table
+        from mimics.batteries.report import aggregate
         from mimics.batteries.tasks import FAILED_STATES
 
-        runs = runs_table(self.folder)
+        found = self.evidence()
+        runs = found.table
         if runs.empty:
             return {"runs": runs, "failures": runs, "aggregate": pd.DataFrame(),
-                    "intervals": pd.DataFrame(), "comparison": pd.DataFrame()}
+                    "intervals": pd.DataFrame(), "comparison": pd.DataFrame(),
+                    "costs": pd.DataFrame()}
         return {"runs": runs,
                 "failures": runs[runs["state"].isin(FAILED_STATES)].reset_index(drop=True),
-                "aggregate": aggregate(runs), "intervals": cell_intervals(runs),
-                "comparison": paired_comparison(runs)}
+                "aggregate": aggregate(runs), "intervals": found.intervals,
+                "comparison": found.comparison, "costs": found.costs}
 
     @property
     def table(self) -> pd.DataFrame:
         """One row per run (the columns of ``mimics battery report --csv``, and more)."""
-        return self.report_tables()["runs"]
+        from mimics.batteries.report import runs_table
+
+        return runs_table(self.folder)
 
     def summary(self) -> pd.DataFrame:
         """The report's aggregate: one row per algorithm x scenario (x parameter point)."""
         return self.report_tables()["aggregate"]
 
-    def intervals(self, metrics: list[str] | None = None) -> pd.DataFrame:
-        """Per cell, each metric's estimate with its 95% interval and the runs it rests on
-        (the intervals table of ``mimics battery report``)."""
-        from mimics.batteries.comparison import cell_intervals
+    def intervals(self, metrics: list[str] | None = None, *, exclude_failed: bool = False,
+                  method: str = "t") -> pd.DataFrame:
+        """Per cell, its runs, done and failed, and each metric's estimate with its 95%
+        interval and the runs it rests on (the intervals table of ``mimics battery
+        report``)."""
+        return self.evidence(metrics=metrics, exclude_failed=exclude_failed,
+                             method=method).intervals
 
-        runs = self.table
-        return pd.DataFrame() if runs.empty else cell_intervals(runs, metrics)
-
-    def compare(self, baseline: str | None = None,
-                metrics: list[str] | None = None) -> pd.DataFrame:
+    def compare(self, baseline: str | None = None, metrics: list[str] | None = None, *,
+                exclude_failed: bool = False, adjust: str = "holm", method: str = "t"
+                ) -> pd.DataFrame:
         """Each algorithm minus ``baseline`` (default: the battery's first), paired by
-        scenario, parameters and seed: mean difference, 95% interval, Wilcoxon p-value
-        and pairs (``mimics battery compare``).
+        scenario, parameters and seed (``mimics battery compare``): rates by Newcombe's
+        interval and McNemar's test, means by the t interval and Wilcoxon's test, raw
+        and adjusted p-values, the pairs, the primary metric marked.
 
         Raises:
-            MimicsError: an unknown baseline or metric.
+            MimicsError: an unknown baseline, metric, adjustment or method.
         """
-        from mimics.batteries.comparison import paired_comparison
+        return self.evidence(baseline, metrics, exclude_failed=exclude_failed, adjust=adjust,
+                             method=method).comparison
 
-        runs = self.table
-        return pd.DataFrame() if runs.empty else paired_comparison(runs, baseline, metrics)
+    @property
+    def failed(self) -> list[str]:
+        """One line per cell with failed runs: how many, their states and seeds."""
+        return self.evidence().failed
+
+    @property
+    def unmet(self) -> list[str]:
+        """Cells that a stopping rule stopped at ``max_seeds`` short of its target."""
+        return self.evidence().unmet
 
     @property
     def warnings(self) -> list[str]:
-        """One line per cell whose seeds gave identical runs (the seed changed nothing)."""
-        from mimics.batteries.comparison import identical_seed_warnings, randomize_hints
-
-        runs = self.table
-        return [] if runs.empty else identical_seed_warnings(runs, randomize_hints(runs))
+        """One line per cell whose seeds gave identical runs, with what made them so."""
+        return self.evidence().warnings
 
     @property
     def counts(self) -> dict[str, int]:
@@ -226,7 +253,20 @@ def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None
     """
     from mimics.batteries.driver import run_battery as drive
     from mimics.batteries.spec import BatterySpec, load_battery, spec_from_dict
+    from mimics.world.limits import check_time, check_wall_seconds, check_whole
+    from mimics.world.output_paths import as_path, check_outputs
 
+    # the arguments first, each named: nothing is created for a bad one
+    if workers is not None:
+        check_whole("run_battery: workers", workers, 1, 4096)
+    if dask is not None and not (isinstance(dask, str) and dask.strip()):
+        raise MimicsError(f"run_battery: dask: expected a scheduler address (a str), got "
+                          f"{dask!r}")
+    if progress is not None and not isinstance(progress, bool):
+        raise MimicsError(f"run_battery: progress: expected True, False or None, got "
+                          f"{progress!r}")
+    if out is not None:
+        out = as_path("run_battery: out", out)
     if isinstance(spec, dict):
         spec = spec_from_dict(spec, base=Path.cwd(), source="")
     elif not isinstance(spec, BatterySpec):
@@ -234,6 +274,11 @@ def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None
             raise MimicsError(f"run_battery: expected a battery file, a dict or a BatterySpec, "
                               f"got {type(spec).__name__}")
         spec = load_battery(spec)
+    else:  # built by hand: its numbers were not read through a battery file's checks
+        if spec.time is not None:
+            check_time("run_battery: spec.time", spec.time)
+        check_wall_seconds("run_battery: spec.timeout", spec.timeout)
+    check_outputs({"run_battery: out": out}, {"the battery file": spec.source or None})
     if out is None:
         stem = Path(spec.source).stem if spec.source else "battery"
         out = Path("batteries") / f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}"
