@@ -97,10 +97,11 @@ def battery_evidence(folder: str | Path, *, baseline: str | None = None,
     finally:
         store.close()
     primary = default_primary(table, spec.primary)
-    if metrics is None and primary and primary not in chosen:
-        chosen = [primary, *chosen]
-    elif metrics is None and primary:
-        chosen = [primary, *(m for m in chosen if m != primary)]
+    if metrics is None:  # the primary first, and the stopping rule's metric
+        wanted = [primary] if primary else []
+        if spec.until is not None:
+            wanted.append(spec.until.metric)
+        chosen = list(dict.fromkeys([*wanted, *chosen]))
     unmet = [f"{s.cell.algorithm} x {s.cell.scenario}" + (f" ({s.label})" if s.label else "")
              + f": stopped at max_seeds = {s.progress.scheduled} with a half-width of "
              f"{s.progress.half_width:.3g}, short of the target {s.target:g}"

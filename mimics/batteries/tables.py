@@ -11,13 +11,14 @@ from rich.table import Table
 from mimics.batteries.comparison import check_metrics
 from mimics.batteries.metrics import METRICS
 
-INTERVALS_TITLE = ("Per cell, over finished runs (a failed run: success 0, reached 0, no other "
-                   "value): mean [95% t interval]; success: proportion [95% Wilson interval]; "
-                   "(n=...) where fewer runs have a value")
-COMPARISON_TITLE = ("Paired comparison: algorithm - baseline on the same scenario, parameters "
-                    "and seed; rates: difference [95% Newcombe interval], McNemar exact p; "
-                    "means: difference [95% t interval], Wilcoxon signed-rank p; p adjusted "
-                    "for the {tests} tests shown ({adjust}); * = the primary metric")
+INTERVALS_TITLE = "Per cell, over finished runs"
+INTERVALS_LEGEND = ("means: mean [95% t interval]; success: proportion [95% Wilson interval]; "
+                    "a failed run counts as success 0 and reached 0 and has no other value; "
+                    "(n=...) where fewer runs have a value")
+COMPARISON_TITLE = "Paired comparison: algorithm - baseline, same scenario, parameters and seed"
+COMPARISON_LEGEND = ("rates: difference [95% Newcombe interval], McNemar exact p; means: "
+                     "difference [95% t interval], Wilcoxon signed-rank p; p adjusted ({adjust}) "
+                     "for the {tests} tests shown; * = the primary metric")
 COSTS_TITLE = "Costs (not outcomes, not deterministic): wall and user-code time of done runs"
 
 
@@ -61,7 +62,7 @@ def intervals_rich(cells: pd.DataFrame, metrics: list[str] | None = None,
                    horizon: str = "") -> Table:
     """The per-cell intervals of :func:`~mimics.batteries.comparison.cell_intervals`."""
     chosen = check_metrics(metrics)
-    rich = Table(title=INTERVALS_TITLE, header_style="bold")
+    rich = Table(title=INTERVALS_TITLE, header_style="bold", caption=INTERVALS_LEGEND)
     for name in ("algorithm", "scenario", "parameters", "runs / done / failed", *chosen):
         header = name + (horizon if name == "time_to_goal" else "")
         if name in METRICS and METRICS[name].conditional:
@@ -89,7 +90,8 @@ def p_text(p: float) -> str:
 def comparison_rich(comparison: pd.DataFrame, adjust: str = "holm") -> Table:
     """The paired comparison of :func:`~mimics.batteries.comparison.paired_comparison`."""
     tests = int(comparison["p_value"].notna().sum()) if not comparison.empty else 0
-    rich = Table(title=COMPARISON_TITLE.format(tests=tests, adjust=adjust), header_style="bold")
+    rich = Table(title=COMPARISON_TITLE, header_style="bold",
+                 caption=COMPARISON_LEGEND.format(tests=tests, adjust=adjust))
     for name in ("algorithm", "baseline", "scenario", "parameters", "metric", "pairs",
                  "difference [95% interval]", "p", "p adjusted", "note"):
         rich.add_column(name, justify="right" if name in ("pairs", "p", "p adjusted") else

@@ -9,7 +9,8 @@ bar in the cell (Rich's Jupyter display), and returns a :class:`BatteryView`;
 95% intervals per algorithm x scenario), ``.intervals()`` and ``.compare()`` the
 report's per-cell intervals and paired comparison (``mimics battery compare``),
 ``.warnings`` its identical-seed warnings, ``.plot(...)`` the figures of
-``mimics battery plot``, ``.run(id)`` one run as a
+``mimics battery plot``, ``.arrivals()`` the arrival curves (the fraction of
+goal robots arrived against time) as a table, ``.run(id)`` one run as a
 :class:`~mimics.interfaces.notebook.run.RunView`.
 
 Everything taken from the battery report (:mod:`mimics.batteries.report`) goes
@@ -29,7 +30,10 @@ from mimics.interfaces.notebook.html import enable_figure_display, figure_img, i
 from mimics.world.errors import MimicsError
 
 #: The figures of ``mimics battery plot``, by the name ``plot(kind)`` takes.
-PLOTS = ("outcomes", "time_to_goal", "wall_time_vs_robots")
+PLOTS = ("outcomes", "time_to_goal", "arrivals", "wall_time_vs_robots")
+#: The columns of :meth:`BatteryView.arrivals`.
+ARRIVAL_COLUMNS = ("algorithm", "scenario", "parameters", "time", "fraction", "low", "high",
+                   "runs", "robots", "arrived", "horizon")
 
 
 class BatteryView:
@@ -185,8 +189,10 @@ class BatteryView:
 
         Args:
             kind: ``"outcomes"`` (robot outcomes and run statuses), ``"time_to_goal"``
-                or ``"wall_time_vs_robots"`` (the paper's Figure 2, from the runs of
-                the ``line`` scenario; ``scenario=`` names another).
+                (one point per run: its restricted mean time to goal, a panel per
+                parameter point), ``"arrivals"`` (the arrival curves, see
+                :meth:`arrivals`) or ``"wall_time_vs_robots"`` (the paper's Figure 2,
+                from the runs of the ``line`` scenario; ``scenario=`` names another).
             width_px, height_px: size in pixels (each plot's own default otherwise).
 
         Raises:
@@ -201,6 +207,29 @@ class BatteryView:
         enable_figure_display()
         table = plots.battery_table(self.folder)
         return getattr(plots, f"plot_{kind}")(table, None, **size, **options)
+
+    def arrivals(self) -> pd.DataFrame:
+        """The arrival curves as a tidy table: per algorithm x scenario x parameter point,
+        the Kaplan-Meier fraction of goal robots arrived by each ``time`` (s) with its
+        pointwise 95% interval ``low``-``high`` (NaN where undefined), over every goal
+        robot of the cell's done runs, each robot that never arrived censored at its run's
+        horizon (:func:`mimics.batteries.arrivals.arrival_curves`); the fraction is 0
+        before the first time. ``runs``, ``robots``, ``arrived`` and ``horizon`` are the
+        cell's. Runs of batteries recorded before mimics kept arrival times have no curve.
+        """
+        from mimics.batteries.arrivals import arrival_curves
+
+        runs = self.table
+        frames = [pd.DataFrame({
+            "algorithm": algorithm, "scenario": scenario, "parameters": point,
+            "time": curve.times, "fraction": curve.fraction, "low": curve.low,
+            "high": curve.high, "runs": curve.runs, "robots": curve.robots,
+            "arrived": curve.arrived, "horizon": curve.horizon})
+            for (algorithm, scenario, point), curve in
+            (arrival_curves(runs) if not runs.empty else {}).items() if curve.times.size]
+        if not frames:
+            return pd.DataFrame(columns=list(ARRIVAL_COLUMNS))
+        return pd.concat(frames, ignore_index=True)[list(ARRIVAL_COLUMNS)]
 
     def _repr_html_(self) -> str:
         tables = self.report_tables()

@@ -1,4 +1,5 @@
-"""A battery's figures: outcomes and run statuses, time to goal, wall time against robots."""
+"""A battery's figures: outcomes and run statuses, time to goal per run, arrival curves,
+wall time against robots."""
 
 from __future__ import annotations
 
@@ -11,10 +12,11 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+from mimics.interfaces.plots.battery_arrivals import plot_arrivals
 from mimics.interfaces.plots.battery_table import battery_table
+from mimics.interfaces.plots.battery_time_to_goal import plot_time_to_goal
 from mimics.interfaces.plots.figures import _new_figure, _save
 from mimics.interfaces.render import STATUS_COLORS
-from mimics.interfaces.replay import open_run
 from mimics.world.errors import MimicsError
 
 #: Robot outcomes stacked in the battery outcome plot: (summary column, label, colour).
@@ -27,25 +29,46 @@ RUN_STATUS_COLORS = {"completed": "#2ca02c", "time_limit": "#1f77b4", "wall_limi
                      "stopped": "#8c8c8c", "error": "#d62728", "timeout": "#9467bd",
                      "crashed": "#000000", "pending": "#dddddd", "running": "#bcbd22"}
 
-def _combo_labels(table: pd.DataFrame) -> list[tuple[str, str]]:
-    return sorted({(a, s) for a, s in zip(table["algorithm"], table["scenario"], strict=True)})
+def _combo_labels(table: pd.DataFrame) -> list[tuple[str, str, str]]:
+    """The cells, parameter point by parameter point (in the battery's order)."""
+    points = list(dict.fromkeys(zip(table["scenario"], table["point"], strict=True)))
+    cells = set(zip(table["algorithm"], table["scenario"], table["point"], strict=True))
+    algorithms = list(dict.fromkeys(table["algorithm"]))
+    return sorted(cells, key=lambda c: (points.index(c[1:]), algorithms.index(c[0])))
+
+
+def _tick_labels(ax: Any, combos: list[tuple[str, str, str]]) -> None:
+    """Cell names under the bars, slanted when many would run into each other."""
+    x = np.arange(len(combos))
+    if len(combos) <= 4:
+        ax.set_xticks(x, [f"{a}\n{s}" + (f"\n{p}" if p else "") for a, s, p in combos],
+                      fontsize=8)
+    else:
+        ax.set_xticks(x, [", ".join(v for v in (a, s, p) if v) for a, s, p in combos],
+                      fontsize=7, rotation=35, ha="right", rotation_mode="anchor")
 
 
 def plot_outcomes(table: pd.DataFrame, out: str | Path | None, *, width_px: int = 1200,
                   height_px: int = 600) -> Path | Figure:
-    """Robot outcomes (fractions of all robots) and run statuses per algorithm x scenario
-    (``out`` None: the Figure is returned, not saved)."""
+    """Robot outcomes and run statuses per algorithm x scenario x parameter point (``out``
+    None: the Figure is returned, not saved).
+
+    Each outcome's bar is the mean over the cell's runs of the fraction of the run's robots
+    with that outcome: every run weighs the same, whatever its number of robots.
+    """
     combos = _combo_labels(table)
     fig = _new_figure(width_px, height_px)
     left, right = fig.subplots(1, 2, width_ratios=[3, 2])
     x = np.arange(len(combos))
-    labels = [f"{a}\n{s}" for a, s in combos]
     bottom = np.zeros(len(combos))
-    groups = table.groupby(["algorithm", "scenario"])
+    keys = ["algorithm", "scenario", "point"]
+    robots = table["robots"].where(table["robots"] > 0)  # a run without robots: no fraction
+    fractions = table[keys].assign(**{column: table[column] / robots
+                                      for column, _, _ in OUTCOMES})
+    groups = table.groupby(keys)
+    means = fractions.groupby(keys).mean()
     for column, label, colour in OUTCOMES:
-        totals = groups[column].sum()
-        robots = groups["robots"].sum()
-        frac = np.array([totals.get(c, 0.0) / max(robots.get(c, 0.0), 1.0) for c in combos])
+        frac = np.array([_finite(means[column].get(c, 0.0)) for c in combos])
         left.bar(x, frac, bottom=bottom, color=colour, label=label, width=0.7)
         bottom += frac
     runs = groups.size()
@@ -56,24 +79,29 @@ def plot_outcomes(table: pd.DataFrame, out: str | Path | None, *, width_px: int 
             text += f", {int(without[combo])} without outcome"
         left.annotate(text, (xi, 1.0), ha="center", va="bottom", fontsize=7, xytext=(0, 2),
                       textcoords="offset points")
-    left.set_xticks(x, labels, fontsize=8)
+    _tick_labels(left, combos)
     left.set_ylim(0, 1.1)
-    left.set_ylabel("fraction of robots")
-    left.set_title("Robot outcomes", fontsize=10)
+    left.set_ylabel("fraction of a run's robots (mean over runs)")
+    left.set_title("Robot outcomes per run, averaged over the runs", fontsize=10)
     _legend_beside(left)
     statuses = sorted(table["status"].unique(), key=lambda s: (s != "completed", s))
-    counts = table.groupby(["algorithm", "scenario", "status"]).size()
+    counts = table.groupby([*keys, "status"]).size()
     bottom = np.zeros(len(combos))
     for status in statuses:
         values = np.array([counts.get((*c, status), 0) for c in combos], dtype=float)
         right.bar(x, values, bottom=bottom, label=status, width=0.7,
                   color=RUN_STATUS_COLORS.get(status, "#bcbd22"))
         bottom += values
-    right.set_xticks(x, labels, fontsize=8)
+    _tick_labels(right, combos)
     right.set_ylabel("runs")
     right.set_title("Run statuses", fontsize=10)
     _legend_beside(right)
     return _save(fig, out)
+
+
+def _finite(value: Any) -> float:
+    """A mean, 0 for a cell without a run with robots (NaN)."""
+    return float(value) if math.isfinite(float(value)) else 0.0
 
 
 def _legend_beside(ax: Any) -> None:
@@ -81,59 +109,6 @@ def _legend_beside(ax: Any) -> None:
     (the constrained layout makes room for it)."""
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0,
               frameon=False)
-
-
-def plot_time_to_goal(table: pd.DataFrame, out: str | Path | None, *, width_px: int = 1000,
-                      height_px: int = 600) -> Path | Figure:
-    """Distributions of the time robots took to reach their goals, per algorithm x scenario.
-
-    Per-robot times come from each run's ``reached_goal`` events; a run whose
-    events cannot be read contributes its mean time to goal instead.
-    """
-    combos = _combo_labels(table)
-    samples: list[np.ndarray] = []
-    fallbacks = 0
-    for combo in combos:
-        chosen = table[(table["algorithm"] == combo[0]) & (table["scenario"] == combo[1])]
-        values = []
-        chosen = chosen[np.isfinite(chosen["robots"])]  # runs with an outcome
-        for folder, mean in zip(chosen["folder"], chosen["time_to_goal_mean"], strict=True):
-            times, per_robot = _goal_times(folder, mean)
-            values.append(times)
-            fallbacks += not per_robot
-        samples.append(np.concatenate(values) if values else np.zeros(0))
-    fig = _new_figure(width_px, height_px)
-    ax = fig.add_subplot()
-    if not any(s.size for s in samples):  # a message, not an empty axis
-        ax.set_axis_off()
-        ax.text(0.5, 0.5, "No robot reached its goal in these runs:\nno time to goal to plot.",
-                ha="center", va="center", fontsize=12, transform=ax.transAxes)
-        ax.set_title("Time to goal per robot", fontsize=10)
-        return _save(fig, out)
-    shown = [s if s.size else np.array([np.nan]) for s in samples]
-    ax.boxplot(shown, tick_labels=[f"{a}\n{s}" for a, s in combos], showfliers=True,
-               flierprops={"markersize": 2})
-    for k, s in enumerate(samples, start=1):
-        ax.annotate(f"n={s.size}", (k, 1.0), xycoords=("data", "axes fraction"), ha="center",
-                    va="bottom", fontsize=7)
-        if not s.size:  # a cell where no robot reached its goal: said where its box would be
-            ax.annotate("no data", (k, 0.5), xycoords=("data", "axes fraction"), ha="center",
-                        va="center", fontsize=9, color="#777777")
-    ax.set_ylabel("time to goal (s)")
-    note = f" ({fallbacks} run(s) without readable events: their mean)" if fallbacks else ""
-    ax.set_title(f"Time to goal per robot{note}", fontsize=10, pad=14)
-    return _save(fig, out)
-
-
-def _goal_times(folder: str, mean: Any) -> tuple[np.ndarray, bool]:
-    """Per-robot goal times of one run from its events (True), or its mean (False)."""
-    try:
-        events = open_run(Path(folder)).events
-        return events.loc[events["kind"] == "reached_goal", "time"].to_numpy(np.float64), True
-    except Exception:  # an unreadable run falls back to its summary
-        if isinstance(mean, int | float) and math.isfinite(mean):
-            return np.array([float(mean)]), False
-        return np.zeros(0), False
 
 
 def plot_wall_time_vs_robots(table: pd.DataFrame, out: str | Path | None, *, scenario: str = "line",
@@ -183,7 +158,9 @@ def plot_wall_time_vs_robots(table: pd.DataFrame, out: str | Path | None, *, sce
 
 def battery_plots(directory: str | Path, out: str | Path | None = None
                   ) -> tuple[list[Path], list[str]]:
-    """Write a battery's figures into ``out`` (default ``DIRECTORY/plots``).
+    """Write a battery's figures into ``out`` (default ``DIRECTORY/plots``): outcomes.png,
+    time_to_goal.png (one point per run), arrivals.png (arrival curves) and, with runs of
+    the line scenario, wall_time_vs_robots.png.
 
     Returns:
         The paths written, and one line per figure skipped with the reason.
@@ -194,7 +171,8 @@ def battery_plots(directory: str | Path, out: str | Path | None = None
     table = battery_table(directory)
     folder = Path(out) if out is not None else Path(directory) / "plots"
     written = [plot_outcomes(table, folder / "outcomes.png"),
-               plot_time_to_goal(table, folder / "time_to_goal.png")]
+               plot_time_to_goal(table, folder / "time_to_goal.png"),
+               plot_arrivals(table, folder / "arrivals.png")]
     skipped: list[str] = []
     try:
         written.append(plot_wall_time_vs_robots(table, folder / "wall_time_vs_robots.png"))

@@ -13,6 +13,7 @@ import imageio.v3 as imageio
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
+from scipy import stats
 
 import mimics
 from mimics.batteries.report import aggregate, runs_table
@@ -20,8 +21,9 @@ from mimics.interfaces.notebook.html import png_bytes
 from mimics.interfaces.plots import battery_plots
 from mimics.world.errors import MimicsError
 
-SPEC = {"battery": {"algorithms": ["go_to_goal"], "seeds": 3, "time": 1.0},
-        "scenarios": [{"name": "line", "robots": 2}]}
+# goals 1 m away and 4 s: some robots arrive, some never do (the arrival curves' censoring)
+SPEC = {"battery": {"algorithms": ["go_to_goal"], "seeds": 3, "time": 4.0},
+        "scenarios": [{"name": "line", "robots": 2, "distance": 1.0}]}
 
 
 @pytest.fixture(scope="module")
@@ -47,7 +49,7 @@ def test_summary_is_the_reports_aggregate(battery):
     assert len(summary) == 1 and summary.iloc[0]["runs"] == 3
     assert summary.equals(expected)
     tables = battery.report_tables()
-    assert set(tables) == {"runs", "failures", "aggregate", "intervals", "comparison"}
+    assert set(tables) == {"runs", "failures", "aggregate", "intervals", "comparison", "costs"}
     assert tables["failures"].empty
     # one algorithm: nothing to compare; the intervals rest on the 3 done runs
     assert battery.compare().empty and battery.intervals()["done"].tolist() == [3]
@@ -77,8 +79,30 @@ def test_plot_is_the_figure_of_mimics_battery_plot(battery, tmp_path):
     from_cli = imageio.imread(written[0])
     assert np.array_equal(imageio.imread(io.BytesIO(png_bytes(figure))), from_cli)
     assert isinstance(battery.plot("time_to_goal"), Figure)
+    assert [p.name for p in written][:3] == ["outcomes.png", "time_to_goal.png", "arrivals.png"]
+    arrivals = battery.plot("arrivals")
+    assert np.array_equal(imageio.imread(io.BytesIO(png_bytes(arrivals))),
+                          imageio.imread(written[2]))
     with pytest.raises(MimicsError, match="expected one of"):
         battery.plot("pie")
+
+
+def test_arrivals_are_the_kaplan_meier_curve_of_the_runs(battery):
+    curves = battery.arrivals()
+    assert list(curves.columns) == ["algorithm", "scenario", "parameters", "time", "fraction",
+                                    "low", "high", "runs", "robots", "arrived", "horizon"]
+    # the truth, from the run folders: every goal robot, each non-arrival censored at 4 s
+    summaries = [json.loads(p.read_text()) for p in battery.folder.glob("runs/*/summary.json")]
+    arrived = [t for s in summaries for t in s["arrivals"]["times"]]
+    censored = [s["arrivals"]["horizon"] for s in summaries
+                for _ in range(s["arrivals"]["goal_robots"] - s["arrivals"]["arrived"])]
+    assert arrived and censored  # both kinds of robot, as SPEC intends
+    truth = stats.ecdf(stats.CensoredData(uncensored=arrived, right=censored)).cdf
+    assert curves["time"].tolist() == truth.quantiles.tolist()
+    assert curves["fraction"].to_numpy() == pytest.approx(truth.probabilities, abs=1e-12)
+    assert set(curves["runs"]) == {3} and set(curves["robots"]) == {6}
+    assert set(curves["arrived"]) == {len(arrived)} and set(curves["horizon"]) == {4.0}
+    assert set(curves["parameters"]) == {"robots=2, distance=1.0"}
 
 
 def test_load_battery_and_one_run_of_it(battery):

@@ -37,10 +37,11 @@ def test_the_list_follows_the_battery_and_an_empty_filter_says_so(
     expect(table.locator("tbody")).to_have_text(
         "No run of the 2 matches the filter (only misbehaving runs).")
     assert (root / "batteries" / "tiny" / "battery.db").is_file()
-    # its plots: thumbnails that open full size (nobody reached a goal in 0.3 s: the time to
-    # goal figure says so, tests/interfaces/test_plots.py checks the figure's text)
+    # its plots: thumbnails that open full size (nobody reached a goal in 0.3 s: every run's
+    # time to goal is the horizon and the arrival curves stay at 0; tests/interfaces/
+    # test_plots.py checks the figures)
     page.get_by_role("button", name="Plots").click()
-    for name in ("outcomes.png", "time_to_goal.png"):
+    for name in ("outcomes.png", "time_to_goal.png", "arrivals.png"):
         image = page.get_by_role("img", name=f"{name} of batteries/tiny")
         expect(image).to_be_visible(timeout=30_000)
         page.wait_for_function(f"""() => [...document.querySelectorAll('figure.thumbnail img')]

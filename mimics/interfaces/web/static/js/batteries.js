@@ -261,7 +261,8 @@ export class BatteryPage {
   showPlots() {
     if (!this.current) return;
     const stamp = Date.now();
-    this.plots.replaceChildren(...["outcomes.png", "time_to_goal.png"].map((name) =>
+    const names = ["outcomes.png", "time_to_goal.png", "arrivals.png"]; // beside each other
+    this.plots.replaceChildren(...names.map((name) =>
       enlargeable(element("img", { alt: `${name} of ${this.current}`,
         src: `/api/batteries/plot?${new URLSearchParams({ path: this.current, name })}&t=${stamp}` }))));
   }
