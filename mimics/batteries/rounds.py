@@ -132,7 +132,7 @@ class CellStatus:
         ``running`` (more seeds to come)."""
         if not self.progress.complete:
             return "running"
-        return "met" if self.progress.half_width <= self.target else "max seeds"
+        return "met" if self.progress.target_met else "max seeds"
 
 
 def until_status(store: BatteryStore, spec: BatterySpec) -> list[CellStatus]:

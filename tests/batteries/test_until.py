@@ -1,5 +1,6 @@
-"""The stopping rule: rounds recomputed from finished runs, cells that stop at min_seeds
-when their spread is nil and go on when it is not, and a kill mid-round."""
+"""The stopping rule: rounds recomputed from finished runs, cells that never stop on a
+sample without spread nor on a rare value seen once or twice, and a kill mid-round.
+(Whether its final intervals keep their 95% promise: test_until_coverage.py.)"""
 
 from __future__ import annotations
 
@@ -19,7 +20,14 @@ from hypothesis import strategies as st
 
 from mimics.batteries import resume_battery, run_battery, runs_table
 from mimics.batteries.spec import spec_from_dict
-from mimics.batteries.until import UntilRule, cell_progress, next_round
+from mimics.batteries.stats import proportion_interval, t_interval
+from mimics.batteries.until import (
+    MIN_DEPARTURES,
+    UntilRule,
+    _round_width,
+    cell_progress,
+    next_round,
+)
 from mimics.world.errors import MimicsError
 from tests.batteries.helpers import fault, write_battery
 from tests.batteries.test_resume import executions
@@ -29,10 +37,15 @@ def values_of(draws: list[float]) -> dict[int, float]:
     return {seed: value for seed, value in enumerate(draws, start=1)}
 
 
-def test_a_cell_without_spread_stops_at_min_seeds_and_a_noisy_one_goes_on() -> None:
+def test_a_cell_without_spread_never_meets_its_target_and_a_noisy_one_goes_on() -> None:
     rule = UntilRule("time_to_goal", 0.2, min_seeds=10, max_seeds=500)
-    steady = cell_progress(values_of([4.4] * 10), rule)
-    assert steady.complete and steady.scheduled == 10 and steady.half_width == 0.0
+    # a zero-width interval is no evidence: twenty runs without a collision say little
+    # about a 10% collision rate, so the cell goes on, to max_seeds, flagged unmet
+    steady = [4.4] * 500
+    assert cell_progress(values_of(steady[:10]), rule).scheduled == 20
+    end = cell_progress(values_of(steady), rule)
+    assert end.complete and not end.target_met and end.scheduled == 500
+    assert end.half_width == 0.0
     rng = np.random.default_rng(7)
     noisy = rng.normal(8.0, 2.0, 500).tolist()
     first = cell_progress(values_of(noisy[:10]), rule)
@@ -40,7 +53,7 @@ def test_a_cell_without_spread_stops_at_min_seeds_and_a_noisy_one_goes_on() -> N
     # fed every draw, the cell stops where the interval is first narrow enough: the
     # 95% half-width t * s / sqrt(n) <= 0.2 needs about (1.96 * 2 / 0.2)^2 = 384 seeds
     last = cell_progress(values_of(noisy), rule)
-    assert last.complete and last.half_width <= 0.2
+    assert last.complete and last.target_met and last.half_width <= 0.2
     assert 250 <= last.scheduled <= 500
     data = np.array(noisy[:last.scheduled])
     from scipy.stats import t
@@ -53,15 +66,43 @@ def test_undefined_values_count_as_seeds_but_not_as_values() -> None:
     rule = UntilRule("time_to_goal", 0.5, min_seeds=4, max_seeds=16)
     never = cell_progress(values_of([math.nan] * 16), rule)  # no robot ever arrives
     assert never.complete and never.scheduled == 16 and never.half_width == math.inf
-    assert next_round([math.nan, 1.0, math.nan, 1.0], rule) == 5  # nil spread: one more
+    assert not never.target_met
+    assert next_round([math.nan, 1.0, math.nan, 1.0], rule) == 8  # nil spread: doubled
     assert next_round([math.nan] * 4, rule) == 8
 
 
 def test_a_proportion_uses_the_wilson_half_width() -> None:
     rule = UntilRule("success", 0.2, min_seeds=10, max_seeds=200)
     progress = cell_progress(values_of([1.0] * 200), rule)
-    # every run succeeds: Wilson's half-width (1 - low) / 2 falls under 0.2 from 10 seeds
-    assert progress.complete and progress.scheduled == 10 and progress.half_width < 0.2
+    # every run succeeds: Wilson's half-width (1 - low) / 2 falls under 0.2 from 10 seeds;
+    # unlike a t interval it is no zero-width one, so the rule may stop there
+    assert progress.complete and progress.target_met and progress.scheduled == 10
+    assert progress.half_width == pytest.approx((1 - 10 / (10 + 1.959964**2)) / 2)
+    assert progress.half_width < 0.2
+
+
+def test_a_rare_value_seen_twice_does_not_end_a_mean() -> None:
+    rule = UntilRule("collisions", 0.3, min_seeds=20, max_seeds=500)
+    draws = [1.0, 1.0] + [0.0] * 18  # rate 0.1: t half-width 0.144, under the target
+    first = cell_progress(values_of(draws), rule)
+    assert first.half_width == pytest.approx(t_interval(draws).half_width)
+    assert first.half_width < 0.3 and not first.complete
+    # 5 departures at the rate seen need 5 * 20 / 2 = 50 seeds: doubled to 40 at most
+    assert first.scheduled == 40
+    more = draws + [1.0, 0.0, 0.0, 1.0, 0.0, 1.0] + [0.0] * 14  # 5 ones in 40
+    second = cell_progress(values_of(more), rule)
+    assert second.complete and second.target_met and second.scheduled == 40
+    assert MIN_DEPARTURES == 5
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.sampled_from([0.0, 1.0, 2.5, 7.0]) | st.floats(-1e6, 1e6), min_size=0,
+                max_size=60))
+def test_the_rules_cached_widths_are_the_reported_ones_to_the_bit(draws: list[float]) -> None:
+    data = np.array(draws)
+    assert _round_width(data, False) == t_interval(data).half_width
+    zero_one = (data > 0.5).astype(float)
+    assert _round_width(zero_one, True) == proportion_interval(zero_one).half_width
 
 
 @settings(max_examples=80, deadline=None)
@@ -90,6 +131,14 @@ def test_the_schedule_depends_only_on_the_rounds_it_decided(draws: list[float], 
      "[battery.until] min_seeds"),
     ({"metric": "time_to_goal", "half_width": 0.2, "max_seeds": 2.5}, "[battery.until] max_seeds"),
     ({"metric": "time_to_goal", "half_width": 0.2, "patience": 3}, "unknown key 'patience'"),
+    ({"metric": ["success"], "half_width": 0.2}, "[battery.until] metric: expected one of"),
+    ({"metric": {"name": "success"}, "half_width": 0.2}, "[battery.until] metric: expected"),
+    ({"metric": 3, "half_width": 0.2}, "[battery.until] metric: expected one of"),
+    ({"metric": True, "half_width": 0.2}, "[battery.until] metric: expected one of"),
+    ({"metric": "success", "half_width": 0.5}, "[battery.until] half_width: expected a "
+                                                "number in (0, 0.5) for the proportion"),
+    ({"metric": "success", "half_width": 2}, "[battery.until] half_width: expected a number "
+                                              "in (0, 0.5)"),
 ])
 def test_bad_until_tables_name_the_field(table: dict, field: str) -> None:
     with pytest.raises(MimicsError, match=r"^b.toml: ") as caught:
@@ -156,7 +205,7 @@ def test_a_killed_stopping_rule_battery_resumes_to_the_same_seeds(tmp_path: Path
     assert set(result.counts) == {"done"}
     reference = run_battery(path, tmp_path / "reference", workers=2, progress=False)
     assert seeds_run(killed) == seeds_run(tmp_path / "reference")
-    assert seeds_run(killed)["stand_still"] == [1, 2, 3, 4]  # no spread: min_seeds
+    assert seeds_run(killed)["stand_still"] == list(range(1, 9))  # no spread: never met
     assert seeds_run(killed)["slow_random"] == list(range(1, 9))  # to max_seeds
     assert reference.counts == result.counts
     started = executions(killed)
