@@ -45,7 +45,14 @@ from mimics.engine.ranging import WallIndex, shared_wall_index
 from mimics.engine.sensors import measure_positioning
 from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.state import Status
-from mimics.world.edits import REMOVE_REACH, Edit, EditError, edit_from_dict, nearest_wall
+from mimics.world.edits import (
+    REMOVE_REACH,
+    Edit,
+    EditError,
+    check_edit_coordinates,
+    edit_from_dict,
+    nearest_wall,
+)
 from mimics.world.maps import Map
 
 if TYPE_CHECKING:
@@ -122,7 +129,7 @@ class WorldEdits:
             EditError: one line, when the edit is malformed or refused (nothing changed).
         """
         if not isinstance(edit, Edit):
-            edit = edit_from_dict(edit)
+            edit = edit_from_dict(edit, bounds=self.world_map.bounds)
         if not self._started:  # type: ignore[attr-defined]
             self.start()  # type: ignore[attr-defined]
         if self.status != "running":
@@ -165,6 +172,8 @@ class WorldEdits:
         """Check ``edit`` against the world now, apply it, take the senses again, record it."""
         state = self.state
         kind = edit.kind
+        # (an Edit made in Python or scheduled skips the reader's check of its walls)
+        check_edit_coordinates(edit, self.world_map.bounds, name)
         if edit.robot is not None:
             self._check_robot(edit.robot, name)
         if kind == "move_robot":
@@ -295,8 +304,10 @@ class WorldEdits:
         """Make ``segments`` the walls of the run: the collisions' grid, the ranger's index
         (rebuilt when next scanned) and its sight lists follow."""
         world = self.world_map
-        self.world_map = Map(segments, world.bounds, name=world.name, source=world.source)
-        self.wall_grid = build_segment_grid(as_segments(self.world_map.segments), world.bounds)
+        edited = Map(segments, world.bounds, name=world.name, source=world.source)
+        # the grid first: should it fail, the run keeps its walls as they were
+        self.wall_grid = build_segment_grid(as_segments(edited.segments), world.bounds)
+        self.world_map = edited
         self.__dict__.pop("walls", None)
         self._scanner.walls_changed()
 

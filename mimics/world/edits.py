@@ -44,8 +44,8 @@ from typing import Any
 
 import numpy as np
 
-from mimics.world.errors import ScenarioError
-from mimics.world.limits import MAX_ROBOTS, MAX_STEPS
+from mimics.world.errors import MimicsError, ScenarioError
+from mimics.world.limits import MAX_ROBOTS, MAX_STEPS, check_coordinates
 
 EDIT_KINDS = ("move_robot", "add_wall", "remove_wall", "set_goal", "remove_robot")
 #: The fields each kind takes besides ``kind`` and ``step``: (required, optional).
@@ -138,13 +138,15 @@ class Edit:
 
 
 def edit_from_dict(data: Mapping[str, Any], where: str = "edit", *,
-                   default_step: int = 0) -> Edit:
+                   default_step: int = 0, bounds: tuple[float, ...] | None = None) -> Edit:
     """Read one edit from plain data (a TOML table, a JSON body), strictly.
 
     Args:
         data: ``kind``, optional ``step`` and the kind's fields (module docstring).
         where: what names the edit in errors (``edit``, ``file.toml, line 12: edits[0]``).
         default_step: the step when ``data`` gives none.
+        bounds: the map's bounds, when known: walls and points are then checked to lie
+            within them plus a margin (:func:`check_edit_coordinates`).
 
     Raises:
         EditError: ``{where}.{field}: expected ..., got ...`` for the first mistake.
@@ -193,7 +195,28 @@ def edit_from_dict(data: Mapping[str, Any], where: str = "edit", *,
         fields["wall"] = _whole(data["wall"], f"{where}.wall", MAX_WALL_INDEX)
     if "at" in data:
         fields["at"] = _numbers(data["at"], f"{where}.at", 2, "[x, y]")
-    return Edit(kind=kind, step=step, **fields)
+    edit = Edit(kind=kind, step=step, **fields)
+    if bounds is not None:
+        check_edit_coordinates(edit, bounds, where)
+    return edit
+
+
+def check_edit_coordinates(edit: Edit, bounds: tuple[float, ...], where: str) -> None:
+    """Refuse an edit's wall or point outside the map's bounds plus a margin
+    (``mimics.world.limits.coordinate_limits``): finite but enormous coordinates would
+    overflow the walls' grids far from the input. Positions and goals (``x``, ``y``) are
+    held to the bounds themselves where the edit is applied.
+
+    Raises:
+        EditError: naming the field (``edit.segment``) and the allowed ranges.
+    """
+    for name in ("segment", "rectangle", "at"):
+        value = getattr(edit, name)
+        if value is not None:
+            try:
+                check_coordinates(f"{where}.{name}", value, bounds)
+            except MimicsError as exc:
+                raise EditError(str(exc)) from None
 
 
 def _number(value: Any, where: str) -> float:
@@ -220,12 +243,14 @@ def _numbers(value: Any, where: str, size: int, shape: str) -> tuple[Any, ...]:
 
 def check_edit_fits(edit: Edit, robots: int, bounds: tuple[float, ...], name: str) -> None:
     """Check what can be checked against a scenario before it runs: a robot index that
-    exists, a position or goal inside the map bounds (``name``: the edit in errors).
+    exists, a position or goal inside the map bounds, walls and points within them plus
+    a margin (``name``: the edit in errors).
 
     Raises:
         EditError: naming the edit's field (``edits[2].robot``) and what was expected.
     """
     xmin, ymin, xmax, ymax = bounds
+    check_edit_coordinates(edit, bounds, name)
     if edit.robot is not None and edit.robot >= robots:
         raise EditError(f"{name}.robot: no robot {edit.robot} (the scenario has {robots}: "
                         f"0 to {robots - 1})")

@@ -88,3 +88,125 @@ def check_steps(time_limit: float, dt: float) -> int:
         raise MimicsError(f"time: {time_limit:g} s at dt = {dt:g} s is {steps:.3g} steps, over "
                           f"the limit of {MAX_STEPS} (expected at most {MAX_STEPS * dt:.6g} s)")
     return steps_for(time_limit, dt)
+
+
+#: How far past the map's bounds a wall or point a user gives may lie, as a share of the
+#: map's larger side (at least :data:`MIN_COORDINATE_MARGIN` m): the grids and the ranger
+#: cover the walls, so a wall at 1e300 m would make them overflow, far from the input.
+COORDINATE_MARGIN = 1.0
+MIN_COORDINATE_MARGIN = 10.0
+
+
+def coordinate_limits(bounds: tuple[float, ...]) -> tuple[float, float, float, float]:
+    """The box ``(xmin, ymin, xmax, ymax)`` coordinates must lie in: the map's ``bounds``
+    widened by the margin on every side.
+
+    >>> coordinate_limits((0.0, 0.0, 10.0, 6.0))
+    (-10.0, -10.0, 20.0, 16.0)
+    """
+    xmin, ymin, xmax, ymax = (float(v) for v in bounds)
+    margin = max(MIN_COORDINATE_MARGIN, COORDINATE_MARGIN * max(xmax - xmin, ymax - ymin))
+    return xmin - margin, ymin - margin, xmax + margin, ymax + margin
+
+
+def check_coordinates(name: str, points: Any, bounds: tuple[float, ...]) -> None:
+    """Refuse coordinates ``(x, y, x, y, ...)`` outside :func:`coordinate_limits`.
+
+    >>> check_coordinates("edit.at", (1e300, 0.0), (0, 0, 10, 6))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    mimics.world.errors.MimicsError: edit.at: expected x from -10 to 20 and y from -10 to 16 ...
+
+    Raises:
+        MimicsError: one line naming ``name`` and the allowed ranges.
+    """
+    values = [float(v) for v in points]
+    xlow, ylow, xhigh, yhigh = coordinate_limits(bounds)
+    if all(xlow <= x <= xhigh for x in values[0::2]) and all(
+            ylow <= y <= yhigh for y in values[1::2]):
+        return
+    raise MimicsError(f"{name}: expected x from {xlow:g} to {xhigh:g} and y from {ylow:g} to "
+                      f"{yhigh:g} (the map's bounds plus a margin), got "
+                      f"[{', '.join(f'{v:g}' for v in values)}]")
+
+
+#: The largest side of a map (m): 1,000 km. A robot moves millimetres per step, which
+#: float64 still resolves at :data:`MAX_MAP_COORDINATE`; a side of 1e300 m is a typo.
+MAX_MAP_SIDE = 1e6
+MAX_MAP_COORDINATE = 1e7
+
+
+def check_map_extent(name: str, bounds: Any, segments: Any = ()) -> None:
+    """Refuse map ``bounds`` ``(xmin, ymin, xmax, ymax)`` whose sides pass
+    :data:`MAX_MAP_SIDE` or whose corners lie past :data:`MAX_MAP_COORDINATE`, and wall
+    ``segments`` outside the bounds plus the margin of :func:`coordinate_limits`.
+
+    Raises:
+        MimicsError: one line naming ``name`` (``map.bounds``, ``map.segments[3]``).
+    """
+    xmin, ymin, xmax, ymax = (float(v) for v in bounds)
+    if not all(abs(v) <= MAX_MAP_COORDINATE for v in (xmin, ymin, xmax, ymax)) or max(
+            xmax - xmin, ymax - ymin) > MAX_MAP_SIDE:
+        raise MimicsError(f"{name}.bounds: expected sides of at most {MAX_MAP_SIDE:g} m and "
+                          f"corners within +-{MAX_MAP_COORDINATE:g} m, got "
+                          f"[{xmin:g}, {ymin:g}, {xmax:g}, {ymax:g}]")
+    for k, segment in enumerate(segments):
+        check_coordinates(f"{name}.segments[{k}]", segment, (xmin, ymin, xmax, ymax))
+
+
+#: Simulated seconds of one run: the step counter's limit at the default dt = 0.1 s
+#: (6.8 years). A run at a smaller dt meets MAX_STEPS first, which ``check_steps`` names.
+MAX_TIME = MAX_STEPS * 0.1
+#: Wall-clock seconds of a limit or a time-out: what a thread can wait for on every
+#: platform (``threading.TIMEOUT_MAX`` is 49.7 days on Windows); longer is a typo.
+MAX_WALL_SECONDS = 4_000_000.0
+#: Pixels of one side of an image, a frame or a widget: 8192 x 8192 RGBA is 256 MB, what
+#: the renderers (Matplotlib's Agg, the video encoder) can allocate.
+MAX_IMAGE_SIDE = 8192
+
+
+def check_number(name: str, value: Any, low: float, high: float, what: str = "a number",
+                 *, low_included: bool = False) -> float:
+    """``value`` as a float if it is a real number (not a bool or a text) in the range.
+
+    >>> check_number("fps", 1e300, 0, 1000)
+    Traceback (most recent call last):
+    ...
+    mimics.world.errors.MimicsError: fps: expected a positive number (at most 1000), got 1e+300
+
+    Raises:
+        MimicsError: one line naming ``name``, what was expected and the value.
+    """
+    number = math.nan
+    if not isinstance(value, bool | str | bytes):
+        try:
+            number = float(value)
+        except (TypeError, ValueError, OverflowError):  # not a number, or an int past floats
+            number = math.nan
+    above = number >= low if low_included else number > low
+    if not (math.isfinite(number) and above and number <= high):
+        if low == 0 and not low_included and what.startswith("a number"):
+            expected = f"a positive number{what.removeprefix('a number')} (at most {high:g})"
+        elif low_included:
+            expected = f"{what} from {low:g} to {high:g}"
+        else:
+            expected = f"{what} above {low:g} and at most {high:g}"
+        shown = f"{value:g}" if isinstance(value, float) else repr(value)
+        shown = shown if len(shown) <= 60 else shown[:57] + "..."
+        raise MimicsError(f"{name}: expected {expected}, got {shown}")
+    return number
+
+
+def check_time(name: str, value: Any) -> float:
+    """Simulated seconds of a run: a number above 0 and at most :data:`MAX_TIME`."""
+    return check_number(name, value, 0.0, MAX_TIME, "a number of simulated seconds")
+
+
+def check_wall_seconds(name: str, value: Any) -> float:
+    """Wall-clock seconds: a number above 0 and at most :data:`MAX_WALL_SECONDS`."""
+    return check_number(name, value, 0.0, MAX_WALL_SECONDS, "a number of wall-clock seconds")
+
+
+def check_image_side(name: str, value: Any) -> float:
+    """Pixels of an image side: a number above 0 and at most :data:`MAX_IMAGE_SIDE`."""
+    return check_number(name, value, 0.0, MAX_IMAGE_SIDE, "a number of pixels")

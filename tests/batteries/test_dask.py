@@ -60,5 +60,6 @@ def test_a_stopping_rule_battery_on_dask_runs_the_seeds_local_workers_run(
     on_dask, local = (runs_table(tmp_path / name)[columns].sort_values(["algorithm", "seed"])
                       .reset_index(drop=True) for name in ("dask", "local"))
     assert on_dask.equals(local)
-    assert on_dask.groupby("algorithm")["seed"].max().to_dict() == {"stand_still": 3,
+    # standing still never varies: no stop on a sample without spread, so max_seeds (unmet)
+    assert on_dask.groupby("algorithm")["seed"].max().to_dict() == {"stand_still": 6,
                                                                    "random_speed": 6}

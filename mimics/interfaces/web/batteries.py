@@ -21,7 +21,7 @@ from typing import Annotated, Any
 import tomli_w
 from fastapi import APIRouter, HTTPException, Query, Request
 from fastapi.responses import Response
-from pydantic import BaseModel, Field
+from pydantic import Field
 
 from mimics.batteries.driver import lock_holder, rerun_failed, resume_battery, run_battery
 from mimics.batteries.spec import POLICIES, spec_from_dict
@@ -29,21 +29,22 @@ from mimics.batteries.status import battery_status
 from mimics.batteries.store import DB_NAME
 from mimics.catalog import list_scenarios
 from mimics.interfaces.web.algorithms import algorithm_ref
+from mimics.interfaces.web.bodies import StrictBody
 from mimics.interfaces.web.security import Workspace
 
 router = APIRouter(prefix="/api/batteries", tags=["batteries"])
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
-PLOTS = ("outcomes.png", "time_to_goal.png", "wall_time_vs_robots.png")
+PLOTS = ("outcomes.png", "time_to_goal.png", "arrivals.png", "wall_time_vs_robots.png")
 
 
-class ScenarioChoice(BaseModel):
+class ScenarioChoice(StrictBody):
     """A scenario (built-in name or workspace ``.toml``) and its parameters (lists sweep)."""
 
     name: str
     params: dict[str, Any] = Field(default_factory=dict)
 
 
-class BatteryBody(BaseModel):
+class BatteryBody(StrictBody):
     """A battery: algorithms x scenarios x seeds (x parameter values)."""
 
     name: str
@@ -57,7 +58,7 @@ class BatteryBody(BaseModel):
     dry_run: bool = False
 
 
-class FolderBody(BaseModel):
+class FolderBody(StrictBody):
     """A battery folder of the workspace."""
 
     path: str
@@ -130,8 +131,14 @@ def create(request: Request, body: BatteryBody) -> dict[str, Any]:
         raise HTTPException(400, "scenario parameters: 'name' is not a parameter")
     data = {"battery": table, "scenarios": scenarios}
     source = workspace.folder("batteries") / f"{body.name}.toml"
-    spec = spec_from_dict(data, workspace.folder("batteries"),
-                          str(source) if not body.dry_run else "")
+    try:
+        spec = spec_from_dict(data, workspace.folder("batteries"),
+                              str(source) if not body.dry_run else "")
+    except (TypeError, ValueError, KeyError, AttributeError) as exc:
+        # the reader's checks raise MimicsError (422); a value of a type it did not
+        # foresee is still the request's mistake, not the server's
+        raise HTTPException(422, f"battery: {type(exc).__name__}: {exc}".splitlines()[0]) \
+            from None
     runs = len(spec.runs())
     if body.dry_run:  # under a stopping rule: the first round, and at most
         return {"runs": runs} if spec.until is None else {
@@ -228,23 +235,20 @@ def plot(request: Request, path: str, name: str) -> Response:
 
 @router.get("/evidence")
 def evidence(request: Request, path: str, baseline: str | None = None,
-             metric: Annotated[list[str] | None, Query()] = None) -> dict[str, Any]:
-    """Each cell's intervals, the paired comparison against a baseline, the stopping
-    rule's progress per cell and the identical-seed warnings (NaN as null)."""
-    from mimics.batteries.comparison import (
-        cell_intervals,
-        check_metrics,
-        identical_seed_warnings,
-        paired_comparison,
-        randomize_hints,
-    )
-    from mimics.batteries.report import runs_table
+             metric: Annotated[list[str] | None, Query()] = None, exclude_failed: bool = False,
+             adjust: str = "holm", interval: str = "t") -> dict[str, Any]:
+    """Each cell's intervals, the paired comparison against a baseline (raw and adjusted
+    p-values, the primary metric), the failed runs, the costs, the stopping rule's
+    progress per cell (cells stopped short of their target named) and the identical-seed
+    warnings (NaN as null)."""
+    from mimics.batteries.evidence import battery_evidence
     from mimics.batteries.rounds import until_status
     from mimics.batteries.store import BatteryStore
 
     folder = battery_folder(request.app.state.workspace, path)
-    chosen = check_metrics(metric)
-    table = runs_table(folder)
+    found = battery_evidence(folder, baseline=baseline, metrics=metric,
+                             exclude_failed=exclude_failed, adjust=adjust, method=interval)
+    table = found.table
     store = BatteryStore.open(folder)
     try:
         spec = store.spec()
@@ -252,16 +256,13 @@ def evidence(request: Request, path: str, baseline: str | None = None,
     finally:
         store.close()
     algorithms = list(dict.fromkeys(table["algorithm"])) if not table.empty else []
-    if table.empty:
-        intervals, comparison, warnings = [], [], []
-    else:
-        intervals = _records(cell_intervals(table, chosen))
-        comparison = _records(paired_comparison(table, baseline, chosen))
-        warnings = identical_seed_warnings(table, randomize_hints(table))
     rule = spec.until
-    return {"path": path, "metrics": chosen, "algorithms": algorithms,
+    return {"path": path, "metrics": found.metrics, "algorithms": algorithms,
             "baseline": baseline or (algorithms[0] if algorithms else None),
-            "intervals": intervals, "comparison": comparison, "warnings": warnings,
+            "primary": found.primary or None, "adjust": found.adjust, "tests": found.tests,
+            "intervals": _records(found.intervals), "comparison": _records(found.comparison),
+            "costs": _records(found.costs), "failed": found.failed, "unmet": found.unmet,
+            "warnings": found.warnings,
             "until": None if rule is None else {
                 "metric": rule.metric, "half_width": rule.half_width,
                 "min_seeds": rule.min_seeds, "max_seeds": rule.max_seeds, "cells": cells}}

@@ -27,29 +27,39 @@ import math
 from pathlib import Path
 from typing import Any, Literal
 
-from fastapi import APIRouter, HTTPException, Query, Request, WebSocket, WebSocketDisconnect
+from fastapi import (
+    APIRouter,
+    Depends,
+    HTTPException,
+    Query,
+    Request,
+    WebSocket,
+    WebSocketDisconnect,
+)
 from fastapi.responses import Response
-from pydantic import BaseModel, Field
+from pydantic import Field
 
 from mimics.catalog import list_scenarios
 from mimics.interfaces.web.algorithms import algorithm_ref
+from mimics.interfaces.web.bodies import StrictBody, no_fields
 from mimics.interfaces.web.live_runs import ENDED, LiveRefused, LiveRun, LiveRuns
 from mimics.interfaces.web.security import Workspace, websocket_refusal
 from mimics.interfaces.web.wording import paths_for_page
+from mimics.world.limits import MAX_SEED
 
 router = APIRouter(prefix="/api/live", tags=["live"])
 SPEED_RANGE = (0.1, 100.0)  # factors of real time the page offers
 EDIT_KINDS = ("move_robot", "add_wall", "remove_wall", "set_goal", "remove_robot")
 
 
-class LiveBody(BaseModel):
+class LiveBody(StrictBody):
     """Start a live run: a saved scenario (or a built-in) with an algorithm and a seed,
     or the run ``run`` of the battery ``battery`` (its scenario, parameters, algorithm,
     seed and time)."""
 
     scenario: str | None = None
     algorithm: str | None = None
-    seed: int = Field(default=0, ge=0)
+    seed: int = Field(default=0, ge=0, le=MAX_SEED)
     time: float | None = Field(default=None, gt=0)
     speed: float | Literal["fastest"] = 1.0
     # wall-clock seconds from the start, pauses included, as `mimics run --wall-limit`
@@ -57,10 +67,10 @@ class LiveBody(BaseModel):
     paused: bool = False
     fps: float = Field(default=60.0, gt=0, le=120)
     battery: str | None = None
-    run: int | None = Field(default=None, ge=1)
+    run: int | None = Field(default=None, ge=1, le=MAX_SEED)
 
 
-class SpeedBody(BaseModel):
+class SpeedBody(StrictBody):
     """A factor of real time (0.1 to 100), or ``"fastest"``."""
 
     speed: float | Literal["fastest"]
@@ -235,25 +245,25 @@ def _control(request: Request, run_id: int, name: str, argument: Any = None) -> 
     return described(request.app.state.workspace, _run(request, run_id))
 
 
-@router.post("/{run_id}/pause")
+@router.post("/{run_id}/pause", dependencies=[Depends(no_fields)])
 def pause(request: Request, run_id: int) -> dict[str, Any]:
     """Stop stepping after the current step."""
     return _control(request, run_id, "pause")
 
 
-@router.post("/{run_id}/resume")
+@router.post("/{run_id}/resume", dependencies=[Depends(no_fields)])
 def resume(request: Request, run_id: int) -> dict[str, Any]:
     """Step on at the run's speed."""
     return _control(request, run_id, "play")
 
 
-@router.post("/{run_id}/step")
+@router.post("/{run_id}/step", dependencies=[Depends(no_fields)])
 def step(request: Request, run_id: int) -> dict[str, Any]:
     """Pause (if running), then take exactly one step; answers once it is taken."""
     return _control(request, run_id, "step")
 
 
-@router.post("/{run_id}/stop")
+@router.post("/{run_id}/stop", dependencies=[Depends(no_fields)])
 def stop(request: Request, run_id: int) -> dict[str, Any]:
     """End the run at the next step (status ``stopped``); its folder is then complete."""
     return _control(request, run_id, "stop")

@@ -309,10 +309,24 @@ class LiveWorker:
         try:
             self.stepper.wait_ended()
         except BaseException as exc:  # the stepper's thread raised: keep what was recorded
-            with contextlib.suppress(Exception):
-                self.recorder.close()
             error = f"{type(exc).__name__}: {exc}" if not isinstance(exc, MimicsError) \
                 else str(exc)
+            self.close_in_error(error)
         error = error or sim.error or ""
         self.send("end", {"status": sim.status, "error": error, "step": int(sim.state.step),
                           "time": float(sim.state.time)})
+
+    def close_in_error(self, error: str) -> None:
+        """End a run whose stepper raised as a run that ended in error: its folder gets
+        scenario.toml with the edits made so far and summary.json (status ``error``),
+        as a run whose algorithm raised does, so it still re-runs from its folder. If
+        even that fails, what was recorded is kept (without summary.json)."""
+        sim = self.sim
+        if sim.status == "running":
+            sim.status, sim.error = "error", error
+        try:
+            if not self.recorder.finished:
+                self.recorder.on_end(sim, sim.result())
+        except Exception:
+            with contextlib.suppress(Exception):
+                self.recorder.close()

@@ -12,11 +12,13 @@ import tempfile
 from pathlib import Path, PurePosixPath
 from typing import Any
 
-from fastapi import APIRouter, HTTPException, Request
-from pydantic import BaseModel, Field
+from fastapi import APIRouter, Depends, HTTPException, Request
+from pydantic import Field
 
+from mimics.interfaces.web.bodies import StrictBody, no_fields
 from mimics.interfaces.web.wording import upload_for_page
 from mimics.world.errors import MimicsError
+from mimics.world.limits import check_map_extent
 from mimics.world.map_files import (
     BUILTIN_MAPS,
     IMAGE_SUFFIXES,
@@ -37,7 +39,7 @@ IMPORT_OPTIONS = ("scale", "tolerance", "resolution", "origin", "threshold", "ne
                   "center")
 
 
-class MapBody(BaseModel):
+class MapBody(StrictBody):
     """A map to save: ``path`` under ``maps/`` ending in .txt, .map, .segments, .toml or .json."""
 
     path: str
@@ -52,6 +54,15 @@ def refuse_overwrite(real: Path, path: str, overwrite: bool) -> None:
     """409 when ``real`` exists and the request did not say to replace it."""
     if not overwrite and real.exists():
         raise HTTPException(409, f"{path} exists already: replace it?")
+
+
+def check_extent(bounds: Any, segments: Any, name: str = "map") -> None:
+    """422 for a map too large for the simulator (``mimics.world.limits.check_map_extent``):
+    found here, not when a run fails on it far from the page."""
+    try:
+        check_map_extent(name, bounds, segments)
+    except MimicsError as exc:
+        raise HTTPException(422, str(exc)) from None
 
 
 def map_json(the_map: Map, path: str) -> dict[str, Any]:
@@ -124,6 +135,7 @@ def put_map(request: Request, body: MapBody) -> dict[str, Any]:
         raise HTTPException(400, f"{body.path}: save a map as {', '.join(SAVE_SUFFIXES)}")
     the_map = map_from_dict({"name": body.name, "bounds": body.bounds,
                              "segments": body.segments}, body.path, body.name)
+    check_extent(the_map.bounds, the_map.segments.tolist())
     refuse_overwrite(real, body.path, body.overwrite)
     real.parent.mkdir(parents=True, exist_ok=True)
     save_map(the_map, real)
@@ -140,7 +152,7 @@ async def import_map(request: Request, filename: str, options: str = "{}") -> di
     """
     suffix = PurePosixPath(filename).suffix.lower()
     if suffix not in IMPORT_SUFFIXES or "/" in filename or "\\" in filename:
-        raise HTTPException(400, f"{filename!r}: expected a file name ending in "
+        raise HTTPException(400, f"filename {filename!r}: expected a file name ending in "
                                  f"{', '.join(IMPORT_SUFFIXES)}")
     if suffix in (".yaml", ".yml"):
         raise HTTPException(400, "a ROS map YAML names its image: put both in the workspace "
@@ -156,10 +168,11 @@ async def import_map(request: Request, filename: str, options: str = "{}") -> di
             the_map = load_map(path, **parsed)
         except MimicsError as exc:  # named as uploaded, not by the server's temporary path
             raise HTTPException(422, upload_for_page(str(exc), folder, path.name)) from None
+    check_extent(the_map.bounds, the_map.segments.tolist(), "options: the imported map")
     return map_json(the_map, "")
 
 
-@router.post("/import-file")
+@router.post("/import-file", dependencies=[Depends(no_fields)])
 def import_file(request: Request, path: str, options: str = "{}") -> dict[str, Any]:
     """Import a drawing, image or ROS YAML already in the workspace (preview, nothing saved)."""
     real = request.app.state.workspace.resolve(path, must_exist=True)
@@ -167,4 +180,6 @@ def import_file(request: Request, path: str, options: str = "{}") -> dict[str, A
         raise HTTPException(400, f"{path}: expected a file ending in "
                                  f"{', '.join(IMPORT_SUFFIXES)}")
     parsed = _options(options)
-    return map_json(load_map(real, **parsed), "")
+    the_map = load_map(real, **parsed)
+    check_extent(the_map.bounds, the_map.segments.tolist(), "options: the imported map")
+    return map_json(the_map, "")

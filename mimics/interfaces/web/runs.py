@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 from fastapi import APIRouter, HTTPException, Request
 from fastapi.responses import FileResponse, Response
-from pydantic import BaseModel, Field
+from pydantic import Field
 
 from mimics.engine.state import Status
 from mimics.interfaces.render import STATUS_COLORS
@@ -44,10 +44,12 @@ from mimics.interfaces.replay import (
     replay_data,
     robot_motion,
 )
+from mimics.interfaces.web.bodies import StrictBody
 from mimics.interfaces.web.live_frames import encode_frames, frame_states
 from mimics.interfaces.web.security import Workspace
 from mimics.records.layout import SCENARIO_TOML, SUMMARY_JSON
 from mimics.records.run_folder import load_run
+from mimics.world.limits import MAX_ROBOTS
 from mimics.world.map_files import map_to_dict
 
 router = APIRouter(prefix="/api/runs", tags=["runs"])
@@ -59,13 +61,13 @@ _LOG_ROW = re.compile(r"^(-?[0-9.]+(?:[eE][-+]?[0-9]+)?);")  # a data row of a r
 VIDEO_NAME = "replay.mp4"
 
 
-class ExportBody(BaseModel):
+class ExportBody(StrictBody):
     """Export a run's replay as ``replay.mp4`` in its folder."""
 
     path: str
     speed: float = Field(default=1.0, gt=0, le=1000)
     fps: float = Field(default=10.0, gt=0, le=60)
-    robot: int | None = Field(default=None, ge=0)
+    robot: int | None = Field(default=None, ge=0, lt=MAX_ROBOTS)
 
 
 def run_folder(workspace: Workspace, path: str) -> Path:
@@ -291,6 +293,8 @@ def log_until(lines: list[str], until: float | None) -> tuple[list[str], int]:
 def log(request: Request, path: str, robot: int, until: float | None = None) -> dict[str, Any]:
     """Robot ``robot``'s lines up to simulated time ``until`` (all when not given): its
     per-robot text log when written, else its events; ``skipped``: earlier lines left out."""
+    if until is not None and not math.isfinite(until):
+        raise HTTPException(422, f"until: expected a finite time in s, got {until}")
     workspace: Workspace = request.app.state.workspace
     run = load_run(run_folder(workspace, path))
     if not 0 <= robot < run.robot_count:

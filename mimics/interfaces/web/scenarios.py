@@ -18,15 +18,17 @@ from typing import Any
 import numpy as np
 import tomli_w
 from fastapi import APIRouter, HTTPException, Request
-from pydantic import BaseModel, Field
+from pydantic import Field
 
 from mimics.catalog import list_scenarios, load_scenario
 from mimics.interfaces.web.algorithms import algorithm_ref
+from mimics.interfaces.web.bodies import StrictBody
 from mimics.interfaces.web.jobs import Job
-from mimics.interfaces.web.maps import map_json, open_map, refuse_overwrite
+from mimics.interfaces.web.maps import check_extent, map_json, open_map, refuse_overwrite
 from mimics.interfaces.web.security import Workspace
 from mimics.interfaces.web.wording import paths_for_page, scenario_for_page
 from mimics.world.errors import MimicsError
+from mimics.world.limits import MAX_SEED, check_steps
 from mimics.world.map_files import BUILTIN_MAPS, map_from_dict
 from mimics.world.robot_types import BUILTIN_ROBOT_TYPES
 from mimics.world.scenario import Settings
@@ -39,7 +41,7 @@ from mimics.world.scenario_files import (
 router = APIRouter(prefix="/api/scenarios", tags=["scenarios"])
 
 
-class InlineMap(BaseModel):
+class InlineMap(StrictBody):
     """A map written into the scenario file itself (a built-in scenario's generated map)."""
 
     name: str = "map"
@@ -47,7 +49,7 @@ class InlineMap(BaseModel):
     segments: list[list[float]] = Field(max_length=20_000)
 
 
-class RobotBody(BaseModel):
+class RobotBody(StrictBody):
     """One robot: its type, start pose (yaw in rad) and optional goal."""
 
     type: str
@@ -57,7 +59,7 @@ class RobotBody(BaseModel):
     goal: list[float] | None = Field(default=None, min_length=2, max_length=2)
 
 
-class ScenarioBody(BaseModel):
+class ScenarioBody(StrictBody):
     """A scenario to save under ``scenarios/`` (``.toml``): its map is a workspace map file,
     a built-in map name, or an inline map."""
 
@@ -71,7 +73,7 @@ class ScenarioBody(BaseModel):
     overwrite: bool = True
 
 
-class PlaceBody(BaseModel):
+class PlaceBody(StrictBody):
     """Random placement of ``count`` robots of ``type`` in ``region`` on ``map``."""
 
     map: str | InlineMap
@@ -79,16 +81,16 @@ class PlaceBody(BaseModel):
     count: int = Field(ge=1, le=5000)
     region: list[float] | None = Field(default=None, min_length=4, max_length=4)
     min_spacing: float | None = Field(default=None, gt=0)
-    seed: int = Field(default=0, ge=0)
+    seed: int = Field(default=0, ge=0, le=MAX_SEED)
     others: list[list[float]] = Field(default_factory=list)
 
 
-class RunBody(BaseModel):
+class RunBody(StrictBody):
     """Run a saved scenario once."""
 
     path: str
     algorithm: str
-    seed: int = Field(default=0, ge=0)
+    seed: int = Field(default=0, ge=0, le=MAX_SEED)
     time: float | None = Field(default=None, gt=0)
     # wall-clock seconds: a step that never returns is stopped there (engine/watchdog.py)
     wall_limit: float = Field(default=300.0, gt=0, le=86400)
@@ -180,6 +182,7 @@ def scenario_text(workspace: Workspace, body: ScenarioBody) -> tuple[Any, str]:
     real = scenario_file(workspace, body.path, must_exist=False)
     map_ref: str | dict[str, Any]
     if isinstance(body.map, InlineMap):
+        check_extent(body.map.bounds, body.map.segments)
         map_ref = body.map.model_dump()
     elif body.map in BUILTIN_MAPS:
         map_ref = body.map
@@ -227,6 +230,7 @@ def place(request: Request, body: PlaceBody) -> dict[str, Any]:
         raise HTTPException(400, f"type {body.type!r}: expected one of "
                                  f"{', '.join(BUILTIN_ROBOT_TYPES)}")
     if isinstance(body.map, InlineMap):
+        check_extent(body.map.bounds, body.map.segments)
         try:
             the_map = map_from_dict(body.map.model_dump(), "map")
         except MimicsError as exc:
@@ -269,7 +273,9 @@ def run(request: Request, body: RunBody) -> dict[str, Any]:
     workspace: Workspace = request.app.state.workspace
     real = scenario_file(workspace, body.path)
     ref = algorithm_ref(workspace, body.algorithm)
-    load_scenario_toml(real)  # a broken file fails here, with its message, before the job
+    scenario = load_scenario_toml(real)  # a broken file fails here, before the job
+    if body.time is not None:  # a time past the step counter: refused now, not in the job
+        check_steps(body.time, scenario.settings.dt)
     job = request.app.state.jobs.start(
         "run", lambda job: run_scenario(workspace, job, str(real), ref, body.seed, body.time,
                                         body.wall_limit))

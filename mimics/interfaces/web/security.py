@@ -67,10 +67,15 @@ class Workspace:
                                      "workspace")
         if ".." in pure.parts or "\x00" in text:
             raise HTTPException(400, f"path {relative!r}: '..' is not allowed")
-        real = (self.root / pure).resolve()
+        try:
+            real = (self.root / pure).resolve()
+            exists = real.exists()
+        except (OSError, ValueError) as exc:  # a name too long, a loop of symlinks...
+            raise HTTPException(400, f"path {relative[:100]!r}: not a usable path "
+                                     f"({exc.__class__.__name__}: {exc.args[-1]})") from None
         if real != self.root and self.root not in real.parents:
             raise HTTPException(403, f"path {relative!r}: leads outside the workspace")
-        if must_exist and not real.exists():
+        if must_exist and not exists:
             raise HTTPException(404, f"path {relative!r}: no such file or folder")
         return real
 

@@ -14,6 +14,9 @@ advice, and one sentence for a request the API refused.
 >>> validation_for_page([{"type": "too_short", "loc": ["body", "robots"], "msg": "List ...",
 ...                       "ctx": {"min_length": 1, "actual_length": 0}}])
 'a scenario needs at least one robot: place robots on the map first'
+>>> validation_for_page([{"type": "unknown_field", "loc": ["body", "scenarios", 0],
+...                       "msg": "nmae: unknown field (expected name, params)"}])
+'scenarios[0].nmae: unknown field (expected name, params)'
 """
 
 from __future__ import annotations
@@ -74,12 +77,19 @@ def validation_for_page(errors: Sequence[Any]) -> str:
     """One sentence for the API's refusal of a request body (pydantic's errors)."""
     lines = []
     for error in errors:
-        location = [str(part) for part in error.get("loc", ()) if part not in ("body", "query")]
+        loc = list(error.get("loc", ()))
+        if loc and loc[0] in ("body", "query", "path", "header"):  # where, not which field
+            loc = loc[1:]
+        location = [str(part) for part in loc]
         field = location[0] if location else "request"
         label = _FIELDS.get(field, field.replace("_", " "))
         context = error.get("ctx") or {}
         kind = error.get("type", "")
-        if field == "robots" and kind == "too_short" and len(location) == 1:
+        if kind == "unknown_field":  # StrictBody: the message names the key and the known
+            where = "".join(f"[{part}]" if part.isdigit() else f".{part}" for part in location)
+            lines.append(f"{where.lstrip('.')}.{error.get('msg')}" if where
+                         else str(error.get("msg")))
+        elif field == "robots" and kind == "too_short" and len(location) == 1:
             lines.append("a scenario needs at least one robot: place robots on the map first")
         elif kind == "too_short":
             lines.append(f"{label}: expected at least {context.get('min_length')} values, "

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from scipy.stats import wilcoxon
 from fastapi.testclient import TestClient
 
 from mimics.batteries.report import runs_table
@@ -63,9 +64,10 @@ def test_a_battery_runs_from_the_api_and_its_state_comes_from_sqlite(
     assert {r["attempts"] for r in rerun["runs"] if r["algorithm"] == "go_to_goal"} == {1}
     assert again.post("/api/batteries/resume", json={"path": "batteries/night"}).status_code == 200
     assert status_when_stopped(again, "batteries/night")["finished"] == 8
-    plot = again.get("/api/batteries/plot", params={"path": "batteries/night",
-                                                    "name": "outcomes.png"})
-    assert plot.content[:4] == b"\x89PNG"
+    for name in ("outcomes.png", "arrivals.png"):
+        plot = again.get("/api/batteries/plot", params={"path": "batteries/night",
+                                                        "name": name})
+        assert plot.content[:4] == b"\x89PNG", name
     assert not (workspace / "batteries" / "night" / "plots").exists()
 
 
@@ -138,25 +140,30 @@ def test_evidence_of_a_stopping_rule_battery(client: TestClient, workspace: Path
         "runs": 6, "max_runs": 12}
     assert client.post("/api/batteries", json=body).status_code == 200
     status = status_when_stopped(client, "batteries/rule")
-    assert status["counts"] == {"done": 9}  # stand_still: 3 seeds (nil spread); random: 6
+    # stand_still never varies: no stop on a sample without spread, so it runs to max_seeds
+    assert status["counts"] == {"done": 12}
     found = client.get("/api/batteries/evidence", params={
         "path": "batteries/rule", "metric": ["path_length", "success"]}).json()
     truth = runs_table(workspace / "batteries" / "rule")
     assert found["baseline"] == "stand_still" and found["algorithms"] == ["stand_still",
                                                                           "random_speed"]
     cells = {c["algorithm"]: c for c in found["until"]["cells"]}
-    assert cells["stand_still"]["seeds"] == 3 and cells["stand_still"]["state"] == "met"
+    assert cells["stand_still"]["seeds"] == 6 and cells["stand_still"]["state"] == "max seeds"
     assert cells["random_speed"]["seeds"] == 6 and cells["random_speed"]["state"] == "max seeds"
     mine = truth[truth["algorithm"] == "random_speed"]["path_length"]
     row = next(r for r in found["intervals"] if r["algorithm"] == "random_speed")
     assert row["path_length"] == pytest.approx(mine.mean())
     assert row["path_length_n"] == 6
     pair = found["comparison"][0]  # path_length
-    assert pair["pairs"] == 3 and pair["baseline"] == "stand_still"
+    assert pair["pairs"] == 6 and pair["baseline"] == "stand_still"
     base = truth[truth["algorithm"] == "stand_still"].set_index("seed")["path_length"]
     other = truth[truth["algorithm"] == "random_speed"].set_index("seed")["path_length"]
     assert pair["mean_difference"] == pytest.approx((other - base).dropna().mean())
-    assert pair["p_value"] is None and "non-zero" in pair["note"]  # 3 pairs: no p-value
+    assert pair["p_value"] == pytest.approx(wilcoxon((other - base).dropna()).pvalue)
+    assert pair["p_adjusted"] >= pair["p_value"]
+    assert [u.split(":")[0] for u in found["unmet"]] == [
+        "stand_still x line (robots=1, random_yaw=False)",
+        "random_speed x line (robots=1, random_yaw=False)"]
     assert any("stand_still x line" in w for w in found["warnings"])
     swapped = client.get("/api/batteries/evidence", params={
         "path": "batteries/rule", "baseline": "random_speed", "metric": ["success"]}).json()
