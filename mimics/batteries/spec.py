@@ -17,7 +17,7 @@ combination is one run::
     [battery.until]       # instead of `seeds`: seeds 1, 2... in rounds until the answer is known
     metric = "time_to_goal"
     half_width = 0.2      # stop a cell when its 95% interval is at most this wide each side
-    min_seeds = 10
+    min_seeds = 20
     max_seeds = 500
 
     [[scenarios]]

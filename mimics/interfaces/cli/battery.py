@@ -69,7 +69,7 @@ def run(
     until: Annotated[str | None, typer.Option(
         help="METRIC:HALF_WIDTH: run seeds 1, 2... in rounds per cell until the 95% interval "
              "of the metric's mean is at most HALF_WIDTH each side (as [battery.until]; "
-             "min_seeds and max_seeds from the file's table, else 10 and 500).")] = None,
+             "min_seeds and max_seeds from the file's table, else 20 and 500).")] = None,
 ) -> None:
     """Run a battery: every run is listed in battery.db, then all run in parallel.
 

@@ -7,8 +7,8 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from scipy.stats import wilcoxon
 from fastapi.testclient import TestClient
+from scipy.stats import wilcoxon
 
 from mimics.batteries.report import runs_table
 from mimics.interfaces.web.app import create_app
