@@ -18,7 +18,8 @@ def print_report(evidence: Evidence, console: Console, *, only_misbehaving: bool
     """Print the per-run table, the failed runs, the cells a stopping rule left short,
     the intervals per cell, the paired comparison (with two or more algorithms), the
     costs and the identical-seed warnings."""
-    from mimics.batteries.tables import costs_rich
+    from mimics.batteries.arrivals import arrival_curves
+    from mimics.batteries.tables import arrivals_rich, costs_rich
 
     table = evidence.table
     if table.empty:
@@ -34,6 +35,9 @@ def print_report(evidence: Evidence, console: Console, *, only_misbehaving: bool
             console.print(f"  #{row.id} {row.state}: {row.error}", markup=False,
                           highlight=False)
     print_evidence(evidence, console)
+    curves = arrival_curves(table)
+    if curves:
+        console.print(arrivals_rich(curves))
     console.print(costs_rich(evidence.costs))
     print_warnings(evidence, console)
 

@@ -120,6 +120,33 @@ def costs_rich(costs: pd.DataFrame) -> Table:
     return rich
 
 
+ARRIVALS_TITLE = ("Arrivals: fraction of goal robots arrived by each share of the horizon "
+                  "(Kaplan-Meier over the done runs; non-arrivals censored at the horizon)")
+ARRIVAL_SHARES = (0.25, 0.5, 0.75, 1.0)
+
+
+def arrivals_rich(curves: dict[tuple[str, str, str], Any]) -> Table:
+    """The arrival curves of :func:`~mimics.batteries.arrivals.arrival_curves`, read at
+    quarters of the horizon."""
+    import numpy as np
+
+    rich = Table(title=ARRIVALS_TITLE, header_style="bold")
+    for name in ("algorithm", "scenario", "parameters", "runs", "arrived / robots",
+                 *(f"by {share:.0%} of horizon" for share in ARRIVAL_SHARES)):
+        rich.add_column(name, justify="left" if name in ("algorithm", "scenario",
+                                                         "parameters") else "right")
+    for (algorithm, scenario, label), curve in curves.items():
+        shown = []
+        for share in ARRIVAL_SHARES:
+            at = share * curve.horizon
+            k = int(np.searchsorted(curve.times, at, side="right")) - 1
+            shown.append("-" if math.isnan(at) else
+                         f"{curve.fraction[k] if k >= 0 else 0.0:.2f} ({at:g} s)")
+        rich.add_row(algorithm, scenario, label, str(curve.runs),
+                     f"{curve.arrived} / {curve.robots}", *shown)
+    return rich
+
+
 def metric_lines() -> list[str]:
     """``name: description`` of every metric (for help texts and docs)."""
     return [f"{m.name}: {m.description}" for m in METRICS.values()]

@@ -4,18 +4,21 @@ computations, SciPy, and real batteries."""
 
 from __future__ import annotations
 
+import io
 import math
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from rich.console import Console
 from scipy import stats as scipy_stats
 
 from mimics.algorithms import go_to_goal
 from mimics.batteries import run_battery, runs_table
 from mimics.batteries.comparison import cell_intervals, failed_runs_lines, paired_comparison
 from mimics.batteries.evidence import battery_evidence
+from mimics.batteries.printing import print_report
 from mimics.engine.outcome import RunResult
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
@@ -153,6 +156,14 @@ def test_failed_runs_count_and_are_named(tmp_path: Path) -> None:
     assert evidence.failed == [line_]
     assert "wall_time" not in set(evidence.comparison["metric"])  # a cost, not an outcome
     assert list(evidence.costs["algorithm"]) == ["go_to_goal", "fail_some_seeds"]
+    printed = io.StringIO()
+    print_report(evidence, Console(file=printed, width=300), runs=False)
+    text = printed.getvalue()
+    assert text.index("failed: fail_some_seeds") < text.index("Per cell")  # named first
+    arrivals = next(line for line in text.splitlines()
+                    if "go_to_goal" in line and "/ 24" in line)  # 12 runs x 2 robots
+    # the goals are 3 m away at about 1 m/s: every robot is home by half the 12 s horizon
+    assert "24 / 24" in arrivals and "1.00 (6 s)" in arrivals
 
 
 def test_success_does_not_apply_where_no_robot_has_a_goal(tmp_path: Path) -> None:
