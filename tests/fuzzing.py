@@ -214,3 +214,29 @@ def copy_tree(source: Path, target: Path) -> Path:
     """A copy of a folder (inputs are copied fresh for every example)."""
     shutil.copytree(source, target)
     return target
+
+
+# -- the second round's classes (issue 53) ----------------------------------------
+
+#: Finite but enormous numbers: they pass a NaN/infinity check and must meet a limit.
+ENORMOUS = ["1e300", "1e308", "1.7976931348623157e308", "-1e300", "1e18", "2147483648e3"]
+#: Python values of types no plain number/path check covers.
+WRONG_TYPES: list[Any] = [True, False, "5", "", b"5", [1.0], [], {}, {"a": 1}, (1, 2), None,
+                          1e300, 1e308, -1, 0, 2**70, float("nan"), object()]
+
+
+def foreign_run_folder(run: Path, target: Path) -> Path:
+    """A copy of ``run`` whose trajectory.parquet is a valid Parquet file of another table
+    (its events), which must be refused, not read as an empty or wrong trajectory."""
+    shutil.copytree(run, target)
+    shutil.copyfile(run / "events.parquet", target / "trajectory.parquet")
+    return target
+
+
+#: Paths that alias a run folder's records: the records themselves, through ``..``, and
+#: the folder itself.
+RUN_ALIASES = ["{run}/summary.json", "{run}/trajectory.parquet", "{run}/../{name}/events.parquet",
+               "{run}/scenario.toml", "{run}/robots/robot_0000.log", "{run}"]
+#: Paths that alias a battery folder's records.
+BATTERY_ALIASES = ["{folder}/battery.db", "{folder}/runs", "{folder}/battery.db-wal",
+                   "{folder}/../{name}/battery.db"]

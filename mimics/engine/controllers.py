@@ -107,6 +107,20 @@ def invalid_output(robot: int, now: float, message: str, step: Any = None,
     return UserFailure(robot, now, "InvalidOutput", message, "", where, line)
 
 
+#: The types a step's references usually are: checked by identity, the fast way.
+_PLAIN = frozenset({float, int, np.float64, np.float32, np.int64})
+
+
+def _refuse_text_and_truth(*values: Any) -> None:
+    """Raise TypeError for a text or a truth value (or an array of them): ``float("1")``
+    and ``float(True)`` succeed, but a step returning them has a bug, not a reference."""
+    for value in values:
+        kind = getattr(getattr(value, "dtype", None), "kind", "")
+        if isinstance(value, str | bytes | bytearray | bool | np.bool_) or kind in ("b", "U",
+                                                                                  "S", "O"):
+            raise TypeError(f"not a number: {value!r}")
+
+
 def _not_two_numbers(robot: int, now: float, output: Any, step: Any) -> UserFailure:
     return invalid_output(robot, now, f"robot {robot}: step() must return (speed_ref, "
                                       f"heading_ref), two numbers; got {_shown(output)}",
@@ -195,6 +209,8 @@ class PerRobotController(Controller):
             # two finite numbers, checked inline: this runs once per robot and step
             try:
                 speed, heading = output
+                if speed.__class__ not in _PLAIN or heading.__class__ not in _PLAIN:
+                    _refuse_text_and_truth(speed, heading)  # rare: float() would take them
                 speed, heading = float(speed), float(heading)
             except (TypeError, ValueError):
                 failures.append(_not_two_numbers(i, now, output, step))
@@ -281,7 +297,10 @@ class TeamController(Controller):
 
 def _as_rows(values: Any, shape: tuple[int, ...]) -> np.ndarray:
     """A team's output as float rows of ``shape`` (broadcast when it is a scalar or short)."""
-    values = np.asarray(values, dtype=np.float64)
+    values = np.asarray(values)
+    if values.dtype.kind not in ("f", "i", "u"):  # texts and truth values are bugs, not speeds
+        raise TypeError(f"not numbers: an array of {values.dtype}")
+    values = values.astype(np.float64, copy=False)
     if values.shape == shape:  # the usual case: skip broadcast_to's Python overhead
         return values
     return np.broadcast_to(values, shape)

@@ -19,8 +19,11 @@ from typing import TYPE_CHECKING, Any
 
 from mimics.engine.simulation import Policy
 from mimics.interfaces.notebook.run import RunView, record_run
+from mimics.records.layout import check_run_output
 from mimics.records.run_folder import load_run as load_run_folder
 from mimics.records.runner import prepare
+from mimics.world.errors import MimicsError
+from mimics.world.output_paths import as_path
 from mimics.world.scenario import Scenario
 
 if TYPE_CHECKING:
@@ -57,10 +60,27 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
         allow_overlap: keep robots that start touching walls or each other, or outside
             the map (by default the scenario is refused, naming them).
     """
+    _check_flag("record_scans", record_scans)
+    _check_flag("allow_overlap", allow_overlap)
+    if out is not None:  # before the run: a folder over one of its inputs is refused
+        check_run_output("out", as_path("out", out), {"the scenario file": _input_file(scenario),
+                                                      "the algorithm file": _input_file(algorithm)})
     sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed, policy=policy,
                   wall_limit=wall_limit, params=params, observers=observers,
                   allow_overlap=allow_overlap)
     return record_run(sim, out, record_scans=record_scans)
+
+
+def _check_flag(name: str, value: Any) -> None:
+    if not isinstance(value, bool):
+        raise MimicsError(f"{name}: expected True or False, got {value!r}")
+
+
+def _input_file(given: Any) -> Path | None:
+    """The file a scenario or algorithm argument names (None: a name or an object)."""
+    if isinstance(given, str | Path) and Path(given).is_file():
+        return Path(given)
+    return None
 
 
 def load_run(path: str | Path) -> RunView:
@@ -72,7 +92,7 @@ def load_run(path: str | Path) -> RunView:
         MimicsError: in one line naming the folder or file, when the folder is
             not a run, or its summary or a Parquet file is unreadable or truncated.
     """
-    return RunView(load_run_folder(path))
+    return RunView(load_run_folder(as_path("load_run: path", path)))
 
 
 def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None = None,
@@ -99,6 +119,14 @@ def show(scenario: str | Path | Scenario, algorithm: Any, **options: Any
 
     See :func:`mimics.interfaces.notebook.live.show` for the options.
     """
+    import inspect
+
     from mimics.interfaces.notebook.live import show as live
 
+    known = [name for name, p in inspect.signature(live).parameters.items()
+             if p.kind is p.KEYWORD_ONLY]
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        raise MimicsError(f"show: unknown option {unknown[0]!r} (expected one of: "
+                          f"{', '.join(known)})")
     return live(scenario, algorithm, **options)

@@ -23,6 +23,13 @@ its part files, which :func:`mimics.load_run` reads as one table.
 
 from __future__ import annotations
 
+import os
+from collections.abc import Mapping
+from pathlib import Path
+
+from mimics.world.errors import MimicsError
+from mimics.world.output_paths import Folder, is_inside, same_file
+
 #: Trajectory rows a recorder buffers before it writes them as a part (``flush_rows``):
 #: about 300 MB at a flush (``resources.ROW_BYTES``). Most runs fit in one part (the
 #: paper's 600 s Cave: 600,000 rows), written once; several parts are encoded again
@@ -54,3 +61,31 @@ def robot_log_name(robot: int, robots: int) -> str:
     """
     digits = max(4, len(str(max(robots - 1, 0))))
     return f"robot_{robot:0{digits}d}.log"
+
+
+def run_records(folder: str | os.PathLike[str], *, but: tuple[str, ...] = ()) -> Folder:
+    """A run folder as an input of :func:`mimics.world.output_paths.check_outputs`: no
+    output may be one of its records (``but`` those the command rewrites itself)."""
+    return Folder(folder, tuple(name for name in RECORD_NAMES if name not in but))
+
+
+def check_run_output(name: str, folder: str | os.PathLike[str],
+                     inputs: Mapping[str, str | os.PathLike[str] | None]) -> None:
+    """Refuse a folder to record a run in when it is an input, or when one of the records a
+    run there replaces is, or holds, an input (``mimics run R/scenario.toml ... --out R``).
+
+    Raises:
+        MimicsError: one line naming the option, the folder and the input.
+    """
+    out = Path(folder)
+    for what, given in inputs.items():
+        if given is None or str(given) == "":
+            continue
+        source = Path(given)
+        if same_file(out, source):
+            raise MimicsError(f"{name} {out}: is {what} that this command reads (expected a "
+                              "new folder, or an earlier run's)")
+        for record in RECORD_NAMES:
+            if same_file(out / record, source) or is_inside(source, out / record):
+                raise MimicsError(f"{name} {out}: a run there replaces {out / record}, which is "
+                                  f"{what} that this command reads (expected another folder)")

@@ -41,13 +41,20 @@ from mimics.records.layout import (
     TRAJECTORY_PARTS,
 )
 from mimics.records.parts import PartWriter
-from mimics.records.recorder import AUTO_ROBOT_LOGS, RobotLogs, RunRecorder, prepare_run_folder
+from mimics.records.recorder import (
+    AUTO_ROBOT_LOGS,
+    RobotLogs,
+    RunRecorder,
+    check_save_target,
+    prepare_run_folder,
+)
 from mimics.records.robot_logs import write_robot_logs
 from mimics.records.run_folder import Run
 from mimics.records.scenario_record import write_scenario_record
 from mimics.records.summary import write_summary
 from mimics.records.trajectory import TRAJECTORY_SCHEMA
 from mimics.world.errors import MimicsError
+from mimics.world.output_paths import as_path
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
@@ -202,11 +209,13 @@ def save_run(run: MemoryRun, folder: str | Path, *, robot_logs: RobotLogs = "aut
         The folder.
 
     Raises:
-        MimicsError: when the folder holds other files than a run's, or cannot be written.
+        MimicsError: when the folder holds other files than a run's, or cannot be written;
+            nothing is written then.
     """
     if robot_logs not in ("auto", "on", "off"):
         raise MimicsError(f"robot_logs: expected auto, on or off, got {robot_logs!r}")
-    out = Path(folder)
+    out = as_path("save: folder", folder)
+    check_save_target(out)
     prepare_run_folder(out)
     scenario, info = run._record
     began = time.perf_counter()

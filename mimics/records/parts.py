@@ -149,17 +149,46 @@ def one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
-def check_readable(path: Path) -> None:
+def check_readable(path: Path, schema: pa.Schema | None = None) -> None:
     """Read the footer of a Parquet file, raising a one-line error naming it.
 
+    Args:
+        path: the file.
+        schema: the columns it must hold, each of its type (None: any).
+
     Raises:
-        MimicsError: when the file is truncated or not Parquet.
+        MimicsError: when the file is truncated or not Parquet, or (with ``schema``) is
+            another table: a column missing or of another type.
     """
     try:
-        pq.read_metadata(path)
+        found = pq.read_schema(path)
     except (pa.ArrowException, OSError, UnicodeError) as exc:
         raise MimicsError(f"{path}: not a readable Parquet file, truncated or corrupt "
                           f"({one_line(exc)})") from None
+    if schema is not None:
+        check_columns(path, found, schema)
+
+
+def check_columns(path: Path, found: pa.Schema, schema: pa.Schema) -> None:
+    """Refuse a Parquet file of another table: every column of ``schema`` must be in
+    ``found`` with its type (a valid file of other columns would read as empty or wrong).
+
+    Raises:
+        MimicsError: naming the file, the first column amiss and the columns expected.
+    """
+    for column in schema:
+        places = found.get_all_field_indices(column.name)
+        if not places:
+            problem = "has no column"
+        elif len(places) > 1:
+            problem = "has more than one column"
+        elif not found.field(places[0]).type.equals(column.type):
+            problem = f"has {found.field(places[0]).type} for column"
+        else:
+            continue
+        expected = ", ".join(f"{c.name} ({c.type})" for c in schema)
+        raise MimicsError(f"{path}: not the table expected here: it {problem} "
+                          f"{column.name!r} (expected the columns {expected})")
 
 
 def read_table(final: Path, parts: Path, schema: pa.Schema, columns: Sequence[str] | None = None,
@@ -181,6 +210,7 @@ def read_table(final: Path, parts: Path, schema: pa.Schema, columns: Sequence[st
     tables = []
     for path in files:
         try:
+            check_columns(path, pq.read_schema(path), schema)  # before: read as another table
             tables.append(pq.read_table(path, columns=names, filters=filters, schema=schema))
         except (pa.ArrowException, OSError, UnicodeError) as exc:
             raise MimicsError(f"{path}: not a readable Parquet file, truncated or corrupt "

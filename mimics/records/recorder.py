@@ -85,6 +85,28 @@ def mimics_version() -> str:
     return str(version)
 
 
+def check_save_target(folder: Path) -> None:
+    """Refuse to save a run into a folder holding anything but an earlier run's records
+    (``RunView.save``, ``save_run``: a save never mixes a run with other files).
+
+    Raises:
+        MimicsError: naming the folder and the first other file; nothing is written.
+    """
+    if folder.exists() and not folder.is_dir():
+        raise MimicsError(f"{folder}: a file (expected a new or empty folder, or an earlier "
+                          "run's)")
+    if not folder.is_dir():
+        return
+    try:
+        others = sorted(entry.name for entry in folder.iterdir()
+                        if entry.name not in RECORD_NAMES)
+    except OSError as exc:
+        raise MimicsError(f"{folder}: cannot read the folder ({exc.strerror or exc})") from None
+    if others:
+        raise MimicsError(f"{folder}: not empty, it holds {others[0]} (expected a new or empty "
+                          "folder, or an earlier run's)")
+
+
 def prepare_run_folder(folder: Path) -> None:
     """Make ``folder``, removing the records of an earlier run in it (summary.json first).
 

@@ -273,14 +273,15 @@ def load_run(path: str | Path) -> Run:
         raise MimicsError(f"{folder}: not a run folder (no {SUMMARY_JSON} or {SCENARIO_TOML})")
     run = Run(folder)
     _ = run.summary  # a broken summary.json fails here, in one line
-    for final, parts in ((TRAJECTORY, TRAJECTORY_PARTS), (EVENTS, EVENTS_PARTS)):
+    for final, parts, schema in ((TRAJECTORY, TRAJECTORY_PARTS, TRAJECTORY_SCHEMA),
+                                 (EVENTS, EVENTS_PARTS, EVENTS_SCHEMA)):
         if (folder / final).exists():
-            check_readable(folder / final)
+            check_readable(folder / final, schema)
         elif run.complete:
             raise MimicsError(f"{folder / final}: missing (summary.json says the run finished)")
         else:
             for part in part_files(folder / parts):
-                check_readable(part)
+                check_readable(part, schema)
     if (folder / SCANS).exists():
-        check_readable(folder / SCANS)
+        check_readable(folder / SCANS, SCANS_SCHEMA)
     return run

@@ -4,7 +4,6 @@ API and batteries."""
 from __future__ import annotations
 
 import contextlib
-import math
 from pathlib import Path
 from typing import Any
 
@@ -16,7 +15,13 @@ from mimics.records.layout import FLUSH_ROWS
 from mimics.records.recorder import RobotLogs, RunRecorder
 from mimics.records.resources import check_memory
 from mimics.world.errors import MimicsError
-from mimics.world.limits import MAX_ROBOTS, MAX_SEED, check_whole
+from mimics.world.limits import (
+    MAX_ROBOTS,
+    MAX_SEED,
+    check_time,
+    check_wall_seconds,
+    check_whole,
+)
 from mimics.world.scenario import Scenario
 from mimics.world.start_state import validate_scenario
 
@@ -38,12 +43,16 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
     if robots is not None:
         check_whole("robots", robots, 1, MAX_ROBOTS)
     check_whole("seed", seed, 0, MAX_SEED)
-    if time is not None and not (isinstance(time, int | float) and not isinstance(time, bool)
-                                 and 0 < time < math.inf):
-        raise MimicsError(f"time: expected a positive finite number of simulated seconds, got "
-                          f"{time!r}")
-    if wall_limit is not None and not (isinstance(wall_limit, int | float) and wall_limit > 0):
-        raise MimicsError(f"wall limit: expected a positive number of seconds, got {wall_limit!r}")
+    if time is not None:
+        check_time("time", time)
+    if wall_limit is not None:
+        check_wall_seconds("wall_limit", wall_limit)
+    if params is not None and not (isinstance(params, dict)
+                                   and all(isinstance(key, str) for key in params)):
+        raise MimicsError(f"params: expected a dict of scenario parameters by name, got "
+                          f"{_shown(params)}")
+    if not isinstance(observers, list | tuple):
+        raise MimicsError(f"observers: expected a tuple of observers, got {_shown(observers)}")
     if policy not in ("abort", "deactivate"):
         raise MimicsError(f"policy: expected abort or deactivate, got {policy!r}")
     if time is not None and params and "time_limit" in params and params["time_limit"] != time:
@@ -137,3 +146,9 @@ def run_to_folder(sim: Simulation, folder: str | Path, *, robot_logs: RobotLogs 
     finally:
         sim.observers.remove(recorder)
     return result
+
+
+def _shown(value: Any) -> str:
+    """A value in an error line: its type, and its text when short."""
+    text = repr(value)
+    return f"{text} (a {type(value).__name__})" if len(text) <= 60 else f"a {type(value).__name__}"

@@ -150,7 +150,7 @@ def test_new_writes_a_stopping_rule_that_runs(tmp_path: Path) -> None:
     invoke("new", "--no-input", "-o", saved, "--force", "-a", "go_to_goal", "-s", "line",
            "--until", "time_to_goal:0.5")
     assert tomllib.loads(saved.read_text())["battery"]["until"] == {
-        "metric": "time_to_goal", "half_width": 0.5, "min_seeds": 10, "max_seeds": 500}
+        "metric": "time_to_goal", "half_width": 0.5, "min_seeds": 20, "max_seeds": 500}
 
 
 def test_new_offers_the_stopping_rule_when_asking(tmp_path: Path,
@@ -233,17 +233,22 @@ def test_until_option_runs_seeds_in_rounds_and_status_shows_them(tmp_path: Path)
     from tests.batteries.helpers import fault
 
     path = tmp_path / "battery.toml"
-    path.write_text(GOOD.replace('"go_to_goal"', f'"{fault("stand_still")}"')
+    # the file's [battery.until] bounds the seeds (20 to 24); --until names metric and target
+    bounded = GOOD.replace("seeds = 2\n", "").replace("[[scenarios]]", (
+        '[battery.until]\nmetric = "success"\nhalf_width = 0.4\nmin_seeds = 20\n'
+        "max_seeds = 24\n[[scenarios]]"))
+    path.write_text(bounded.replace('"go_to_goal"', f'"{fault("stand_still")}"')
                     + "random_yaw = false\n")
     out = tmp_path / "out"
     result = invoke("run", path, "--out", out, "--until", "path_length:0.5", "--workers", "1",
                     "--no-progress")
     assert result.exit_code == 0, result.output + result.stderr
-    # robots standing still: nil spread, so the cell stops at the default min_seeds (10)
-    assert "10 runs: 10 done" in result.output
-    assert "seeds 1-10 of stand_still x line (robots=2, random_yaw=False) gave identical" \
+    # robots standing still: no spread, on which the rule never stops: 20 seeds, then
+    # max_seeds, and the cell is named short of its target
+    assert "24 runs: 24 done" in result.output
+    assert "seeds 1-24 of stand_still x line (robots=2, random_yaw=False) gave identical" \
         in result.stderr
     status = invoke("status", out)
     assert status.exit_code == 0
     assert "until the 95% interval of path_length is within ± 0.5" in status.output
-    assert "met" in status.output
+    assert "max seeds" in status.output

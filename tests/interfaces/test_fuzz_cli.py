@@ -34,9 +34,11 @@ from hypothesis import strategies as st
 from mimics.interfaces.cli import app, main
 from tests.fuzzing import (
     BATTERY_TOML,
+    ENORMOUS,
     SCENARIO_TOML,
     Hung,
     copy_tree,
+    foreign_run_folder,
     make_run_folder,
     map_files,
     snapshot,
@@ -53,7 +55,8 @@ ONLY_BAD_VALUES: dict[tuple[str, ...], str] = {
 }
 GUARD_SECONDS = 60  # far above any example's time (a run of 60 robots takes about 2 s)
 #: Options whose value is a path the command writes (files under it may change or go).
-OUTPUT_OPTIONS = ("out", "output", "video", "gif", "csv", "parquet", "dest")
+OUTPUT_OPTIONS = ("out", "output", "video", "gif", "csv", "parquet", "dest", "mcap", "bag",
+                  "marks_csv")
 
 #: Numbers: ordinary ones (drawn half the time, so that commands get past their first
 #: check) and edge ones: negative, zero, tiny, huge, past 64 bits, NaN, infinite, not numbers.
@@ -62,22 +65,25 @@ INT_EDGE = ["-1", "0", "-9223372036854775809", "9223372036854775808",
             "340282366920938463463374607431768211456", "2147483648", "10000000", "1e3", "nan",
             "", "ü", "0x1F", "1_0", "abc"]
 FLOAT_GOOD = ["0.25", "1", "2.5", "10", "0.3"]
-FLOAT_EDGE = ["nan", "inf", "-inf", "1e999", "-1", "0", "-0.0", "5e-324", "1e-300", "1e300",
-              "1.7976931348623157e308", "1e15", "", "ü", "abc", "1,5"]
+FLOAT_EDGE = ["nan", "inf", "-inf", "1e999", "-1", "0", "-0.0", "5e-324", "1e-300", "1e15", "",
+              "ü", "abc", "1,5", *ENORMOUS]  # ENORMOUS: finite, past every limit
 CERTAINLY_BAD = {int: ["nan", "9223372036854775808", "ü"], float: ["nan", "inf", "1e999"]}
-PATHS = ["inputs/run", "inputs/run_damaged", "inputs/battery.toml", "inputs/bad_battery.toml",
-         "inputs/battery_folder", "inputs/scenario.toml", "inputs/bad_scenario.py",
+PATHS = ["inputs/run", "inputs/run_damaged", "inputs/run_foreign", "inputs/battery.toml",
+         "inputs/bad_battery.toml", "inputs/battery_folder", "inputs/scenario.toml",
+         "inputs/bad_scenario.py",
          "inputs/maps/room.txt", "inputs/maps/plan.svg", "inputs/maps/grid.png",
          "inputs/maps/ros.yaml", "inputs/garbage.bin", "inputs/empty.toml", "inputs/folder",
          "inputs", "nonexistent", "nonexistent.toml", "out/new", "out/new.png", "out/new.mp4",
          "out/new.gif", "out/new.txt", "out/new.csv", "", "ü-ñ-∞.toml", "-", "a" * 300,
-         "line", "go_to_goal", "stage:cave", "/dev/null", "runs/../inputs/run"]
+         "line", "go_to_goal", "stage:cave", "/dev/null", "runs/../inputs/run",
+         "inputs/run/summary.json", "inputs/run/trajectory.parquet",
+         "inputs/battery_folder/battery.db", "inputs/run/../run/events.parquet"]
 #: What a parameter of this name usually takes (a new command's parameters with other names
 #: draw from everything).
 HINTS: dict[str, list[str]] = {
     "scenario": ["inputs/scenario.toml", "line", "inputs/bad_scenario.py", "circle_swap"],
     "algorithm": ["go_to_goal", "go_to_goal_team", "inputs/raising_algorithm.py"],
-    "run": ["inputs/run", "inputs/run_damaged"],
+    "run": ["inputs/run", "inputs/run_damaged", "inputs/run_foreign"],
     "folder": ["inputs/battery_folder"], "directory": ["inputs/battery_folder"],
     "battery": ["inputs/battery.toml", "inputs/bad_battery.toml"],
     "file": ["inputs/maps/room.txt", "inputs/maps/plan.svg", "inputs/maps/grid.png",
@@ -85,12 +91,13 @@ HINTS: dict[str, list[str]] = {
     "map": ["inputs/maps/room.txt", "inputs/maps/room.toml", "inputs/maps/plan.svg"],
     "out": ["out/new", "out/new.png", "out/new.txt", "out/new.gif"],
     "output": ["out/battery.toml"], "video": ["out/new.mp4"], "gif": ["out/new.gif"],
-    "csv": ["out/new.csv"], "parquet": ["out/new.parquet"],
+    "csv": ["out/new.csv"], "parquet": ["out/new.parquet"], "mcap": ["out/new.mcap"],
+    "bag": ["out/new.bag"],
     "policy": ["abort", "deactivate"], "robot_logs": ["off", "on", "auto"], "view": ["off"],
     "param": ["robots=2", "spacing=0", "spacing=-1", "distance=1e308", "x_offset=nan",
               "seed=-1", "robots=1e999", "robots=ü", "nope=1", "=", "time_limit=1e300",
               "robots=3", "dt=0"],
-    "seeds": ["1", "1,5,9", "0", "-1", "99999999999999999999999"],
+    "seeds": ["1", "1,5,9", "0", "-1", "99999999999999999999999", "1,,5", "1,", ",", " "],
     "state": ["error", "timeout", "crashed", "nope"],
 }
 WORDS = ["abort", "deactivate", "auto", "on", "off", "step", "1s", "stage", "error", "timeout",
@@ -182,6 +189,7 @@ def template(tmp_path_factory: pytest.TempPathFactory) -> Path:
     text = (damaged / "summary.json").read_text()
     (damaged / "summary.json").write_text(text[: len(text) // 2])
     (damaged / "trajectory.parquet").write_bytes(b"PAR1" + os.urandom(64))
+    foreign_run_folder(run, root / "run_foreign")
     (root / "battery.toml").write_text(BATTERY_TOML)
     (root / "bad_battery.toml").write_text("[battery]\nalgorithms = [1e999]\nseeds = -3\n")
     BatteryStore.create(root / "battery_folder", load_battery(root / "battery.toml")).close()
@@ -286,7 +294,7 @@ def test_the_walk_finds_every_command_group() -> None:
 #: a rare one): empty, too long for a file name, not UTF-8, a device, a dash, non-ASCII.
 EDGE_TEXT = ["", "a" * 300, "bad\udcffname", "/dev/null", "-", "ü-ñ-∞"]
 EDGE_NUMBERS = {int: ["nan", "-1", "0", "9223372036854775808", "2147483648"],
-                float: ["nan", "inf", "1e999", "-1", "0", "5e-324", "1e300"]}
+                float: ["nan", "inf", "1e999", "-1", "0", "5e-324", "1e300", "1e308"]}
 
 
 def edge_lines(path: tuple[str, ...], command: Any) -> list[list[str]]:

@@ -71,6 +71,8 @@ def new(
 
     interactive = not no_input and stdin_is_terminal()
     try:
+        if output.is_dir():
+            raise MimicsError(f"--output {output}: a folder (expected the path of a battery file)")
         if output.exists() and not force and not (
                 interactive and typer.confirm(f"{output} exists: overwrite it?", default=False)):
             raise MimicsError(f"{output} exists (use --force to overwrite it)")
@@ -82,13 +84,17 @@ def new(
             raise MimicsError("no algorithm: give --algorithm NAME (repeatable)")
         if not scenarios:
             raise MimicsError("no scenario: give --scenario NAME (repeatable)")
+        _check_output(output, [*algorithms, *scenarios])
         tables = _scenario_tables(scenarios, param or [], interactive)
         if interactive:
             if seeds is None and until is None:
                 until = _ask_until() or None
             if until is not None:
                 if min_seeds is None:
-                    min_seeds = typer.prompt("Seeds of a cell's first round", default=10,
+                    from mimics.batteries.until import DEFAULT_MIN_SEEDS
+
+                    min_seeds = typer.prompt("Seeds of a cell's first round",
+                                             default=DEFAULT_MIN_SEEDS,
                                              type=int)
                 if max_seeds is None:
                     max_seeds = typer.prompt("Seeds of a cell at most", default=500, type=int)
@@ -264,10 +270,27 @@ def _parameters_of(scenario: str) -> dict[str, Any]:
     return scenario_parameters(scenario)
 
 
+def _check_output(output: Path, names: list[str]) -> None:
+    """Refuse an --output that is a file the battery reads (``-a algo.py -o algo.py``), or a
+    record of the run or battery folder it would be written in (even with --force)."""
+    from mimics.interfaces.cli.battery_args import battery_records
+    from mimics.records.layout import SCENARIO_TOML, SUMMARY_JSON, run_records
+    from mimics.world.output_paths import check_outputs
+
+    inputs: dict[str, Any] = {f"the file {name}": name for name in names if Path(name).is_file()}
+    for folder in (output.parent, *output.parent.parents):
+        if (folder / "battery.db").is_file():
+            inputs["the battery folder"] = battery_records(folder)
+        elif (folder / SUMMARY_JSON).is_file() or (folder / SCENARIO_TOML).is_file():
+            inputs["the run folder"] = run_records(folder)
+    check_outputs({"--output": output}, inputs)
+
+
 def _parse_seeds(text: str) -> int | list[int]:
-    parts = [p.strip() for p in text.split(",") if p.strip()]
-    if not parts or not all(p.isdigit() for p in parts):
-        raise MimicsError(f"--seeds {text!r}: expected a count (30) or a list (1,5,9)")
+    parts = [p.strip() for p in text.split(",")]  # an empty item ("1,,5", "1,") is a typo
+    if not all(p.isascii() and p.isdigit() for p in parts):  # (isdigit alone takes "²")
+        raise MimicsError(f"--seeds {text!r}: expected a count (30) or a list (1,5,9) of whole "
+                          f"numbers, without empty items")
     return int(parts[0]) if len(parts) == 1 and "," not in text else [int(p) for p in parts]
 
 

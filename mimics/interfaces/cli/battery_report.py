@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mimics.interfaces.cli.battery_args import Folder, table_console
+from mimics.interfaces.cli.battery_args import Folder, battery_records, table_console
 from mimics.interfaces.cli.output import fail as _fail
 from mimics.world.errors import MimicsError
 
@@ -65,8 +65,13 @@ def report_command(
     identical-seed warnings."""
     from mimics.batteries.printing import print_report
     from mimics.batteries.report import export_table
+    from mimics.world.output_paths import check_outputs
 
     try:
+        marks_out = marks_csv or (Path(folder) / "marks.csv" if grade is not None else None)
+        # before reading: an export over battery.db or a run's file would lose the battery
+        check_outputs({"--csv": csv, "--parquet": parquet, "--marks": marks_out},
+                      {"the battery folder": battery_records(folder), "--grade": grade})
         evidence = _evidence(folder, baseline, metric, exclude_failed, adjust, interval)
         print_report(evidence, table_console(), only_misbehaving=misbehaving, runs=runs)
         for path, fmt in ((csv, "csv"), (parquet, "parquet")):
@@ -74,7 +79,7 @@ def report_command(
                 export_table(evidence.table, path, fmt)
                 table_console().print(f"wrote {path}", markup=False)
         if grade is not None:
-            _print_marks(evidence.table, grade, marks_csv or Path(folder) / "marks.csv")
+            _print_marks(evidence.table, grade, marks_out or Path(folder) / "marks.csv")
     except MimicsError as exc:
         raise _fail(str(exc)) from None
 
@@ -111,8 +116,10 @@ def compare_command(
     and McNemar's exact test, means by the t interval and the Wilcoxon signed-rank test;
     each p-value also Holm-adjusted for the tests shown; then each cell's intervals."""
     from mimics.batteries.printing import print_evidence, print_warnings
+    from mimics.world.output_paths import check_outputs
 
     try:
+        check_outputs({"--csv": csv}, {"the battery folder": battery_records(folder)})
         evidence = _evidence(folder, baseline, metric, exclude_failed, adjust, interval)
         if evidence.table.empty:
             raise MimicsError(f"{folder}: the battery has no runs")

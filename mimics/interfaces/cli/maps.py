@@ -20,6 +20,8 @@ from mimics.interfaces.cli.output import fail as _fail
 from mimics.interfaces.cli.output import say as _say
 from mimics.world.errors import MimicsError
 
+DPI = 100  # pixels per inch of `map show`'s image
+
 app = typer.Typer(help="Import maps from drawings and images, and draw them.",
                   no_args_is_help=True, add_completion=False, rich_markup_mode=None,
                   pretty_exceptions_enable=False)
@@ -59,6 +61,7 @@ def import_command(
 ) -> None:
     """Turn a drawing or an occupancy image into a map of wall segments."""
     from mimics.world.map_files import load_map, save_map
+    from mimics.world.output_paths import check_outputs
 
     given: dict[str, Any] = {"scale": scale, "resolution": resolution, "origin": origin,
                              "tolerance": tolerance, "size": size, "center": center}
@@ -66,6 +69,7 @@ def import_command(
     if "center" in options and "size" not in options:
         raise _fail("--center applies to Stage bitmaps: give --size W H too")
     try:
+        check_outputs({"--out": out}, {"the map file": file})  # before reading it
         loaded = load_map(file, **options)
         save_map(loaded, out)
     except MimicsError as exc:
@@ -91,16 +95,23 @@ def show_command(
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
+    from mimics.world.limits import MAX_IMAGE_SIDE, check_image_side
     from mimics.world.map_files import load_map
+    from mimics.world.output_paths import check_outputs
 
-    if not width > 0:
-        raise _fail(f"--width: expected a positive number of inches, got {width}")
+    if not 0 < width <= MAX_IMAGE_SIDE / DPI:
+        raise _fail(f"--width: expected a positive number of inches, at most "
+                    f"{MAX_IMAGE_SIDE / DPI:g} ({MAX_IMAGE_SIDE} px at {DPI} dpi), got {width:g}")
     try:
+        if Path(map).exists():  # a built-in name (stage:cave) is no file to overwrite
+            check_outputs({"--out": out}, {"the map file": map})
         loaded = load_map(map)
+        xmin, ymin, xmax, ymax = loaded.bounds
+        aspect = (ymax - ymin) / (xmax - xmin)
+        # a map far taller than wide would make an image no renderer can allocate
+        check_image_side("--width: the image's height", width * aspect * DPI + 60)
     except MimicsError as exc:
         raise _fail(str(exc)) from None
-    xmin, ymin, xmax, ymax = loaded.bounds
-    aspect = (ymax - ymin) / (xmax - xmin)
     figure = Figure(figsize=(width, max(2.0, width * aspect + 0.6)))
     axes = figure.add_subplot()
     axes.add_patch(Rectangle((xmin, ymin), xmax - xmin, ymax - ymin, fill=False, ls="--",
@@ -114,7 +125,7 @@ def show_command(
     axes.set_ylabel("y (m)")
     axes.set_title(f"{loaded.name}: {len(loaded.segments)} segments")
     try:
-        figure.savefig(out, dpi=100, bbox_inches="tight")
+        figure.savefig(out, dpi=DPI, bbox_inches="tight")
     except (OSError, ValueError) as exc:
         raise _fail(f"cannot write {out}: {exc}") from None
     _say(f"wrote {out}")

@@ -72,10 +72,13 @@ def export_command(
     Works on runs recorded without logs (large teams) and on runs that did not
     finish (from what was written).
     """
+    from mimics.records.layout import ROBOTS_DIR, run_records
     from mimics.records.robot_logs import write_robot_logs
     from mimics.records.run_folder import load_run
+    from mimics.world.output_paths import check_outputs
 
-    try:
+    try:  # the logs may go to RUN/robots (their default), never over another record
+        check_outputs({"--out": out}, {"the run folder": run_records(run, but=(ROBOTS_DIR,))})
         loaded = load_run(run)
         written = write_robot_logs(loaded.path, loaded.scenario, loaded.info, robots=robot,
                                    out=out)

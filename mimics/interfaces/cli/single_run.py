@@ -101,6 +101,7 @@ def run(
 
     with compiles_started():  # a fresh install's compiles start before Numba is imported
         from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
+        from mimics.records.layout import check_run_output
         from mimics.records.naming import new_run_folder
         from mimics.records.runner import prepare, run_to_folder
 
@@ -115,6 +116,9 @@ def run(
         live = make_live_view(view)
     with kernels_compiled_ahead():
         try:
+            if out is not None:  # an earlier run there is replaced, a file the run reads never
+                check_run_output("--out", out, {"the scenario file": _file(scenario),
+                                                "the algorithm file": _file(algorithm)})
             params = parse_params(param or [])
             check_repeated(params, robots=robots, time=time)
             sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed,
@@ -145,6 +149,11 @@ def run(
         export_video(folder, video)
     if result.status == "error" or result.error:  # an error, or a step stopped at the limit
         raise typer.Exit(EXIT_FAILED)
+
+
+def _file(name: str) -> Path | None:
+    """The file a scenario or algorithm argument names (None: a built-in name)."""
+    return Path(name) if Path(name).is_file() else None
 
 
 def child_main() -> None:

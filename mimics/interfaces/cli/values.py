@@ -30,7 +30,7 @@ from typing import Any
 
 import typer
 
-from mimics.world.limits import MAX_ROBOTS, MAX_SEED
+from mimics.world.limits import MAX_IMAGE_SIDE, MAX_ROBOTS, MAX_SEED, MAX_TIME, MAX_WALL_SECONDS
 
 INT64_MAX = 2**63 - 1
 
@@ -56,18 +56,21 @@ class Range:
 
 
 POSITIVE = Range(0.0, 1e15, closed=False)
+SIM_TIME = Range(0.0, MAX_TIME, closed=False)
+WALL_TIME = Range(0.0, MAX_WALL_SECONDS, closed=False)
+PIXELS = Range(0.0, float(MAX_IMAGE_SIDE), closed=False)
 #: Options by name (the Python parameter name: ``--wall-limit`` is ``wall_limit``) whose
 #: values have one meaning in every command that has them.
 RANGES: dict[str, Range] = {
     "robots": Range(1, MAX_ROBOTS),
     "seed": Range(0, MAX_SEED),
     "workers": Range(1, 4096),
-    "time": POSITIVE, "time_": POSITIVE, "timeout": POSITIVE, "wall_limit": POSITIVE,
+    "time": SIM_TIME, "time_": SIM_TIME, "timeout": WALL_TIME, "wall_limit": WALL_TIME,
     "fps": Range(0.0, 1000.0, closed=False),
     "speed": POSITIVE,
     "scale": POSITIVE, "resolution": POSITIVE, "tolerance": Range(0.0, 1e15),
     "size": POSITIVE,
-    "width": Range(0.0, 8192.0, closed=False), "height": Range(0.0, 8192.0, closed=False),
+    "width": PIXELS, "height": PIXELS,
     "trail": Range(0.0, 1e15),
     "robot": Range(0, MAX_ROBOTS - 1), "robot_beams": Range(0, MAX_ROBOTS - 1),
     "port": Range(0, 65535),

@@ -48,8 +48,11 @@ def replay_command(
     """
     from mimics.interfaces.live_view import has_display
     from mimics.interfaces.replay import ReplayWindow, export_replay, open_run, replay_data
+    from mimics.records.layout import run_records
+    from mimics.world.output_paths import check_outputs
 
     try:
+        check_outputs({"--video": video, "--gif": gif}, {"the run folder": run_records(run)})
         if video is not None or gif is not None:
             done = export_replay(run, video=video, gif=gif, fps=fps, speed=speed,
                                  robot_beams=robot_beams, trail=trail, width_px=width,
@@ -79,8 +82,11 @@ def plot_command(
 ) -> None:
     """Plot a run: trajectories over the map, where robots stopped and why, a legend."""
     from mimics.interfaces.plots import plot_run
+    from mimics.records.layout import run_records
+    from mimics.world.output_paths import check_outputs
 
     try:
+        check_outputs({"--out": out}, {"the run folder": run_records(run)})
         path = plot_run(run, out if out is not None else run / "run.png", width_px=width,
                         height_px=height)
     except MimicsError as exc:
@@ -93,14 +99,22 @@ def battery_plot_command(
     out: Annotated[Path | None, typer.Option(help="Folder for the PNGs [default: DIR/plots].")]
     = None,
 ) -> None:
-    """Plot a battery: outcomes per algorithm x scenario, time to goal, wall time vs robots.
+    """Plot a battery: outcomes, time to goal per run, arrival curves, wall time vs robots.
 
-    The last one is the paper's Figure 2 and needs runs of the line scenario
-    with several numbers of robots.
+    Writes outcomes.png (robot outcomes and run statuses per algorithm x
+    scenario x parameter point), time_to_goal.png (one point per run: its
+    restricted mean time to goal, robots that never arrived counted at the
+    horizon; a panel per parameter point), arrivals.png (the fraction of goal
+    robots arrived against time, Kaplan-Meier, one line per algorithm) and
+    wall_time_vs_robots.png, the paper's Figure 2, which needs runs of the
+    line scenario with several numbers of robots.
     """
+    from mimics.interfaces.cli.battery_args import battery_records
     from mimics.interfaces.plots import battery_plots
+    from mimics.world.output_paths import check_outputs
 
     try:
+        check_outputs({"--out": out}, {"the battery folder": battery_records(directory)})
         written, skipped = battery_plots(directory, out)
     except MimicsError as exc:
         raise _fail(str(exc)) from None

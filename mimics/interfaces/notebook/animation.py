@@ -27,6 +27,13 @@ from pathlib import Path
 from typing import Any
 
 from mimics.world.errors import MimicsError
+from mimics.world.limits import (
+    MAX_IMAGE_SIDE,
+    MAX_ROBOTS,
+    MAX_TIME,
+    check_number,
+    check_whole,
+)
 
 #: Frames of an inline replay at most, unless a speed is given (20 s of video at 10 fps).
 MAX_FRAMES = 201
@@ -94,6 +101,21 @@ class Animation:
                 f"{self.width}x{self.height}, {self.megabytes:.2f} MB)")
 
 
+def check_drawing(*, width_px: Any, fps: Any, trail: Any, robot_beams: Any) -> None:
+    """The drawing options of ``animate`` and ``mimics.show``, each within what a renderer
+    can allocate and a run can hold (:mod:`mimics.world.limits`).
+
+    Raises:
+        MimicsError: one line naming the option and what was expected.
+    """
+    check_whole("width_px", width_px, 64, MAX_IMAGE_SIDE)
+    check_number("fps", fps, 0.0, 1000.0, "a number of frames per second")
+    check_number("trail", trail, 0.0, MAX_TIME, "a number of simulated seconds",
+                 low_included=True)
+    if robot_beams is not None:
+        check_whole("robot_beams", robot_beams, 0, MAX_ROBOTS - 1)
+
+
 def animate(run: Any, *, fps: float = 10.0, speed: float | None = None, width_px: int = 640,
             trail: float = 5.0, robot_beams: int | None = None, max_frames: int = MAX_FRAMES,
             max_mb: float = MAX_MB) -> Animation:
@@ -115,13 +137,12 @@ def animate(run: Any, *, fps: float = 10.0, speed: float | None = None, width_px
     """
     if isinstance(max_frames, bool) or not isinstance(max_frames, int) or max_frames < 2:
         raise MimicsError(f"max_frames: expected a whole number >= 2, got {max_frames!r}")
-    if not max_mb > 0 or not fps > 0 or (speed is not None and not speed > 0):
-        raise MimicsError(f"animate: fps, speed and max_mb must be positive (got fps={fps}, "
-                          f"speed={speed}, max_mb={max_mb})")
+    check_drawing(width_px=width_px, fps=fps, trail=trail, robot_beams=robot_beams)
+    check_number("animate: max_mb", max_mb, 0.0, 1e6, "a number of megabytes")
+    if speed is not None:
+        check_number("animate: speed", speed, 0.0, 1e15, "a number of simulated s per s")
     from mimics.interfaces.replay import Replayer, frame_times, open_run, replay_data
 
-    if width_px < 64:
-        raise MimicsError(f"animate: width_px must be at least 64, got {width_px!r}")
     data = replay_data(open_run(run))
     replayer = Replayer.create(data, width_px=width_px, trail=trail, robot_beams=robot_beams)
     width, height = replayer.renderer.figure.canvas.get_width_height()

@@ -25,6 +25,9 @@ from typing import Any
 
 from mimics.interfaces.notebook.html import in_kernel
 
+#: Simulated seconds per wall second at most, short of math.inf (a finite 1e300 is a typo).
+MAX_SPEED = 1e15
+
 
 def widgets_available() -> bool:
     """True where a widget can be shown: anywidget is installed and a kernel runs."""
@@ -55,11 +58,22 @@ def show(scenario: Any, algorithm: Any, *, robots: int | None = None,
     Raises:
         MimicsError: a bad scenario, algorithm or option (before anything runs).
     """
+    from mimics.interfaces.notebook.animation import check_drawing
     from mimics.interfaces.stepper import check_speed
     from mimics.records.runner import prepare
+    from mimics.world.errors import MimicsError
+    from mimics.world.limits import check_number
 
-    if speed != 0:
+    fastest = isinstance(speed, int | float) and not isinstance(speed, bool) and (
+        speed == 0 or speed == math.inf)  # both: as fast as possible
+    if not fastest:
+        check_number("speed", speed, 0.0, MAX_SPEED, "a number of simulated seconds per "
+                     "second (or 0 or math.inf: as fast as possible)")
         check_speed(speed)
+    check_drawing(width_px=width_px, fps=fps, trail=trail, robot_beams=beams_of)
+    for name, flag in (("autoplay", autoplay), ("widget", widget)):
+        if not isinstance(flag, bool) and not (name == "widget" and flag is None):
+            raise MimicsError(f"show: {name}: expected True or False, got {flag!r}")
     if widget is None:
         widget = widgets_available()
     sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed, params=params,

@@ -35,11 +35,12 @@ from mimics.engine.outcome import RunResult
 from mimics.interfaces.notebook.animation import MAX_FRAMES, MAX_MB, Animation, animate
 from mimics.interfaces.notebook.html import enable_figure_display, figure_img, rows_table
 from mimics.records.memory import MemoryRun, save_run
-from mimics.records.recorder import RobotLogs, prepare_run_folder
+from mimics.records.recorder import RobotLogs, check_save_target, prepare_run_folder
 from mimics.records.run_folder import Run
 from mimics.records.run_folder import load_run as load_run_folder
 from mimics.records.summary import summary_rows
 from mimics.world.errors import MimicsError
+from mimics.world.output_paths import as_path, check_outputs
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
@@ -129,7 +130,10 @@ class RunView:
     def plot(self, *, width_px: int = 1000, height_px: int = 800) -> Any:
         """The trajectories figure of ``mimics plot`` (a Matplotlib Figure)."""
         from mimics.interfaces.plots import plot_run
+        from mimics.world.limits import MAX_IMAGE_SIDE, check_whole
 
+        check_whole("plot: width_px", width_px, 1, MAX_IMAGE_SIDE)
+        check_whole("plot: height_px", height_px, 1, MAX_IMAGE_SIDE)
         enable_figure_display()
         return plot_run(self.record, None, width_px=width_px, height_px=height_px)
 
@@ -158,19 +162,23 @@ class RunView:
         read it); a loaded run's folder is copied.
 
         Args:
-            folder: a new or empty folder, or an earlier run's (its records are replaced).
+            folder: a new or empty folder, or an earlier run's (its records are replaced);
+                not the run's own folder nor a folder holding other files.
             robot_logs: per-robot logs for a run in memory: ``"auto"`` (up to 200
                 robots), ``"on"`` or ``"off"``.
 
         Raises:
-            MimicsError: a folder holding other files, or one that cannot be written.
+            MimicsError: a folder holding other files, the run's own folder (or one in
+                it, or around it), or one that cannot be written; nothing is written.
         """
+        out = as_path("save: folder", folder)
+        check_save_target(out)
         if isinstance(self.record, MemoryRun):
-            return save_run(self.record, folder, robot_logs=robot_logs)
-        out = Path(folder)
+            return save_run(self.record, out, robot_logs=robot_logs)
         source = Path(self.record.path)
-        if out.resolve() == source.resolve():
-            return out
+        # a copy into the run's own folder, into one of its records or around it would
+        # delete what it copies
+        check_outputs({"save: folder": out}, {"the run's own folder": source})
         prepare_run_folder(out)
         try:
             shutil.copytree(source, out, dirs_exist_ok=True)

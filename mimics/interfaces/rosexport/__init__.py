@@ -35,8 +35,9 @@ def export_run(folder: str | Path, *, mcap: str | Path | None = None,
 
     Args:
         folder: the run folder (a finished run, or what a killed one kept).
-        mcap: the MCAP file to write (replaced if it exists).
-        bag: the ROS 1 bag to write (replaced if it exists).
+        mcap: the MCAP file to write (replaced if it exists; never a file of the run
+            folder, nor the same file as ``bag``).
+        bag: the ROS 1 bag to write (replaced if it exists, with the same exceptions).
         resolution: the occupancy grid's cell size in metres (default 0.05).
         scans: ``None``: the laser scans when the run recorded them; ``True``:
             they are required; ``False``: left out.
@@ -47,8 +48,9 @@ def export_run(folder: str | Path, *, mcap: str | Path | None = None,
     Raises:
         MimicsError: in one line, when ``folder`` is not a run, scans are
             required but were not recorded, no output is given, the
-            resolution is not positive or an output cannot be written
-            (its folder must exist: none is created).
+            resolution is not positive, an output cannot be written
+            (its folder must exist: none is created), lies inside the run folder
+            or is the other output's file.
     """
     from mimics.interfaces.rosexport.source import Trajectory
     from mimics.interfaces.rosexport.writer import (
@@ -59,15 +61,19 @@ def export_run(folder: str | Path, *, mcap: str | Path | None = None,
     )
     from mimics.records.run_folder import load_run
     from mimics.world.occupancy import check_resolution
+    from mimics.world.output_paths import check_outputs
 
     if mcap is None and bag is None:
         raise MimicsError("export: nothing to write (give --mcap FILE and/or --bag FILE)")
     resolution = DEFAULT_RESOLUTION if resolution is None else resolution
     check_resolution(resolution)
-    for target in (mcap, bag):  # before reading the run: nothing is done for a bad path
+    run = load_run(folder)  # only reads: a folder that is no run is named as such first
+    # before writing: an output in the run folder, or both outputs one file, would lose the
+    # run or one export
+    check_outputs({"--mcap": mcap, "--bag": bag}, {"the run folder": folder})
+    for target in (mcap, bag):  # before reading the rows: nothing is done for a bad path
         if target is not None:
             check_target(Path(target))
-    run = load_run(folder)
     if scans and not run.has_scans:
         raise MimicsError(f"{run.path}: --scans asked for, but this run recorded no laser scans "
                           f"(run it again with --record-scans)")
