@@ -22,7 +22,7 @@ import numpy as np
 
 from mimics.world.edits import Edit, check_edit_fits
 from mimics.world.errors import ScenarioError
-from mimics.world.limits import MAX_ROBOTS, MAX_STEPS
+from mimics.world.limits import MAX_MAP_COORDINATE, MAX_ROBOTS, MAX_STEPS
 from mimics.world.maps import Map
 from mimics.world.robot_types import RobotType
 
@@ -134,6 +134,14 @@ class Scenario:
         if bad.size:
             raise ScenarioError(f"scenario {self.name!r}: robot {bad[0]} has a non-finite stage "
                                 f"{stages[bad[0]].tolist()}")
+        for what, values in (("start", stages[:, :2]), ("goal", goals)):
+            far = np.flatnonzero(np.nanmax(np.abs(values), axis=1, initial=0.0)
+                                 > MAX_MAP_COORDINATE)
+            if far.size:  # 1e300 is finite, and breaks every grid and float downstream
+                raise ScenarioError(
+                    f"scenario {self.name!r}: robot {far[0]}'s {what} "
+                    f"{values[far[0]].tolist()} is farther than {MAX_MAP_COORDINATE:g} m from "
+                    "the origin (expected coordinates within the limits of a map)")
         half_goal = np.isnan(goals).sum(axis=1) == 1
         if half_goal.any():
             i = int(np.flatnonzero(half_goal)[0])

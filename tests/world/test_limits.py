@@ -98,3 +98,15 @@ def test_the_largest_seed_runs() -> None:
     result = Simulation(line(robots=1), lambda robot: (0.0, 0.0), seed=MAX_SEED,
                         time_limit=0.2).run()
     assert result.seed == MAX_SEED and result.steps == 2
+
+
+@pytest.mark.parametrize("spacing", [1e300, 1e8])
+def test_scenario_starts_farther_than_any_map_are_refused_at_the_scenario(spacing: float
+                                                                           ) -> None:
+    from mimics.scenarios.line import scenario as line
+    from mimics.world.errors import ScenarioError
+
+    with pytest.raises(ScenarioError, match=r"robot 0's start \[0.0, .*\] is farther than "
+                                            r"1e\+07 m from the origin"):
+        line(robots=2, spacing=spacing)
+    assert len(line(robots=2, spacing=1e3).stages) == 2  # far, but a map could hold it
