@@ -103,6 +103,7 @@ def test_an_export_beside_the_run_is_still_written(work: Path) -> None:
     ["map", "show", "maps/plan.svg", "--out", "maps/plan.svg"],
     ["run", "run/scenario.toml", "go_to_goal", "--out", "run"],
     ["run", "battery.toml", "go_to_goal", "--out", "battery.toml"],
+    ["ros", "run/scenario.toml", "--out", "run"],  # refused before a ROS master is needed
     ["battery", "new", "-a", "go_to_goal", "-s", "line", "--no-input", "--force",
      "-o", "run/summary.json"],
     ["battery", "new", "-a", "go_to_goal", "-s", "line", "--no-input", "--force",

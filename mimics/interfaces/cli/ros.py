@@ -90,6 +90,11 @@ def ros_command(
         check_name_set(names, "--names")
         params = parse_params(param or [])
         check_repeated(params, robots=robots, time=time)
+        if out is not None:  # an earlier run there is replaced, the scenario file never
+            from mimics.records.layout import check_run_output
+
+            scenario_file = Path(scenario) if scenario.endswith((".py", ".toml")) else None
+            check_run_output("--out", out, {"the scenario file": scenario_file})
     except MimicsError as exc:
         raise fail(str(exc)) from None
     if robots is not None:
