@@ -191,7 +191,7 @@ class BatteryView:
             kind: ``"outcomes"`` (robot outcomes and run statuses), ``"time_to_goal"``
                 (one point per run: its restricted mean time to goal, a panel per
                 parameter point), ``"arrivals"`` (the arrival curves, see
-                :meth:`arrivals`) or ``"wall_time_vs_robots"`` (the paper's Figure 2,
+                ``arrivals()``) or ``"wall_time_vs_robots"`` (the paper's Figure 2,
                 from the runs of the ``line`` scenario; ``scenario=`` names another).
             width_px, height_px: size in pixels (each plot's own default otherwise).
 
