@@ -6,8 +6,9 @@ returning DataFrames or lines; no printing. Used by ``mimics battery report``
 and ``compare``, the notebook and the workbench.
 
 - :func:`cell_intervals`: per algorithm x scenario x parameter point, its runs,
-  done and failed, and each metric's mean with its 95% interval (Student t, or
-  BCa bootstrap on request; a proportion with its Wilson interval);
+  done and failed, and each metric's mean with its 95% interval (Student t
+  corrected for the sample's skewness, Hall 1992, or BCa bootstrap on request; a
+  proportion with its Wilson interval);
 - :func:`paired_comparison`: each algorithm against a baseline on the same
   scenario, parameters and seed: rates by Newcombe's paired interval and
   McNemar's exact test, means by the t interval and the Wilcoxon signed-rank
@@ -40,7 +41,7 @@ from mimics.batteries.stats import (
     bootstrap_interval,
     paired_difference,
     proportion_interval,
-    t_interval,
+    skew_corrected_interval,
 )
 from mimics.world.errors import MimicsError
 
@@ -103,11 +104,15 @@ def metric_values(runs: pd.DataFrame, metric: str) -> np.ndarray:
 
 
 def interval_of(values: np.ndarray, metric: str, method: str = "t") -> Interval:
-    """One metric's estimate and 95% interval: Wilson for a proportion, else the t
-    interval or the BCa bootstrap of the mean."""
+    """One metric's estimate and 95% interval: Wilson for a proportion; for a mean,
+    ``"t"`` is the t interval corrected for the sample's skewness (Hall 1992,
+    :func:`~mimics.batteries.stats.skew_corrected_interval`: the plain t interval on a
+    symmetric sample; the stopping rule uses the same), ``"bootstrap"`` the BCa bootstrap."""
     if METRICS[metric].proportion:
         return proportion_interval(values)
-    return bootstrap_interval(values) if method == "bootstrap" else t_interval(values)
+    if method == "bootstrap":
+        return bootstrap_interval(values)
+    return skew_corrected_interval(values)
 
 
 def cell_intervals(table: pd.DataFrame, metrics: list[str] | None = None, *,

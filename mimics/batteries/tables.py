@@ -12,7 +12,8 @@ from mimics.batteries.comparison import check_metrics
 from mimics.batteries.metrics import METRICS
 
 INTERVALS_TITLE = "Per cell, over finished runs"
-INTERVALS_LEGEND = ("means: mean [95% t interval]; success: proportion [95% Wilson interval]; "
+INTERVALS_LEGEND = ("means: mean [95% t interval corrected for skewness, Hall 1992]; success: "
+                    "proportion [95% Wilson interval]; "
                     "a failed run counts as success 0 and reached 0 and has no other value; "
                     "(n=...) where fewer runs have a value")
 COMPARISON_TITLE = "Paired comparison: algorithm - baseline, same scenario, parameters and seed"

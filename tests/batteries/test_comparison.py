@@ -74,9 +74,15 @@ def test_cell_intervals_are_t_for_means_and_wilson_for_proportions() -> None:
     table = synthetic([("a", s, t, ok) for s, t, ok in
                        [(1, 2.0, 1.0), (2, 4.0, 1.0), (3, 9.0, 0.0), (4, math.nan, 0.0)]])
     row = cell_intervals(table, ["time_to_goal", "success"]).iloc[0]
-    half = 0.95 / math.sqrt(2 * 0.975 * 0.025) * math.sqrt(13.0) / math.sqrt(3.0)  # t(2)
+    # Hall's skewness-corrected t (stats.skew_corrected_interval), by hand: deviations
+    # -3, -1, 4; m2 = 26/3, m3 = 12; G1 = m3 / m2^1.5 * sqrt(3 * 2) / 1; s = sqrt(13)
+    q = 0.95 / math.sqrt(2 * 0.975 * 0.025)  # Student's t(2) quantile in closed form
+    skew = 12.0 / (26.0 / 3.0) ** 1.5 * math.sqrt(6.0)
+    a, b = skew / (3 * math.sqrt(3.0)), skew / (6 * math.sqrt(3.0))
+    upper_t = (math.cbrt(1 + 3 * a * (-q - b)) - 1) / a  # T with g(T) = -q
     assert row["time_to_goal"] == 5.0 and row["time_to_goal_n"] == 3  # NaN left out
-    assert row["time_to_goal_high"] == pytest.approx(5.0 + half, rel=1e-9)
+    assert row["time_to_goal_high"] == pytest.approx(
+        5.0 - upper_t * math.sqrt(13.0) / math.sqrt(3.0), rel=1e-9)
     z = 1.959963984540054  # Wilson, 2 of 4
     centre = (0.5 + z * z / 8) / (1 + z * z / 4)
     width = z / (1 + z * z / 4) * math.sqrt(0.25 / 4 + z * z / 64)

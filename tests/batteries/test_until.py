@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 
 from mimics.batteries import resume_battery, run_battery, runs_table
 from mimics.batteries.spec import spec_from_dict
-from mimics.batteries.stats import proportion_interval, t_interval
+from mimics.batteries.stats import proportion_interval, skew_corrected_interval
 from mimics.batteries.until import (
     MIN_DEPARTURES,
     UntilRule,
@@ -31,6 +31,7 @@ from mimics.batteries.until import (
 from mimics.world.errors import MimicsError
 from tests.batteries.helpers import fault, write_battery
 from tests.batteries.test_resume import executions
+from tests.batteries.test_skew_corrected_interval import hall_by_root_finding
 
 
 def values_of(draws: list[float]) -> dict[int, float]:
@@ -51,15 +52,18 @@ def test_a_cell_without_spread_never_meets_its_target_and_a_noisy_one_goes_on() 
     first = cell_progress(values_of(noisy[:10]), rule)
     assert not first.complete and first.finished == 10 and first.scheduled == 20  # doubled
     # fed every draw, the cell stops where the interval is first narrow enough: the
-    # 95% half-width t * s / sqrt(n) <= 0.2 needs about (1.96 * 2 / 0.2)^2 = 384 seeds
+    # 95% half-width, about t * s / sqrt(n) for normal draws, <= 0.2 needs about
+    # (1.96 * 2 / 0.2)^2 = 384 seeds
     last = cell_progress(values_of(noisy), rule)
     assert last.complete and last.target_met and last.half_width <= 0.2
     assert 250 <= last.scheduled <= 500
     data = np.array(noisy[:last.scheduled])
     from scipy.stats import t
 
-    assert last.half_width == pytest.approx(
-        t.ppf(0.975, len(data) - 1) * data.std(ddof=1) / math.sqrt(len(data)))
+    low, high = hall_by_root_finding(data)  # the reported interval, from its definition
+    assert last.half_width == pytest.approx((high - low) / 2, rel=1e-9)
+    assert last.half_width == pytest.approx(  # and a normal sample's skewness is small
+        t.ppf(0.975, len(data) - 1) * data.std(ddof=1) / math.sqrt(len(data)), rel=0.02)
 
 
 def test_undefined_values_count_as_seeds_but_not_as_values() -> None:
@@ -82,11 +86,15 @@ def test_a_proportion_uses_the_wilson_half_width() -> None:
 
 
 def test_a_rare_value_seen_twice_does_not_end_a_mean() -> None:
-    rule = UntilRule("collisions", 0.3, min_seeds=20, max_seeds=500)
-    draws = [1.0, 1.0] + [0.0] * 18  # rate 0.1: t half-width 0.144, under the target
+    rule = UntilRule("collisions", 0.35, min_seeds=20, max_seeds=500)
+    # rate 0.1: half-width 0.330 (skewness 2.89 stretches the upper end to 0.659; the
+    # t interval's half-width is 0.144), under the target
+    draws = [1.0, 1.0] + [0.0] * 18
     first = cell_progress(values_of(draws), rule)
-    assert first.half_width == pytest.approx(t_interval(draws).half_width)
-    assert first.half_width < 0.3 and not first.complete
+    low, high = hall_by_root_finding(draws)
+    assert first.half_width == pytest.approx((high - low) / 2, rel=1e-9)
+    assert first.half_width == pytest.approx(0.3303, abs=1e-4)
+    assert first.half_width < 0.35 and not first.complete
     # 5 departures at the rate seen need 5 * 20 / 2 = 50 seeds: doubled to 40 at most
     assert first.scheduled == 40
     more = draws + [1.0, 0.0, 0.0, 1.0, 0.0, 1.0] + [0.0] * 14  # 5 ones in 40
@@ -100,7 +108,7 @@ def test_a_rare_value_seen_twice_does_not_end_a_mean() -> None:
                 max_size=60))
 def test_the_rules_cached_widths_are_the_reported_ones_to_the_bit(draws: list[float]) -> None:
     data = np.array(draws)
-    assert _round_width(data, False) == t_interval(data).half_width
+    assert _round_width(data, False) == skew_corrected_interval(data).half_width
     zero_one = (data > 0.5).astype(float)
     assert _round_width(zero_one, True) == proportion_interval(zero_one).half_width
 

@@ -43,6 +43,9 @@ CASES = {
                                 0.1, 0.3),
     "0/1 count at rate 0.1": Case("collisions", lambda rng, k: (rng.random(k) < 0.1) * 1.0,
                                   0.1, 0.3),
+    "lognormal sigma 0.5": Case("time_to_goal", lambda rng, k: rng.lognormal(0.0, 0.5, k),
+                                math.exp(0.125),
+                                math.sqrt((math.exp(0.25) - 1) * math.exp(0.25))),
     "lognormal sigma 1": Case("time_to_goal", lambda rng, k: rng.lognormal(0.0, 1.0, k),
                               LOGNORMAL_MEAN, math.sqrt((math.e - 1) * math.e)),
 }
@@ -80,7 +83,8 @@ def rule_for(case: Case, fixed_sample: int) -> UntilRule:
 
 
 @pytest.mark.parametrize("fixed_sample", [10, 100])
-@pytest.mark.parametrize("name", ["normal", "success at rate 0.1", "0/1 count at rate 0.1"])
+@pytest.mark.parametrize("name", ["normal", "success at rate 0.1", "0/1 count at rate 0.1",
+                                  "lognormal sigma 0.5"])
 def test_final_intervals_cover_the_true_mean(name: str, fixed_sample: int) -> None:
     case = CASES[name]
     found = simulate(case, rule_for(case, fixed_sample), BATTERIES, seed=fixed_sample)
@@ -89,24 +93,39 @@ def test_final_intervals_cover_the_true_mean(name: str, fixed_sample: int) -> No
     assert found.unmet == 0, found  # max_seeds 500 is far above what these targets need
 
 
-@pytest.mark.xfail(strict=True, reason="the t interval undercovers a lognormal with sigma 1 "
-                   "even with no stopping rule (91.4% at 100 fixed seeds): see until.py")
+def test_a_strongly_skewed_metric_keeps_most_of_its_coverage() -> None:
+    # lognormal sigma 1 (skewness 6.2): the skewness-corrected interval measured 92.5%
+    # here; the plain t interval, printed before, 88.8% on the same seeds
+    case = CASES["lognormal sigma 1"]
+    found = simulate(case, rule_for(case, 10), BATTERIES, seed=10)
+    assert found.covered >= 0.91, found
+    assert found.zero_width_stops == 0 and found.unmet == 0, found
+
+
+@pytest.mark.xfail(strict=True, reason="a lognormal with sigma 1 and a target 5 times beyond "
+                   "min_seeds: cells that stop at 20-40 seeds have not met the long tail, "
+                   "and no interval of their values knows it (87.6%): see until.py")
 def test_a_strongly_skewed_metric_is_the_documented_limit() -> None:
     case = CASES["lognormal sigma 1"]
-    found = simulate(case, rule_for(case, 30), BATTERIES // 4, seed=30)
+    found = simulate(case, rule_for(case, 100), BATTERIES, seed=100)
     assert found.covered >= PROMISED, found
 
 
 def test_the_simulation_measures_a_fixed_sample_exactly() -> None:
     """The harness against hand computation: five seeds, no choice (min = max = 5), of a
-    0/1 count at rate 0.1. Its t interval holds 0.1 with 1, 2 or 3 ones (mean 0.2 +- 0.555,
-    0.4 +- 0.680, 0.6 +- 0.680) and misses with 0 ([0, 0]), 4 or 5: binomial odds 40.9%."""
+    0/1 count at rate 0.1. Its skewness-corrected interval holds 0.1 with 1 to 4 ones
+    ([-0.120, 1.549], [-0.150, 1.441], [-0.441, 1.150], [-0.549, 1.120], by root finding
+    in test_skew_corrected_interval.py) and misses with 0 or 5 (no spread: a point
+    interval): binomial odds 40.95%."""
     from scipy.stats import binom
 
     case = CASES["0/1 count at rate 0.1"]
     found = simulate(case, UntilRule(case.metric, 0.01, min_seeds=5, max_seeds=5), 1000,
                      seed=5)
-    truth = float(binom.pmf([1, 2, 3], 5, 0.1).sum())
-    assert truth == pytest.approx(0.40905, abs=1e-5)
+    for ones, (low, high) in {1: (-0.120, 1.549), 4: (-0.549, 1.120)}.items():
+        reported = interval_of(np.array([1.0] * ones + [0.0] * (5 - ones)), case.metric)
+        assert (reported.low, reported.high) == pytest.approx((low, high), abs=5e-4)
+    truth = float(binom.pmf([1, 2, 3, 4], 5, 0.1).sum())
+    assert truth == pytest.approx(0.40950, abs=1e-5)
     assert abs(found.covered - truth) < 3 * math.sqrt(truth * (1 - truth) / 1000)
     assert found.seeds == 5 and found.unmet == 1000

@@ -28,7 +28,8 @@ ExcludeFailed = Annotated[bool, typer.Option(
 Adjust = Annotated[str, typer.Option(
     help="How p-values are adjusted for the number of tests shown: holm, bh or none.")]
 Interval = Annotated[str, typer.Option(
-    "--interval", help="Interval of a mean: t (Student) or bootstrap (BCa, for skewed "
+    "--interval", help="Interval of a mean: t (Student t corrected for skewness, Hall 1992) "
+    "or bootstrap (BCa; for paired differences, the bootstrap of their mean), for skewed "
     "metrics).")]
 
 

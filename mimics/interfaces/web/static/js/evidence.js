@@ -74,7 +74,8 @@ export class EvidenceView {
     if (data.until) parts.push(this.untilTable(data.until));
     parts.push(table("Intervals per cell",
       "Per cell, over finished runs (a failed run: success 0, reached 0, no other value): "
-      + "mean [95% t interval]; success: proportion [95% Wilson interval]; time_to_goal: "
+      + "mean [95% t interval corrected for skewness]; success: proportion [95% Wilson "
+      + "interval]; time_to_goal: "
       + "restricted mean, robots that never arrived counted at the horizon",
       ["algorithm", "scenario", "parameters", "runs / done / failed", ...data.metrics],
       data.intervals.map((r) => [r.algorithm, r.scenario, r.parameters,
