@@ -28,7 +28,8 @@ def test_ros_timeout_is_kept_and_survives_the_database(tmp_path):
 @pytest.mark.parametrize("value", [0, -1, "5", True, float("inf"), float("nan")])
 def test_a_bad_ros_timeout_is_named(tmp_path, value):
     with pytest.raises(MimicsError, match=r"battery\.toml.*\[battery\] ros_timeout: expected a "
-                                          r"positive number of seconds"):
+                                          r"positive number of wall-clock seconds "
+                                          r"\(at most 4e\+06\)"):
         ros_battery(tmp_path, ros_timeout=value)
 
 

@@ -19,12 +19,28 @@ from mimics.world.errors import MimicsError
 
 def ros_command(
     scenario: Annotated[str, typer.Argument(help="Built-in scenario name or a .py/.toml file.")],
+    ros_args: Annotated[list[str] | None, typer.Argument(
+        metavar="[FROM:=TO]...",
+        help="ROS arguments, as roslaunch passes them: remaps (base_scan:=scan), "
+             "__name:=NODE, __ns:=NAMESPACE, private parameters (_base_watchdog_timeout:=0.5)."
+    )] = None,
     robots: Annotated[int | None, typer.Option(help="Number of robots (scenario parameter).")]
     = None,
-    lockstep: Annotated[bool, typer.Option(
+    lockstep: Annotated[bool | None, typer.Option(
         "--lockstep/--realtime",
         help="Lockstep: each step waits for every active robot's command (deterministic). "
-             "Realtime: wall-clock pace, the last command received.")] = True,
+             "Realtime: wall-clock pace, the last command received, as stage_ros runs. "
+             "[default: lockstep; realtime with --names stage]")] = None,
+    strict_lockstep: Annotated[bool, typer.Option(
+        "--strict-lockstep", help="Lockstep with no grace: every step waits for every "
+                                  "robot's command, up to --timeout.")] = False,
+    grace: Annotated[float, typer.Option(
+        help="Lockstep: seconds a step waits for a robot whose node skips it (it sent a "
+             "command within --timeout) before the robot holds its last command.")] = 1.0,
+    startup_grace: Annotated[float, typer.Option(
+        help="Seconds from the start to wait for the nodes' further subscriptions (a late "
+             "scan subscriber gets step 0's scan); realtime: the longest wait for the "
+             "nodes before the clock starts.")] = 2.0,
     time: Annotated[float | None, typer.Option(help="Simulated seconds to run.")] = None,
     seed: Annotated[int, typer.Option(help="Seed of every random draw.")] = 0,
     out: Annotated[Path | None, typer.Option(
@@ -33,8 +49,9 @@ def ros_command(
         help="Seconds to wait for the controller nodes to connect and, in lockstep, for "
              "all of each step's commands (one deadline per step).")] = 10.0,
     watchdog: Annotated[float, typer.Option(
-        help="Realtime: stop a robot whose commands stop for this many seconds (as "
-             "stage_ros' base_watchdog_timeout).")] = 0.2,
+        help="Realtime: stop a robot whose commands stop for this many simulated seconds "
+             "(stage_ros' base_watchdog_timeout; the private parameter "
+             "_base_watchdog_timeout:=S sets it too).")] = 0.2,
     map_resolution: Annotated[float, typer.Option(help="Metres per cell of /map.")] = 0.05,
     robot_logs: Annotated[str, typer.Option(help="Per-robot text logs: auto, on or off.")]
     = "auto",
@@ -61,9 +78,13 @@ def ros_command(
     -> robot_i/base_link -> robot_i/laser, live markers on /mimics/markers, the
     run's parameters under /mimics (and /use_sim_time), and std_srvs/Trigger
     services /mimics/pause, resume, step and reset (a reset starts the run
-    again in RUN-reset-1, ...). --names stage: stage_ros' names instead.
-    Needs ROS 1 (Debian's python3-rospy and message packages) and a running
-    master (ROS_MASTER_URI). See docs/how-to/ros.md.
+    again in RUN-reset-1, ...). --names stage: stage_ros' names instead, the
+    node /stageros, realtime by default and reset_positions. After SCENARIO,
+    ROS arguments as roslaunch passes them (base_scan:=scan, __name:=...).
+    SIGINT or SIGTERM ends the run at a step boundary (status interrupted,
+    summary written, exit 130 or 143). Needs ROS 1 (Debian's python3-rospy and
+    message packages) and a running master (ROS_MASTER_URI). See
+    docs/how-to/ros.md.
     """
     from mimics.interfaces.cli.run_summary import (
         check_repeated,
@@ -71,12 +92,24 @@ def ros_command(
         parse_params,
         print_summary,
     )
+    bad = next((arg for arg in ros_args or [] if ":=" not in arg), None)
+    if bad is not None:
+        raise fail(f"{bad!r}: expected one argument, SCENARIO, then only ROS arguments "
+                   "NAME:=VALUE (remaps such as base_scan:=scan, __name:=, __ns:=)")
+    if lockstep is None:  # stage_ros' habit: the clock runs, commands apply when they come
+        lockstep = strict_lockstep or names != "stage"
+    if strict_lockstep and not lockstep:
+        raise fail("--strict-lockstep: a lockstep option; it cannot go with --realtime")
     if robots is not None and robots < 1:
         raise fail(f"--robots: expected a whole number >= 1, got {robots}")
     if time is not None and not time > 0:
         raise fail(f"--time: expected a positive number of simulated seconds, got {time}")
     if not timeout > 0:
         raise fail(f"--timeout: expected a positive number of seconds, got {timeout}")
+    if not grace > 0:
+        raise fail(f"--grace: expected a positive number of seconds, got {grace}")
+    if not startup_grace >= 0:
+        raise fail(f"--startup-grace: expected a number of seconds >= 0, got {startup_grace}")
     if not watchdog > 0:
         raise fail(f"--watchdog: expected a positive number of seconds, got {watchdog}")
     if not map_resolution > 0:
@@ -111,22 +144,31 @@ def ros_command(
     with compiles_started():  # a fresh install's compiles start before Numba is imported
         from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view
         from mimics.interfaces.ros.bridge import BridgeOptions, run_ros
+        from mimics.interfaces.ros.stopping import RunInterrupted, StopRequest, exit_status
         from mimics.records.naming import new_run_folder
 
         if view not in VIEW_CHOICES:
             raise fail(f"--view: expected one of {', '.join(VIEW_CHOICES)}, got {view!r}")
         live = make_live_view(view)
     try:
-        # the default name, never one taken (-2, -3...): a run never replaces another
-        folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed)
+        # the default name, never one taken (-2, -3...): a run never replaces another;
+        # absolute, so that the message says where it is (roslaunch runs us in $ROS_HOME)
+        folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed).absolute()
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
-                                map_resolution=map_resolution, watchdog=watchdog, names=names)
+                                map_resolution=map_resolution, watchdog=watchdog, names=names,
+                                grace=None if strict_lockstep else grace,
+                                startup_grace=startup_grace)
         folders: list[Path] = []  # more than one after a reset (/mimics/reset)
+        stop = StopRequest()  # SIGINT, SIGTERM: the run ends at a step boundary
         with kernels_compiled_ahead():
             result = run_ros(scenario, folder, options=options, params=params, time=time,
                              seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
                              observers=(live,) if live is not None else (),
-                             record_scans=record_scans, folders=folders)
+                             record_scans=record_scans, folders=folders,
+                             ros_args=list(ros_args or []), stop=stop)
+    except RunInterrupted as exc:
+        fail(str(exc))
+        raise typer.Exit(exit_status(exc.signum)) from None
     except MimicsError as exc:
         raise fail(str(exc)) from None
     for earlier in folders[:-1]:
@@ -138,28 +180,34 @@ def ros_command(
     if result.status == "error" and "LockstepTimeout" in result.error:
         fail(result.error)
         raise typer.Exit(1)
+    if stop.signum is not None:  # the shell's status of a process a signal ended
+        raise typer.Exit(exit_status(stop.signum))
 
 
 def ros_files_command(
     out: Annotated[Path, typer.Option(help="Folder to write the package mimics_launch into "
                                            "(created; its parent must exist).")],
-    robots: Annotated[int, typer.Option(help="Robots whose scans the RViz config shows.")] = 4,
-    names: Annotated[str, typer.Option(help="Topic names the RViz config shows: mimics or "
-                                            "stage (then run with args:=\"--names stage\").")]
-    = "mimics",
+    robots: Annotated[int, typer.Option(help="Robots the launch file runs and whose scans "
+                                             "the RViz config shows.")] = 4,
+    names: Annotated[str, typer.Option(help="Name set the launch file runs and the RViz "
+                                            "config shows: mimics or stage (node "
+                                            "/stageros).")] = "mimics",
+    scenario: Annotated[str, typer.Option(help="Scenario the launch file runs (roslaunch's "
+                                               "scenario:= replaces it).")] = "line",
 ) -> None:
     """Write a roslaunch package (launch file, RViz config) that runs mimics ros with RViz.
 
     Writes OUT/mimics_launch/: package.xml, launch/mimics.launch (master,
-    mimics ros SCENARIO, RViz), rviz/mimics.rviz (/map, /robot_i/scan, tf,
-    /mimics/markers) and scripts/mimics_ros. Put OUT on ROS_PACKAGE_PATH, then
-    `roslaunch mimics_launch mimics.launch scenario:=line args:="--robots 4"`.
+    mimics ros SCENARIO --robots N --names SET, RViz), rviz/mimics.rviz (/map,
+    /robot_i/scan, tf, /mimics/markers) and scripts/mimics_ros. Put OUT on
+    ROS_PACKAGE_PATH, then `roslaunch mimics_launch mimics.launch` (scenario:=,
+    args:= replace what it was written for).
     Replaces no file. See docs/how-to/ros.md.
     """
     from mimics.interfaces.ros.launch_files import write_ros_files
 
     try:
-        written = write_ros_files(out, robots, names)
+        written = write_ros_files(out, robots, names, scenario)
     except MimicsError as exc:
         raise fail(str(exc)) from None
     for path in written:

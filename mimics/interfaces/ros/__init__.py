@@ -7,7 +7,9 @@ topic and frame name comes from ``names`` (the ``mimics`` and ``stage`` name
 sets), the odometer's ``odom`` frame and covariance from ``odometry_frame``
 (plain NumPy); message conversion lives in one place (``conversion``), the map's rasterisation in
 ``occupancy``, the references' hand-over between ROS threads and the step in
-``inbox`` and ``references``, and ``bridge`` ties them to a run. What ROS
+``inbox`` and ``references``, the node's name, ROS arguments and private
+parameters in ``node``, SIGINT and SIGTERM in ``stopping``, and ``bridge``
+ties them to a run. What ROS
 tools look for: ``parameters`` (``/use_sim_time``, the ``/mimics`` tree),
 ``services`` (pause, resume, step, reset), ``markers`` (``/mimics/markers``,
 built by the export's marker functions) and ``launch_files`` (``mimics

@@ -35,6 +35,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mimics.interfaces.ros.names import RosNames, check_name_set
+from mimics.interfaces.ros.node import NODE_NAME, STAGE_NODE_NAME, join_ros, private_parameters
+from mimics.interfaces.ros.stopping import POLL, StopRequest
+from mimics.interfaces.ros.stopping import STATUS as STOPPED_STATUS
 from mimics.interfaces.ros.system_ros import require_master, require_ros
 from mimics.world.errors import MimicsError
 
@@ -45,7 +48,6 @@ if TYPE_CHECKING:
     from mimics.interfaces.ros.services import RunControl
     from mimics.records.recorder import RobotLogs
 
-NODE_NAME = "mimics"
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,14 @@ class BridgeOptions:
             command, cited by time-out messages (None: no such option).
         names: the name set of topics and frames, ``"mimics"`` or ``"stage"``
             (see :mod:`~mimics.interfaces.ros.names`).
+        grace: lockstep: seconds after which a robot whose node is alive (it
+            sent a command within ``timeout``) but has not answered the step
+            holds its last reference; None: strict lockstep, every step waits
+            for every command (up to ``timeout``).
+        startup_grace: seconds from the start during which the run waits for
+            the nodes' further subscriptions (a scan subscribed after the
+            odometry) before step 0; realtime: also the longest it waits for
+            the nodes at all before the clock starts, as stage_ros does not wait.
     """
 
     lockstep: bool = True
@@ -71,9 +81,17 @@ class BridgeOptions:
     watchdog: float = 0.2
     timeout_option: str | None = "--timeout"
     names: str = "mimics"
+    grace: float | None = None
+    startup_grace: float = 0.0
 
     def __post_init__(self) -> None:
         check_name_set(self.names)
+        if self.grace is not None and not self.grace > 0:
+            raise MimicsError(f"grace: expected a positive number of seconds, "
+                              f"got {self.grace!r}")
+        if not self.startup_grace >= 0:
+            raise MimicsError(f"startup_grace: expected seconds >= 0, "
+                              f"got {self.startup_grace!r}")
         if not self.timeout > 0:
             raise MimicsError(f"timeout: expected a positive number of seconds, "
                               f"got {self.timeout!r}")
@@ -85,7 +103,8 @@ class BridgeOptions:
 class RosBridge:
     """The observer that publishes a run's steps; created once ``rospy`` is initialised."""
 
-    def __init__(self, sim: Simulation, inbox: Inbox, options: BridgeOptions) -> None:
+    def __init__(self, sim: Simulation, inbox: Inbox, options: BridgeOptions,
+                 stop: StopRequest | None = None) -> None:
         from mimics.interfaces.ros.clock import ClockPublisher
         from mimics.interfaces.ros.commands import CommandSubscriber
         from mimics.interfaces.ros.frames import FramePublisher
@@ -98,6 +117,7 @@ class RosBridge:
 
         self.options = options
         self.inbox = inbox
+        self.stop = stop  # a signal asked the run to end (SIGINT, SIGTERM)
         self.control: RunControl | None = None  # pause, step, reset (services.py)
         self._sim_time_before: object = None  # /use_sim_time before the first run
         self._sim_time_set = False
@@ -120,7 +140,11 @@ class RosBridge:
         """Wait until each robot's observations have a subscriber and its commands a publisher.
 
         A node connects to a robot by subscribing to any of its per-step
-        topics (``odom``, ``pose``, the ground truth or the scan).
+        topics (``odom``, ``pose``, the ground truth or the scan). Then, until
+        ``startup_grace`` seconds from the call, the wait goes on for the
+        robots' other per-step topics, so that a node that subscribes to the
+        scan late in its start-up still gets step 0's. Realtime: the run
+        starts after ``startup_grace`` whether the nodes have come or not.
 
         ``check`` is called while waiting; it raises to give up early (the
         controller's process has exited, say).
@@ -128,15 +152,17 @@ class RosBridge:
         Raises:
             MimicsError: naming the first robot still unconnected after the time-out.
         """
-        deadline = wall.monotonic() + self.options.timeout
+        start = wall.monotonic()
+        deadline, grace_end = start + self.options.timeout, start + self.options.startup_grace
         waiting = robots.tolist()
         while waiting:
-            if check is not None:
-                check()
+            self._checks(check)
             waiting = [i for i in waiting
                        if not self._observed(i) or self.commands.publishers_connected(i) == 0]
             if not waiting:
-                return
+                break
+            if not self.options.lockstep and wall.monotonic() >= grace_end:
+                return  # realtime: the clock runs, commands apply when they come
             if wall.monotonic() > deadline:
                 i = waiting[0]
                 option = self.options.timeout_option
@@ -148,6 +174,24 @@ class RosBridge:
                     f"{self.names.commands_text(i)}; {len(waiting)} "
                     f"robot{'s' if len(waiting) > 1 else ''} waiting)")
             wall.sleep(0.02)
+        listening = robots.tolist()
+        while listening and wall.monotonic() < grace_end:
+            self._checks(check)
+            listening = [i for i in listening if not self._fully_observed(i)]
+            wall.sleep(0.02)
+
+    def _checks(self, check: Callable[[], None] | None) -> None:
+        if check is not None:
+            check()
+        if self.stop is not None:
+            self.stop.check()
+
+    def _fully_observed(self, robot: int) -> bool:
+        """Whether every per-step topic of the robot has a subscriber."""
+        scan = self.scans.publishers.get(robot)
+        return all(publisher.get_num_connections() > 0
+                   for publisher in (*self.odometry.all_publishers(robot),
+                                     *([scan] if scan is not None else [])))
 
     def _observed(self, robot: int) -> bool:
         """Whether some node subscribes to one of the robot's per-step topics."""
@@ -168,6 +212,10 @@ class RosBridge:
         self._publish(sim)
 
     def on_step(self, sim: Simulation) -> None:
+        if self.stop is not None and self.stop.requested:
+            # at this step boundary: the engine ends the run and writes its summary
+            sim.status = STOPPED_STATUS
+            return
         if self.control is not None:
             publish, held = self.control.gate()  # paused: held here, before publishing
             self._wall_start += held  # realtime: simulated time stood still meanwhile
@@ -181,6 +229,7 @@ class RosBridge:
     def _publish(self, sim: Simulation) -> None:
         state = sim.state
         ids = np.flatnonzero(state.active)
+        self.inbox.now = state.time  # the watchdog counts simulated time, as stage_ros
         if self.options.lockstep:
             self.inbox.expect(state.step, ids)  # before publishing: no answer can come earlier
         self.clock.publish(state.time)
@@ -191,9 +240,14 @@ class RosBridge:
         if self.control is not None:
             self.control.published(state.step, state.time)
         if not self.options.lockstep:  # realtime: the next step happens dt later
-            pause = self._wall_start + state.time + self._dt - wall.monotonic()
-            if pause > 0:
-                wall.sleep(pause)
+            self._sleep_until(self._wall_start + state.time + self._dt)
+
+    def _sleep_until(self, moment: float) -> None:
+        """Sleep until wall time ``moment``, in short slices: a stop ends the wait."""
+        while (pause := moment - wall.monotonic()) > 0:
+            if self.stop is not None and self.stop.requested:
+                return
+            wall.sleep(min(pause, POLL))
 
     def close(self) -> None:
         """Withdraw every topic and subscription."""
@@ -207,28 +261,11 @@ class RosBridge:
             restore_sim_time(self._sim_time_before)
 
 
-def join_ros() -> None:
-    """Make ROS importable and this process the node ``/mimics`` (once per process).
-
-    Raises:
-        MimicsError: when ROS is not installed, no master answers at
-            ``ROS_MASTER_URI``, or this process's node has already been shut down.
-    """
-    require_ros()
-    import rospy
-
-    if rospy.core.is_shutdown_requested() or rospy.core.is_shutdown():
-        raise MimicsError("this process's ROS node has been shut down; rospy cannot start "
-                          "another one in the same process")
-    if not rospy.core.is_initialized():
-        require_master()
-        rospy.init_node(NODE_NAME, disable_signals=True)
-
-
 def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
             params: dict[str, Any] | None = None, time: float | None = None, seed: int = 0,
             robot_logs: RobotLogs = "auto", observers: tuple[Any, ...] = (),
-            record_scans: bool = False, folders: list[Path] | None = None) -> RunResult:
+            record_scans: bool = False, folders: list[Path] | None = None,
+            ros_args: list[str] | None = None, stop: StopRequest | None = None) -> RunResult:
     """Run ``scenario`` as a ROS node driven by ROS controllers; record it into ``folder``.
 
     Args:
@@ -243,6 +280,11 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
         record_scans: also record the laser scans, as ``mimics run --record-scans``.
         folders: a list that receives each run's folder in order: ``folder``,
             then one per reset (``/mimics/reset``, :mod:`~mimics.interfaces.ros.services`).
+        ros_args: ROS command-line arguments (remaps ``from:=to``, ``__name:=``,
+            ``__ns:=``, private parameters ``_name:=value``), as rospy takes them.
+        stop: where SIGINT and SIGTERM are recorded; the run then ends at the
+            next step boundary with status ``interrupted`` (None: handled
+            here, when called from the main thread).
 
     Returns:
         The outcome of the last run (the one after the last reset, if any).
@@ -254,13 +296,8 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     require_ros()
     require_master()
     import numba
-    import rospy
 
     from mimics.catalog import load_scenario
-    from mimics.interfaces.ros.inbox import Inbox
-    from mimics.interfaces.ros.references import RosReferences
-    from mimics.interfaces.ros.services import RunControl, RunServices
-    from mimics.records.runner import prepare, run_to_folder
 
     # One engine thread: the ROS round trip dominates each step, and parallel
     # kernels wake worker threads every step, which costs more than it saves
@@ -269,18 +306,40 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     # 2.0 s with one).
     numba.set_num_threads(1)
     built = load_scenario(scenario, run_seed=seed, **(params or {}))
-    inbox = Inbox(built.robot_count, options.lockstep, options.timeout)
+    stop = stop or StopRequest()
+    with stop.handling_signals():
+        return _run(built, folder, options, time, seed, robot_logs, observers, record_scans,
+                    folders, ros_args, stop)
+
+
+def _run(built: Any, folder: str | Path, options: BridgeOptions, time: float | None,
+         seed: int, robot_logs: RobotLogs, observers: tuple[Any, ...], record_scans: bool,
+         folders: list[Path] | None, ros_args: list[str] | None,
+         stop: StopRequest) -> RunResult:
+    """:func:`run_ros` once the scenario is built, with the signals handled."""
+    import rospy
+
+    from mimics.interfaces.ros.inbox import Inbox
+    from mimics.interfaces.ros.references import RosReferences
+    from mimics.interfaces.ros.services import RunControl, RunServices
+    from mimics.records.runner import prepare, run_to_folder
+
+    inbox = Inbox(built.robot_count, options.lockstep, options.timeout, stop, options.grace)
     references = RosReferences(inbox, built.stages[:, 2], options.timeout,
                                options.timeout_option, options.watchdog)
     sim = prepare(built, references.controller(), time=time, seed=seed, observers=observers)
-    join_ros()
-    bridge = RosBridge(sim, inbox, options)
+    join_ros(STAGE_NODE_NAME if options.names == "stage" else NODE_NAME, ros_args)
+    options = private_parameters(options)
+    references.watchdog = options.watchdog
+    bridge = RosBridge(sim, inbox, options, stop)
     references.publishers = bridge.commands.publishers_connected
     references.names = bridge.names
     control = bridge.control = RunControl(options.timeout + 5.0)
-    services = RunServices(control)
+    control.stop_request = stop
+    services = RunServices(control, reset_positions=options.names == "stage")
     extra = {"ros": {"mode": "lockstep" if options.lockstep else "realtime",
                      "timeout": options.timeout, "watchdog": options.watchdog,
+                     "grace": options.grace, "startup_grace": options.startup_grace,
                      "names": options.names, "map_resolution": options.map_resolution}}
     first = folder = Path(folder)
     try:
@@ -293,7 +352,7 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
                 folders.append(folder)
             result = run_to_folder(sim, folder, robot_logs=robot_logs,
                                    record_scans=record_scans, extra=extra)
-            if not control.reset_asked():
+            if not control.reset_asked() or stop.requested:
                 return result
             # a reset: the same scenario and seed from the start, in a new folder
             folder = control.next_reset_folder(first)

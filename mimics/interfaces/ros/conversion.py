@@ -96,14 +96,16 @@ def fill_odometry(message: Odometry, seconds: float, pose: np.ndarray, velocity:
 
 
 def scan_message(frame_id: str, seconds: float, ranges: np.ndarray, hit: np.ndarray,
-                 angles: np.ndarray, max_range: float, dt: float) -> LaserScan:
-    """One ranger reading; beams that hit nothing read ``+inf`` (REP 117).
+                 angles: np.ndarray, max_range: float, dt: float,
+                 no_return_at_max: bool = False) -> LaserScan:
+    """One ranger reading; beams that hit nothing read ``+inf`` (REP 117), or
+    ``range_max`` with ``no_return_at_max`` (what stage_ros publishes).
 
     ``angles`` are the ranger's beam angles (right to left, evenly spread),
     ``ranges`` its distances and ``hit`` which beams hit something.
     """
     increment = float(angles[1] - angles[0]) if len(angles) > 1 else 0.0
-    values = np.where(hit, ranges, np.inf)
+    values = np.where(hit, ranges, float(max_range) if no_return_at_max else np.inf)
     return LaserScan(header=header(seconds, frame_id),
                      angle_min=float(angles[0]), angle_max=float(angles[-1]),
                      angle_increment=increment, time_increment=0.0, scan_time=dt,

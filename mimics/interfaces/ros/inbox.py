@@ -12,10 +12,12 @@ command per active robot and step. Two ways to match them:
   one per robot, and the time-out names every robot still waiting. The
   answer depends only on what the controller computed from step ``k``'s
   observations, never on timing, so a run is as deterministic as the
-  controller.
+  controller. With a ``grace``, a robot whose node has sent a command
+  within the time-out but not for this step holds its last reference once
+  the grace has passed (the node skipped the step): the world goes on.
 * **realtime**: :meth:`Inbox.take` returns the latest command received;
-  :meth:`Inbox.silence` says how long ago (wall time) the last one came,
-  for the command watchdog.
+  :meth:`Inbox.sim_silence` says how long ago (simulated time, as stage_ros
+  counts it) the last one came, for the command watchdog.
 
 A malformed message is never used: in lockstep it answers the step with
 "hold the last reference", in realtime it is dropped; either way its
@@ -29,6 +31,8 @@ import time
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Literal
+
+from mimics.interfaces.ros.stopping import POLL, StopRequest
 
 
 @dataclass(frozen=True)
@@ -69,11 +73,17 @@ class Inbox:
         lockstep: match one command to each step (see the module's docstring).
     """
 
-    def __init__(self, robots: int, lockstep: bool, timeout: float = 10.0) -> None:
+    def __init__(self, robots: int, lockstep: bool, timeout: float = 10.0,
+                 stop: StopRequest | None = None, grace: float | None = None) -> None:
         self.lockstep = lockstep
         self.timeout = timeout
+        self.grace = grace  # lockstep: hold a live node's robot after this (None: strict)
+        self._grace_end = float("inf")
+        self.stop_request = stop  # a signal asked the run to end: stop waiting
         self._deadline = float("inf")  # lockstep: when the awaited step's time-out ends
         self._received = [float("-inf")] * robots  # wall time of each robot's last command
+        self.now = 0.0  # simulated time of the last step published (the bridge sets it)
+        self._received_sim = [float("-inf")] * robots  # ... and its simulated time
         self._ready = threading.Condition()
         self._awaited = [-1] * robots  # lockstep: the step each robot must answer, -1: none
         self._answer: list[Command | None] = [None] * robots
@@ -87,7 +97,9 @@ class Inbox:
         ``timeout`` seconds from now.
         """
         with self._ready:
-            self._deadline = time.monotonic() + self.timeout
+            now = time.monotonic()
+            self._deadline = now + self.timeout
+            self._grace_end = now + self.grace if self.grace is not None else float("inf")
             for robot in robots:
                 self._awaited[robot] = step
                 self._answer[robot] = None
@@ -98,6 +110,7 @@ class Inbox:
             if not 0 <= robot < len(self._latest):
                 return
             self._received[robot] = time.monotonic()
+            self._received_sim[robot] = self.now
             if not self.lockstep:
                 self._latest[robot] = command
                 return
@@ -121,6 +134,7 @@ class Inbox:
             if not 0 <= robot < len(self._latest):
                 return
             self._received[robot] = time.monotonic()  # the node is alive, if confused
+            self._received_sim[robot] = self.now
             self._notes[robot].append(f"{problem}; holding the last reference")
             if self.lockstep and self._awaited[robot] >= 0 and self._answer[robot] is None:
                 self._answer[robot] = HOLD
@@ -136,12 +150,25 @@ class Inbox:
         with self._ready:
             if self.lockstep:
                 while self._answer[robot] is None or self._awaited[robot] != step:
-                    left = self._deadline - time.monotonic()
+                    if self.stop_request is not None and self.stop_request.requested:
+                        self._answer[robot] = HOLD  # the run ends after this step
+                        break
+                    now = time.monotonic()
+                    if now >= self._grace_end and now - self._received[robot] <= self.timeout:
+                        # its node is alive but skipped this step: the robot holds its
+                        # references instead of stalling the world
+                        self._notes[robot].append(
+                            f"no command within the grace ({self.grace:g} s, --grace); "
+                            "holding the last reference")
+                        self._answer[robot] = HOLD
+                        break
+                    left = self._deadline - now
                     if left <= 0:
                         waiting = tuple(i for i, awaited in enumerate(self._awaited)
                                         if awaited == step and self._answer[i] is None)
                         raise LockstepTimeout(f"robot {robot}", waiting or (robot,))
-                    self._ready.wait(left)
+                    # bounded: a signal handler only sets a flag, it cannot notify us
+                    self._ready.wait(min(left, POLL, max(self._grace_end - now, 0.001)))
                 command = self._answer[robot]
                 self._awaited[robot] = -1  # later commands until the next expect are surplus
             else:
@@ -153,6 +180,12 @@ class Inbox:
         """Wall seconds since the robot's last message (``inf``: none yet)."""
         with self._ready:
             return time.monotonic() - self._received[robot]
+
+    def sim_silence(self, robot: int, seconds: float) -> float:
+        """Simulated seconds from the robot's last message to ``seconds`` (``inf``: none
+        yet): a paused run's clock stands still, and so does this."""
+        with self._ready:
+            return seconds - self._received_sim[robot]
 
     def stop(self) -> None:
         """Nothing is awaited any more (the run has ended)."""

@@ -5,6 +5,8 @@ Writes ``DIR/mimics_launch/`` (a ROS package, so put ``DIR`` on
 
     package.xml            the package's manifest
     launch/mimics.launch   master (roslaunch's), ``mimics ros SCENARIO ARGS`` and RViz
+                           (SCENARIO, ARGS: what it was written for, or roslaunch's
+                           ``scenario:=``, ``args:=``)
     rviz/mimics.rviz       RViz: /map, each robot's /robot_i/scan, tf, /mimics/markers
     scripts/mimics_ros     the executable roslaunch runs: ``mimics ros`` of this install
 
@@ -26,6 +28,7 @@ import sys
 from importlib import resources
 from pathlib import Path
 from typing import Any
+from xml.sax.saxutils import escape as xml_escape
 
 import yaml
 
@@ -34,6 +37,7 @@ from mimics.world.errors import MimicsError
 
 PACKAGE = "mimics_launch"
 SCAN_DISPLAY = "Scan robot_0"  # the RViz display repeated for every robot
+_QUOTES = {'"': "&quot;"}  # the values go into XML attributes
 
 
 def _template(name: str) -> str:
@@ -60,17 +64,31 @@ def rviz_config(robots: int, names: str = "mimics") -> str:
     return header + yaml.safe_dump(config, sort_keys=False)
 
 
-def ros_files(robots: int, names: str = "mimics") -> dict[str, str]:
+def launch_file(robots: int, names: str = "mimics", scenario: str = "line") -> str:
+    """The launch file, its ``scenario`` and ``args`` defaulting to what it was written for
+    (``--robots N --names SET``); the node is ``/stageros`` under the stage names, as
+    stage_ros' launch files have it."""
+    node = "stageros" if check_name_set(names, "--names") == "stage" else "mimics"
+    arguments = f"--robots {robots} --names {names}"
+    return (_template("mimics.launch").replace("@SCENARIO@", xml_escape(scenario, _QUOTES))
+            .replace("@ARGS@", xml_escape(arguments, _QUOTES)).replace("@NODE@", node))
+
+
+def ros_files(robots: int, names: str = "mimics", scenario: str = "line") -> dict[str, str]:
     """The package's files by path within it."""
     wrapper = _template("mimics_ros.sh").replace("@PYTHON@", shlex.quote(sys.executable))
     return {"package.xml": _template("package.xml"),
-            "launch/mimics.launch": _template("mimics.launch"),
+            "launch/mimics.launch": launch_file(robots, names, scenario),
             "rviz/mimics.rviz": rviz_config(robots, names),
             "scripts/mimics_ros": wrapper}
 
 
-def write_ros_files(out: Path, robots: int = 4, names: str = "mimics") -> list[Path]:
+def write_ros_files(out: Path, robots: int = 4, names: str = "mimics",
+                    scenario: str = "line") -> list[Path]:
     """Write the package into ``out/mimics_launch``; returns the files written.
+
+    The launch file runs ``scenario`` with ``--robots robots --names names``
+    unless roslaunch is given ``scenario:=`` or ``args:=``.
 
     ``out`` is created if need be, but not its parent folder; no file is replaced.
 
@@ -87,7 +105,9 @@ def write_ros_files(out: Path, robots: int = 4, names: str = "mimics") -> list[P
                           "first)")
     if out.exists() and not out.is_dir():
         raise MimicsError(f"{out}: is not a folder")
-    files = ros_files(robots, names)
+    if not isinstance(scenario, str) or not scenario.strip():
+        raise MimicsError(f"--scenario: expected a scenario name or file, got {scenario!r}")
+    files = ros_files(robots, names, scenario)
     targets = {out / PACKAGE / name: text for name, text in files.items()}
     for target in targets:
         if target.exists():

@@ -14,7 +14,7 @@ Fail-safe rules applied here, each written to the robot's log (the run's
   turn rate beyond ``kw``) is clipped to them; the log says what was asked
   and what was applied (at most once per simulated second, with a count);
 * realtime: a robot whose last command is older than the watchdog
-  (``watchdog`` seconds of wall time, as stage_ros' ``base_watchdog_timeout``)
+  (``watchdog`` seconds of simulated time, as stage_ros' ``base_watchdog_timeout``)
   is stopped (speed 0, heading held) until commands come again; when nothing
   publishes its commands any more the log says its node has gone.
 """
@@ -89,13 +89,17 @@ class RosReferences:
         plural = "s" if len(waiting) > 1 else ""
         return (f"no command for t={seconds:g} s within {self.timeout:g} s{option} from "
                 f"{len(waiting)} robot{plural}: {robot_ranges(waiting)} (on "
-                f"{self.names.commands_text()}): has the controller node stopped?")
+                f"{self.names.commands_text()}): has the controller node stopped, or does "
+                "it answer only on a timer or after a message that has not come (a "
+                "rospy.Rate loop waits for /clock, which waits for it; teleop sends at its "
+                "own pace)? Lockstep wants one command per robot and step; such nodes run "
+                "in --realtime")
 
     def _silent(self, robot: Any) -> bool:
         """Realtime: whether the robot's commands have ceased; it is then stopped (once)."""
         i = robot.id
-        silence = self.inbox.silence(i)
-        if silence <= self.watchdog or math.isinf(silence):  # inf: no command yet, standing
+        silence = self.inbox.sim_silence(i, float(robot.time))
+        if silence <= self.watchdog + 1e-9 or math.isinf(silence):  # inf: no command yet, standing
             if self._stopped[i]:
                 self._stopped[i] = self._gone[i] = False
                 robot.log("commands again: the watchdog releases the robot")

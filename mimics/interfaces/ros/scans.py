@@ -42,7 +42,8 @@ class ScanPublisher:
             publisher.publish(scan_message(
                 self.names.laser_frame(i), state.time, state.scan[i, :beams],
                 state.scan_hit[i, :beams] != -2, types.beam_offsets[i, :beams],
-                float(types.max_range[i]), sim.scenario.settings.dt))
+                float(types.max_range[i]), sim.scenario.settings.dt,
+                no_return_at_max=self.names.stage))  # stage_ros: range_max, not inf
 
     def close(self) -> None:
         """Withdraw the topics."""

@@ -18,6 +18,9 @@ service            what it does
                    after publishing its step 0. Answers with the new folder.
 ================== ==========================================================================
 
+Under the ``stage`` names, stage_ros' ``reset_positions`` (``std_srvs/Empty``)
+is also advertised and does what ``/mimics/reset`` does.
+
 :class:`RunControl` is the state the services and the run's thread share;
 the bridge calls :meth:`RunControl.gate` before publishing each step.
 """
@@ -29,7 +32,9 @@ import time as wall
 from pathlib import Path
 
 import rospy
-from std_srvs.srv import Trigger, TriggerResponse
+from std_srvs.srv import Empty, EmptyResponse, Trigger, TriggerResponse
+
+from mimics.interfaces.ros.stopping import POLL, StopRequest
 
 SERVICES = ("pause", "resume", "step", "reset")
 
@@ -53,6 +58,7 @@ class RunControl:
         self._ended = False
         self._restarts = 0  # runs started by a reset
         self.folder: Path | None = None  # the current run's folder
+        self.stop_request: StopRequest | None = None  # a signal ends a paused run too
 
     # -- the run's side --------------------------------------------------------
 
@@ -65,9 +71,11 @@ class RunControl:
         with self._changed:
             start = wall.monotonic()
             while self._paused and self._steps == 0 and not self._reset:
+                if self.stop_request is not None and self.stop_request.requested:
+                    break
                 self._held_at = self._published
                 self._changed.notify_all()
-                self._changed.wait()
+                self._changed.wait(POLL)  # bounded: a signal handler cannot notify
             self._held_at = None
             if self._steps > 0:
                 self._steps -= 1
@@ -168,17 +176,30 @@ def _held_text(verb: str, step: int, seconds: float) -> str:
 
 
 class RunServices:
-    """Advertises ``/mimics/pause``, ``resume``, ``step`` and ``reset`` for ``control``."""
+    """Advertises ``/mimics/pause``, ``resume``, ``step`` and ``reset`` for ``control``;
+    with ``reset_positions``, also stage_ros' ``reset_positions`` (``std_srvs/Empty``, in
+    the node's namespace), which does what ``/mimics/reset`` does."""
 
-    def __init__(self, control: RunControl) -> None:
+    def __init__(self, control: RunControl, reset_positions: bool = False) -> None:
         self._services = [
             rospy.Service(f"/mimics/{name}", Trigger, _handler(getattr(control, name)))
             for name in SERVICES]
+        if reset_positions:
+            self._services.append(rospy.Service("reset_positions", Empty,
+                                                _empty_handler(control.reset)))
 
     def close(self) -> None:
         """Withdraw the services."""
         for service in self._services:
             service.shutdown("the run has ended")
+
+
+def _empty_handler(action):  # type: ignore[no-untyped-def]
+    def handle(_request: object) -> EmptyResponse:
+        _success, message = action()
+        rospy.loginfo(f"reset_positions: {message}")
+        return EmptyResponse()
+    return handle
 
 
 def _handler(action):  # type: ignore[no-untyped-def]

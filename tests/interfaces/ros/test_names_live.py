@@ -85,7 +85,8 @@ def run_with_node(env: dict, tmp_path: Path, node_args: list[str], *bridge_args:
 def test_a_stage_users_node_drives_three_robots_and_finds_the_frames(ros_env, tmp_path):
     messages, folder = run_with_node(
         ros_env, tmp_path, ["--robots", "3", "--names", "stage", "--goals", "3,1;3,2;3,3"],
-        "line", "--robots", "3", "--param", "distance=3", "--names", "stage", "--time", "15")
+        "line", "--robots", "3", "--param", "distance=3", "--names", "stage", "--lockstep",
+        "--time", "15")
     summary = json.loads((folder / "summary.json").read_text())
     assert summary["reached_goal"] == 3 and summary["ros"]["names"] == "stage"
     recorded = trajectory(folder)
@@ -135,7 +136,7 @@ def test_one_robot_has_no_prefix_and_its_odometry_is_the_unicycles(ros_env, tmp_
     messages, folder = run_with_node(
         ros_env, tmp_path, ["--robots", "1", "--names", "stage", "--twist", f"{speed},{rate}"],
         "line", "--robots", "1", "--param", "random_yaw=false", "--param", "noise=off",
-        "--param", "distance=30", "--names", "stage", "--time", "10")
+        "--param", "distance=30", "--names", "stage", "--lockstep", "--time", "10")
     odom = messages[messages.kind == "odom"].sort_values("step")
     assert set(odom.frame) == {"odom"} and set(odom.child) == {"base_footprint"}
     assert set(messages[messages.kind == "scan"].frame) == {"base_laser_link"}
@@ -229,8 +230,8 @@ def subprocess_mimics(*args: str):
 def test_no_node_names_the_topics_of_the_name_set(ros_env, tmp_path):
     from tests.interfaces.ros.helpers import mimics_ros
 
-    done = mimics_ros(ros_env, "line", "--robots", "1", "--names", "stage", "--timeout", "0.5",
-                      "--out", str(tmp_path / "run"))
+    done = mimics_ros(ros_env, "line", "--robots", "1", "--names", "stage", "--lockstep",
+                      "--timeout", "0.5", "--out", str(tmp_path / "run"))
     assert done.returncode == 2
     assert ("no controller node for robot 0 within 0.5 s (--timeout sets it) (nothing "
             "subscribes to /odom (or its other topics) or publishes on /cmd_vel; 1 robot "

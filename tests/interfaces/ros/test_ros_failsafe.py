@@ -32,7 +32,8 @@ def test_a_dead_node_ends_a_20_robot_lockstep_run_within_one_time_out(ros_env, t
     node = [SYSTEM_PYTHON, FAILSAFE, "--mode", "die", "--robots", "20", "--at", "1.0"]
     # facing their goals, so that no robot clips a neighbour and leaves before t=1 s
     bridge, output = with_node(ros_env, node, "line", "--robots", "20", "--param",
-                               "random_yaw=false", "--timeout", str(timeout), "--out",
+                               "random_yaw=false", "--timeout", str(timeout),
+                               "--strict-lockstep", "--out",
                                str(folder), "--robot-logs", "off")
     ended = time.time()
     assert bridge.returncode == 1, bridge.stderr + output

@@ -129,6 +129,11 @@ def test_scan_has_the_rangers_angles_and_inf_for_no_return(convert):
     assert message.range_max == 30.0
     assert message.ranges[10] == 4.25
     assert sum(math.isinf(r) for r in message.ranges) == 269
+    # stage_ros' habit (the stage names): no return reads range_max, returns unchanged
+    staged = convert.scan_message("base_laser_link", 0.1, ranges, hit, offsets, 30.0, 0.1,
+                                  no_return_at_max=True)
+    assert staged.ranges[10] == 4.25
+    assert [r for k, r in enumerate(staged.ranges) if k != 10] == [30.0] * 269
 
 
 def test_grid_message_is_row_major_from_the_lower_left_corner(convert):

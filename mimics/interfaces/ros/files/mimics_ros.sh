@@ -1,12 +1,5 @@
 #!/bin/sh
-# roslaunch's way into `mimics ros`: drops the arguments roslaunch adds to every node
-# (__name:=..., __log:=...), which mimics does not take, and runs the mimics that wrote
-# this file (`mimics ros-files`).
-for arg do
-  shift
-  case "$arg" in
-    __*:=*) ;;
-    *) set -- "$@" "$arg" ;;
-  esac
-done
+# roslaunch's way into `mimics ros` of the mimics that wrote this file (`mimics ros-files`).
+# The arguments roslaunch adds (__name:=..., __log:=..., remaps from <remap>) are passed
+# on: mimics honours them as a rospy node does.
 exec @PYTHON@ -m mimics ros "$@"
