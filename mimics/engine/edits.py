@@ -18,6 +18,11 @@ ranger's scan and the positioning of this step are taken again (the same
 noise: it is keyed by step), the robots' index and, for walls, the walls'
 grids are rebuilt.
 
+A run ended from outside at a step boundary (``WorldEdits.end``: the
+workbench's Stop, a wall limit that passed while paused) joins that timeline
+too, as an ``end`` edit: the recorded scenario then re-runs to the same end,
+status and digest included, rather than to its time limit.
+
 >>> from mimics.algorithms import go_to_goal
 >>> from mimics.scenarios.line import scenario
 >>> from mimics.engine.simulation import Simulation
@@ -46,6 +51,7 @@ from mimics.engine.sensors import measure_positioning
 from mimics.engine.spatial_index import as_segments, build_segment_grid
 from mimics.engine.state import Status
 from mimics.world.edits import (
+    END_STATUSES,
     REMOVE_REACH,
     Edit,
     EditError,
@@ -135,6 +141,9 @@ class WorldEdits:
         if self.status != "running":
             raise EditError(f"edit: the run has ended ({self.status}); nothing to edit")
         edit = edit.at_step(self.state.step)
+        if edit.kind == "end":
+            self.end(edit.status or "stopped")
+            return AppliedEdit(edit, self.state.time)
         applied = self._apply_edit(edit, "edit")
         timeline = list(self.scenario.edits)
         timeline.insert(self._applied_edits, applied.edit)  # before those still to come
@@ -143,15 +152,55 @@ class WorldEdits:
         self._after_edits()
         return applied
 
+    def end(self, status: str = "stopped") -> None:
+        """End the run now, at this step boundary, with ``status`` (``stopped`` or
+        ``wall_limit``; observers' ``on_end`` are called), and record the end in the run's
+        timeline of edits (:meth:`record_end`). Nothing happens once the run has ended.
+
+        Raises:
+            EditError: for another status.
+        """
+        if status not in END_STATUSES:
+            raise EditError(f"end: expected a status of {', '.join(END_STATUSES)}, got "
+                            f"{status!r}")
+        if not self._started:  # type: ignore[attr-defined]
+            self.start()  # type: ignore[attr-defined]
+        if self.status != "running":
+            return
+        self.status = status
+        self.record_end()
+        self._check_end()  # type: ignore[attr-defined]
+
+    def record_end(self) -> None:
+        """Add the run's end (its step and status) to its timeline of edits
+        (``scenario.edits``), so that the scenario re-runs to the same end: for an end the
+        engine does not reach by itself (``stopped`` from outside, ``wall_limit``). Once
+        only; an end the timeline already holds (a re-run) is not added again."""
+        if self.status not in END_STATUSES:
+            return
+        timeline = list(self.scenario.edits)
+        done = timeline[:self._applied_edits]
+        if done and done[-1].kind == "end":
+            return
+        timeline.insert(self._applied_edits, Edit("end", self.state.step, status=self.status))
+        self._applied_edits += 1
+        self.scenario = replace(self.scenario, edits=tuple(timeline))
+
     def _apply_due_edits(self) -> bool:
         """Apply the scenario's edits due at this step (a refused one becomes an
-        ``edit_refused`` event); returns False if the run ended (no robot left)."""
+        ``edit_refused`` event); returns False if the run ended (no robot left, or an
+        ``end`` edit)."""
         edits = self.scenario.edits
         step = self.state.step
         changed = False
         while self._applied_edits < len(edits) and edits[self._applied_edits].step <= step:
             edit = edits[self._applied_edits]
             self._applied_edits += 1
+            if edit.kind == "end":  # a recorded end: the run ends as it did
+                if changed and not self._after_edits():
+                    return False  # an edit before it removed the last robot
+                self.status = edit.status or "stopped"
+                return self._check_end()  # type: ignore[attr-defined,no-any-return]
             try:
                 self._apply_edit(edit.at_step(step), f"edits[{self._applied_edits - 1}]")
             except EditError as refusal:

@@ -143,6 +143,9 @@ class Simulation(RobotDeactivations, WorldEdits):
         self._pose_crc = 0  # CRC-32 of every step's poses so far (run_digest)
         self._compile_start = 0.0
         self.compile_time = 0.0  # s of kernel compiles during the run, left out of wall_time
+        # s the run waited between steps for whoever drives it (a live run's pacing and
+        # pauses: mimics.interfaces.stepper), left out of wall_time, not of the wall limit
+        self.waited = 0.0
 
     # -- public API ---------------------------------------------------------
 
@@ -362,6 +365,11 @@ class Simulation(RobotDeactivations, WorldEdits):
             self.error = f"stop_when raised {type(exc).__name__}: {exc}"
             return False
 
+    def elapsed(self) -> float:
+        """Wall seconds since the run started, compiles left out and waits included (what
+        the wall limit counts); 0 before the start."""
+        return self._elapsed() if self._started else 0.0
+
     def _elapsed(self) -> float:
         """Wall seconds of the run so far, compiles (under way too) left out."""
         return (time.perf_counter() - self._wall_start
@@ -381,13 +389,14 @@ class Simulation(RobotDeactivations, WorldEdits):
         """Apply the end criteria; returns True while the run goes on."""
         state = self.state
         self.compile_time = compile_seconds() - self._compile_start
-        self.wall_time = time.perf_counter() - self._wall_start - self.compile_time
+        elapsed = time.perf_counter() - self._wall_start - self.compile_time
+        self.wall_time = elapsed - self.waited
         if self.status == "running":
             if not np.count_nonzero(state.active):
                 self.status = "completed"
             elif state.step >= self.max_steps:
                 self.status = "time_limit"
-            elif self.wall_limit is not None and self.wall_time >= self.wall_limit:
+            elif self.wall_limit is not None and elapsed >= self.wall_limit:
                 self.status = "wall_limit"
             elif self.stop_when is not None and self._user_wants_stop():
                 self.status = "stopped"

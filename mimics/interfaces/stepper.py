@@ -6,8 +6,10 @@ notebook widget, the workbench) stays responsive. While playing it keeps the
 simulated time at ``speed`` simulated seconds per wall second (``math.inf``:
 as fast as the machine goes), and calls ``on_frame(sim)`` from its thread at
 most ``fps`` times per wall second, once after every single step taken while
-paused, and once at the end. Stop ends the run at the next step with the
-status ``"stopped"`` (observers see ``on_end`` as for any run).
+paused, and once at the end. Stop ends the run where it is, at the step
+boundary it comes to (no step more), with the status ``"stopped"``
+(``Simulation.end``: observers see ``on_end`` as for any run, and the end joins
+the scenario's edits, so the run's record re-runs to the same end).
 
 >>> from mimics.records.runner import prepare
 >>> sim = prepare("line", "go_to_goal", robots=2, time=1.0, seed=1)
@@ -95,12 +97,9 @@ class SimulationStepper:
         self.error: BaseException | None = None
         self._wake = threading.Condition()
         self._steps_asked = 0  # single steps asked while paused
-        self._stop_asked = False
+        self._ending: str | None = None  # the status a Stop asked the run to end with
         self._closed = False
         self._edits: list[_EditRequest] = []  # asked, not yet applied
-        user_stop = sim.stop_when
-        # Stop ends the run through the engine's own criterion: status "stopped"
-        sim.stop_when = lambda s: self._stop_asked or bool(user_stop and user_stop(s))
         self._thread = threading.Thread(target=self._loop, name="mimics-stepper", daemon=True)
         self._thread.start()
 
@@ -123,10 +122,13 @@ class SimulationStepper:
             self._steps_asked += 1
             self._wake.notify_all()
 
-    def stop(self) -> None:
-        """End the run at the next step (status ``"stopped"``)."""
+    def stop(self, status: str = "stopped") -> None:
+        """End the run at the step boundary it comes to, without another step, with
+        ``status`` (``"stopped"``; ``"wall_limit"`` for a wall limit that passed while
+        paused); the first Stop's status holds."""
         with self._wake:
-            self._stop_asked = True
+            if self._ending is None:
+                self._ending = status
             self._wake.notify_all()
 
     def set_speed(self, speed: float) -> None:
@@ -214,6 +216,9 @@ class SimulationStepper:
         sim = self.sim
         try:
             sim.start()
+            # the gaps between the engine's calls (pacing, pauses, frames) are the run's
+            # waits, not its wall time (Simulation.waited)
+            engine_left = time.perf_counter()
             self.on_frame(sim)
             anchor: tuple[float, float] | None = None  # (wall, sim time) when pacing began
             last_frame = 0.0
@@ -222,7 +227,7 @@ class SimulationStepper:
                     continue  # the edits may have ended the run, or more came
                 with self._wake:
                     while (self.state == "paused" and not self._steps_asked
-                           and not self._stop_asked and not self._closed
+                           and self._ending is None and not self._closed
                            and not self._edits):
                         anchor = None
                         self._wake.wait()
@@ -230,9 +235,15 @@ class SimulationStepper:
                         return
                     if self._edits:
                         continue
+                    ending = self._ending
                     single = self.state == "paused" and self._steps_asked > 0
                     speed = self.speed
+                sim.waited += time.perf_counter() - engine_left
+                if ending is not None:
+                    sim.end(ending)  # here, between steps: the end is recorded in its edits
+                    break
                 sim.step()
+                engine_left = time.perf_counter()
                 now = time.monotonic()
                 if single:
                     self.on_frame(sim)

@@ -12,7 +12,9 @@ time and wall limits, mimics version, creation time and uuid of the run, the
 map's source and the scenario's parameters (``[run.parameters]``). The edits of
 the world made during the run (``mimics.world.edits``: scheduled in the
 scenario, or made live) follow as ``[[edits]]`` tables, each with its step, in
-the order they were applied. Floats are
+the order they were applied; a run ended from outside (the workbench's Stop, a
+wall limit) ends them with an ``end`` edit, its step and status, so that
+``mimics run RUN/scenario.toml ALGO --seed S`` re-runs to the same end. Floats are
 written in their shortest exact form, so reading gives back the very same
 numbers; :func:`read_scenario_record` reads the file without re-checking the
 start state (a run may start with robots touching, deactivated at time 0).
@@ -79,10 +81,23 @@ def write_scenario_record(path: Path, scenario: Scenario, run: dict[str, Any]) -
               "# wall segments [x1, y1, x2, y2] (m)", "segments = ["]
     lines += [f"  {_numbers(s)}," for s in world.segments.tolist()]
     lines.append("]")
-    lines += edits_to_toml(scenario.edits)
+    lines += _edit_lines(scenario)
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text("\n".join(lines) + "\n")
     os.replace(tmp, path)
+
+
+def _edit_lines(scenario: Scenario) -> list[str]:
+    """The ``[[edits]]`` tables; a recorded end is introduced by a comment giving its time."""
+    lines: list[str] = []
+    for edit in scenario.edits:
+        table = edits_to_toml((edit,))
+        if edit.kind == "end":
+            seconds = edit.step * scenario.settings.dt  # the engine's own time of that step
+            table.insert(1, f"# the run ended here ({edit.status}, t = {seconds:g} s): a re-run "
+                            "of this file ends the same way")
+        lines += table
+    return lines
 
 
 def _robot_lines(scenario: Scenario, names: list[str]) -> list[str]:

@@ -118,8 +118,13 @@ def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str]]:
         rows.append(("simulated time", f"{s['sim_time']:.6g} s{steps}"))
     if "wall_time" in s:
         speed = s.get("sim_speed")
+        paced = s.get("paced_wall_time")  # a live run: its pacing and pauses apart
         rows.append(("wall time", f"{s['wall_time']:.3f} s"
-                     + (f" ({speed:.3g} s_sim/s)" if speed else "")))
+                     + (f" ({speed:.3g} s_sim/s)" if speed else "")
+                     + (" in the engine" if paced is not None else "")))
+        if paced is not None:
+            rows.append(("paced wall time", f"{paced:.3f} s from start to end, pacing and "
+                                            "pauses included"))
     timing = s.get("user_code_time")
     if timing and timing.get("calls"):
         rows.append(("user code per call", f"mean {_seconds(timing['mean'])}, p95 "

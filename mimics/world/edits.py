@@ -20,6 +20,9 @@ kind             fields
                  [x, y]`` (the wall nearest that point, within ``REMOVE_REACH``)
 ``set_goal``     ``robot``, ``x``, ``y``
 ``remove_robot`` ``robot``
+``end``          ``status`` (``stopped`` or ``wall_limit``): the run ends there
+                 with that status, as a live run that was stopped (or whose wall
+                 limit passed) ended: its record re-runs to the same end
 ================ ==============================================================
 
 Every kind also takes ``step`` (a whole number >= 0, default 0).
@@ -47,7 +50,9 @@ import numpy as np
 from mimics.world.errors import MimicsError, ScenarioError
 from mimics.world.limits import MAX_ROBOTS, MAX_STEPS, check_coordinates
 
-EDIT_KINDS = ("move_robot", "add_wall", "remove_wall", "set_goal", "remove_robot")
+EDIT_KINDS = ("move_robot", "add_wall", "remove_wall", "set_goal", "remove_robot", "end")
+#: How a recorded ``end`` ends the run (the ends the engine does not reach by itself).
+END_STATUSES = ("stopped", "wall_limit")
 #: The fields each kind takes besides ``kind`` and ``step``: (required, optional).
 KIND_FIELDS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "move_robot": (("robot", "x", "y"), ("yaw",)),
@@ -55,6 +60,7 @@ KIND_FIELDS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "remove_wall": ((), ("wall", "at")),
     "set_goal": (("robot", "x", "y"), ()),
     "remove_robot": (("robot",), ()),
+    "end": (("status",), ()),
 }
 #: ``remove_wall`` with ``at``: the nearest wall must be at most this far from the point (m).
 REMOVE_REACH = 1.0
@@ -79,6 +85,7 @@ class Edit:
         rectangle: ``add_wall``'s rectangle ``(xmin, ymin, xmax, ymax)``.
         wall: ``remove_wall``'s index in the current wall list.
         at: ``remove_wall``'s point, near the wall to remove.
+        status: ``end``'s status (one of ``END_STATUSES``).
     """
 
     kind: str
@@ -91,6 +98,7 @@ class Edit:
     rectangle: tuple[float, float, float, float] | None = None
     wall: int | None = None
     at: tuple[float, float] | None = None
+    status: str | None = None
 
     def wall_segments(self) -> np.ndarray:
         """``add_wall``'s walls, ``(k, 4)``: the segment, or the rectangle's four sides
@@ -111,7 +119,8 @@ class Edit:
         """The edit as plain data (what ``edit_from_dict`` reads back): ``step``,
         ``kind``, then the fields set, in the table's order."""
         data: dict[str, Any] = {"step": self.step, "kind": self.kind}
-        for name in ("robot", "x", "y", "yaw", "segment", "rectangle", "wall", "at"):
+        for name in ("robot", "x", "y", "yaw", "segment", "rectangle", "wall", "at",
+                     "status"):
             value = getattr(self, name)
             if value is not None:
                 data[name] = list(value) if isinstance(value, tuple) else value
@@ -127,6 +136,8 @@ class Edit:
             return f"set robot {self.robot}'s goal to ({self.x:g}, {self.y:g})"
         if kind == "remove_robot":
             return f"remove robot {self.robot}"
+        if kind == "end":
+            return f"end the run ({self.status})"
         if kind == "add_wall":
             shape, values = (("segment", self.segment) if self.segment is not None
                              else ("rectangle", self.rectangle))
@@ -146,7 +157,7 @@ def edit_from_dict(data: Mapping[str, Any], where: str = "edit", *,
         where: what names the edit in errors (``edit``, ``file.toml, line 12: edits[0]``).
         default_step: the step when ``data`` gives none.
         bounds: the map's bounds, when known: walls and points are then checked to lie
-            within them plus a margin (:func:`check_edit_coordinates`).
+            within them plus a margin (``check_edit_coordinates``).
 
     Raises:
         EditError: ``{where}.{field}: expected ..., got ...`` for the first mistake.
@@ -195,6 +206,11 @@ def edit_from_dict(data: Mapping[str, Any], where: str = "edit", *,
         fields["wall"] = _whole(data["wall"], f"{where}.wall", MAX_WALL_INDEX)
     if "at" in data:
         fields["at"] = _numbers(data["at"], f"{where}.at", 2, "[x, y]")
+    if "status" in data:
+        if data["status"] not in END_STATUSES:
+            raise EditError(f"{where}.status: expected one of {', '.join(END_STATUSES)}, got "
+                            f"{data['status']!r}")
+        fields["status"] = data["status"]
     edit = Edit(kind=kind, step=step, **fields)
     if bounds is not None:
         check_edit_coordinates(edit, bounds, where)

@@ -53,9 +53,10 @@ def test_the_record_gives_back_the_same_scenario(tmp_path: Path) -> None:
 
 def test_the_robot_lines_byte_for_byte(tmp_path: Path) -> None:
     """The robots' lines as written by hand: shortest exact floats, -0.0 kept, a goal only
-    for a robot that has one (the fast writer must not change a byte of the record)."""
+    for a robot that has one (the fast writer must not change a byte of the record); starts
+    far past any map (1e16) are refused by the Scenario itself."""
     original = Scenario(map=Map.box(5.0, 5.0), types=(PROBE, SMALL), type_index=[1, 0],
-                        stages=[[0.1 + 0.2, 1e-7, -0.0, 2.0], [4.0, 1e16, math.pi, 0.0]],
+                        stages=[[0.1 + 0.2, 1e-7, -0.0, 2.0], [4.0, 2.5e-05, math.pi, 0.0]],
                         goals=[[np.nan, np.nan], [1 / 3, 2.5]])
     write_scenario_record(tmp_path / "s.toml", original, {})
     lines = (tmp_path / "s.toml").read_text().splitlines()
@@ -63,7 +64,7 @@ def test_the_robot_lines_byte_for_byte(tmp_path: Path) -> None:
     assert lines[start + 1:start + 4] == [
         f'  {{ type = "{SMALL.name}", x = 0.30000000000000004, y = 1e-07, yaw = -0.0, '
         "v = 2.0 },",
-        f'  {{ type = "{PROBE.name}", x = 4.0, y = 1e+16, yaw = 3.141592653589793, v = 0.0, '
+        f'  {{ type = "{PROBE.name}", x = 4.0, y = 2.5e-05, yaw = 3.141592653589793, v = 0.0, '
         "goal = [0.3333333333333333, 2.5] },",
         "]"]
 

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 
 from mimics.world.edits import (
     EDIT_KINDS,
+    END_STATUSES,
     Edit,
     EditError,
     edit_from_dict,
@@ -28,7 +29,7 @@ from mimics.world.scenario_writer import edits_to_toml
 
 @pytest.mark.parametrize(("data", "message"), [
     ({"kind": "teleport"}, "edit.kind: expected one of move_robot, add_wall, remove_wall, "
-                           "set_goal, remove_robot, got 'teleport'"),
+                           "set_goal, remove_robot, end, got 'teleport'"),
     ({"robot": 1}, "edit.kind: expected one of"),
     ({"kind": "move_robot", "robot": 0, "x": "abc", "y": 1.0}, "edit.x: expected a number, "
                                                               "got 'abc'"),
@@ -89,6 +90,8 @@ def edits(draw: st.DrawFn) -> Edit:
         return Edit(kind, step, robot=draw(st.integers(0, 9)), x=draw(numbers), y=draw(numbers))
     if kind == "remove_robot":
         return Edit(kind, step, robot=draw(st.integers(0, 9)))
+    if kind == "end":
+        return Edit(kind, step, status=draw(st.sampled_from(END_STATUSES)))
     if kind == "remove_wall":
         if draw(st.booleans()):
             return Edit(kind, step, wall=draw(st.integers(0, 99)))

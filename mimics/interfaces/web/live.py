@@ -7,7 +7,8 @@ The page watches it over the WebSocket ``/api/live/{id}/stream``, which sends:
 * text messages, JSON: ``{"type": "meta", ...}`` (map, goals, robot sizes,
   colours, ``dt``; again whenever an edit changes walls or goals) and
   ``{"type": "state", ...}`` (what ``GET /api/live/{id}`` returns) when the
-  state, speed or error change;
+  state, speed or error change; ``{"type": "moved", "robot": i, "step": s}`` when an
+  edit moved robot ``i`` (before the frame that shows it: the page breaks its trail);
 * binary messages: one frame each, in the replay's layout
   (:mod:`mimics.interfaces.web.live_frames`, T = 1): the latest frame when the
   page is ready for one, so a slow page skips frames and slows nobody.
@@ -50,6 +51,11 @@ from mimics.world.limits import MAX_SEED
 router = APIRouter(prefix="/api/live", tags=["live"])
 SPEED_RANGE = (0.1, 100.0)  # factors of real time the page offers
 EDIT_KINDS = ("move_robot", "add_wall", "remove_wall", "set_goal", "remove_robot")
+#: Decimals an edit's numbers are rounded to: positions to the millimetre, headings to the
+#: milliradian (0.057 degrees), so that scenario.toml records what was meant
+#: (``x = 2.0``, not the screen's ``2.0000003317128052``) and reads back exactly.
+POSITION_DECIMALS = 3
+HEADING_DECIMALS = 3
 
 
 class LiveBody(StrictBody):
@@ -179,6 +185,31 @@ def list_live(request: Request) -> dict[str, Any]:
     return {"live": [described(workspace, r) for r in runs_of(request).all()]}
 
 
+def rounded_edit(body: dict[str, Any]) -> dict[str, Any]:
+    """``body`` with its positions (``x``, ``y``, ``segment``, ``rectangle``, ``at``)
+    rounded to :data:`POSITION_DECIMALS` and ``yaw`` to :data:`HEADING_DECIMALS`; what
+    is not a finite number is left for the edit's reader to refuse by name.
+
+    >>> rounded_edit({"kind": "move_robot", "robot": 0, "x": 2.0000003317128052,
+    ...               "y": -0.01124771, "yaw": 1.5707963})
+    {'kind': 'move_robot', 'robot': 0, 'x': 2.0, 'y': -0.011, 'yaw': 1.571}
+    """
+    def rounded(value: Any, decimals: int) -> Any:
+        if isinstance(value, float) and math.isfinite(value):
+            return round(value, decimals) + 0.0  # (+ 0.0: no -0.0 in the record)
+        return value
+
+    out = dict(body)
+    for name in ("x", "y", "yaw"):
+        if name in out:
+            out[name] = rounded(out[name], HEADING_DECIMALS if name == "yaw"
+                                else POSITION_DECIMALS)
+    for name in ("segment", "rectangle", "at"):
+        if isinstance(out.get(name), list):
+            out[name] = [rounded(v, POSITION_DECIMALS) for v in out[name]]
+    return out
+
+
 def _run(request: Request, run_id: int) -> LiveRun:
     try:
         return runs_of(request).get(run_id)
@@ -214,7 +245,8 @@ def get_robot(request: Request, run_id: int, robot: int) -> dict[str, Any]:
     """Robot ``robot`` now, for the inspector: ``id``, ``type``, ``state``, ``time``, ``x``,
     ``y``, ``yaw``, ``v``, ``w``, ``vRef``, ``headingRef``, ``goal``, and ``lines``: its
     events so far (its per-robot log is written when the run ends), the last 2,000,
-    ``skipped`` counting those left out."""
+    ``skipped`` counting those left out. Once the run has ended: as last seen, with
+    ``final`` true (a request in flight at the end is answered, not refused)."""
     try:
         return _run(request, run_id).robot(robot)
     except LiveRefused as exc:
@@ -228,7 +260,8 @@ def get_beams(request: Request, run_id: int, robot: int | None = None,
     robot's, as the engine sensed them (the ranges the algorithm reads, noise included):
     ``segments`` ``[x0, y0, x1, y1]`` from each robot's pose now, ``every`` (each robot's
     every k-th beam, so that at most 60,000 come), ``step`` and ``time``. An inactive
-    robot or one without a ranger has none."""
+    robot or one without a ranger has none; nor has a run that has ended (``final``
+    true: the page keeps the beams it drew)."""
     if every_robot == (robot is not None):
         raise HTTPException(422, "beams: give either robot=N or all=true")
     try:
@@ -265,7 +298,11 @@ def step(request: Request, run_id: int) -> dict[str, Any]:
 
 @router.post("/{run_id}/stop", dependencies=[Depends(no_fields)])
 def stop(request: Request, run_id: int) -> dict[str, Any]:
-    """End the run at the next step (status ``stopped``); its folder is then complete."""
+    """End the run where it is, without another step (status ``stopped``, recorded in its
+    scenario.toml as its end, so that ``mimics run RUN/scenario.toml ALGO --seed S`` re-runs
+    it bit for bit). Answers once the run has ended and its folder is complete (state
+    ``finished``), or with the state ``stopping`` should its last step take a few seconds
+    more."""
     return _control(request, run_id, "stop")
 
 
@@ -279,13 +316,14 @@ def speed(request: Request, run_id: int, body: SpeedBody) -> dict[str, Any]:
 def edit(request: Request, run_id: int, body: dict[str, Any]) -> dict[str, Any]:
     """Apply an edit at the next step boundary (``kind``: move_robot, add_wall,
     remove_wall, set_goal, remove_robot, with its fields); returns the applied edit with
-    its step and time, or 422 with the one-line reason it was refused. Edits are recorded
-    in the run's events.parquet and scenario.toml."""
+    its step and time, or 422 with the one-line reason it was refused. Positions are
+    rounded to the millimetre and headings to the milliradian (:func:`rounded_edit`).
+    Edits are recorded in the run's events.parquet and scenario.toml."""
     if body.get("kind") not in EDIT_KINDS:
         raise HTTPException(422, f"edit kind {body.get('kind')!r}: expected one of "
                                  f"{', '.join(EDIT_KINDS)}")
     try:
-        return _run(request, run_id).edit(body)
+        return _run(request, run_id).edit(rounded_edit(body))
     except LiveRefused as exc:
         raise _refused(exc) from None
 
@@ -316,6 +354,7 @@ async def stream(websocket: WebSocket, run_id: int) -> None:
 
     reader = asyncio.create_task(until_closed())
     sent_meta = sent_frame = -1
+    sent_moves = 0
     sent_state: tuple[Any, ...] = ()
     try:
         while not closed.is_set():
@@ -331,6 +370,10 @@ async def stream(websocket: WebSocket, run_id: int) -> None:
             if key != sent_state:
                 sent_state = key
                 await websocket.send_text(json.dumps({"type": "state", **state}))
+            for robot, at_step in run.moves[sent_moves:]:  # before the frame that shows it
+                sent_moves += 1
+                await websocket.send_text(json.dumps({"type": "moved", "robot": robot,
+                                                      "step": at_step}))
             frame, version = run.frame, run.frame_version
             if frame is not None and version != sent_frame:
                 sent_frame = version

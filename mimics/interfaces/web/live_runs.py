@@ -8,6 +8,12 @@ the run (:meth:`LiveRun.watch`) are woken from that thread for each new frame;
 each page sends only the latest frame when it is ready for one, so a slow page
 drops frames instead of slowing the run or the other pages. Closing a page
 never stops the run.
+
+Stop answers once the run has ended (its state ``finished`` or ``error``), or,
+should its last step take longer than a few seconds, ``stopping``. The
+inspector's reads of a run that has just ended (``robot``, ``beams``) are
+answered from its final state rather than refused: a page's request in flight
+at the end is no error.
 """
 
 from __future__ import annotations
@@ -20,7 +26,10 @@ import threading
 import time
 from typing import Any
 
-from mimics.interfaces.web.live_worker import worker_main
+import numpy as np
+
+from mimics.interfaces.web.live_frames import STATE_NAMES
+from mimics.interfaces.web.live_worker import STOP_WAIT, worker_main
 
 #: Seconds a command may take in the worker (a Step waits for its step).
 COMMAND_TIMEOUT = 40.0
@@ -49,7 +58,8 @@ class LiveRun:
 
     Attributes:
         id: its number in this server.
-        state: ``starting``, ``running``, ``paused``, ``finished`` or ``error``.
+        state: ``starting``, ``running``, ``paused``, ``stopping`` (Stop asked, the last
+            step not done yet), ``finished`` or ``error``.
         step, time: the last step taken (from the worker's frames and answers).
         speed: simulated seconds per wall second (``inf``: as fast as possible).
         run: the run folder (real path), once the worker made it.
@@ -57,6 +67,7 @@ class LiveRun:
         error: one line when the run could not start or ended in error.
         meta: the map, goals, robot sizes and colours of the latest ``meta`` message.
         frame: the latest frame body (the replay's layout, one frame).
+        moves: ``(robot, step)`` of each move by an edit, in order (for the trails).
     """
 
     def __init__(self, run_id: int, request: dict[str, Any], label: dict[str, Any]) -> None:
@@ -73,11 +84,14 @@ class LiveRun:
         self.meta_version = 0
         self.frame: bytes | None = None
         self.frame_version = 0
+        self.moves: list[tuple[int, int]] = []  # (robot, step) of each robot an edit moved
         self.started = time.time()
         self._lock = threading.Lock()
         self._control_lock = threading.Lock()
         self._edit_lock = threading.Lock()
         self._ready = threading.Event()
+        self._ended = threading.Event()  # the worker's end came (or the worker died)
+        self._robots: dict[int, dict[str, Any]] = {}  # the inspector's last answer per robot
         self._watchers: set[tuple[asyncio.AbstractEventLoop, asyncio.Event]] = set()
         context = multiprocessing.get_context("spawn")
         self._control, control_end = context.Pipe()
@@ -112,6 +126,7 @@ class LiveRun:
                 self.error = self.error or (f"the live run's worker ended unexpectedly (exit "
                                             f"code {self.process.exitcode})")
         self._ready.set()
+        self._ended.set()
         self._notify()
 
     def _take(self, message: tuple[Any, ...]) -> None:
@@ -125,6 +140,8 @@ class LiveRun:
             elif kind == "meta":
                 self.meta = message[1]
                 self.meta_version += 1
+            elif kind == "moved":
+                self.moves.append((int(message[1]), int(message[2])))
             elif kind == "ready":
                 info = message[1]
                 self.run, self.meta, self.speed = info["run"], info["meta"], info["speed"]
@@ -140,6 +157,8 @@ class LiveRun:
                     else "finished"
         if kind in ("ready", "failed"):
             self._ready.set()
+        if kind == "end":
+            self._ended.set()
         self._notify()
 
     # -- watchers (pages) -----------------------------------------------------------------
@@ -173,46 +192,119 @@ class LiveRun:
     # -- commands ---------------------------------------------------------------------------
 
     def robot(self, i: int) -> dict[str, Any]:
-        """Robot ``i`` now (the inspector's fields and its events so far).
+        """Robot ``i`` now (the inspector's fields and its events so far); once the run
+        has ended, as last seen (``final``: true).
 
         Raises:
-            LiveRefused: as :meth:`command`; 422 when there is no robot ``i``.
+            LiveRefused: as :meth:`command` while the run starts; 422 when there is no
+                robot ``i``.
         """
-        return self._ask("robot", i)["robot"]
+        if not self._final():
+            try:
+                answer: dict[str, Any] = self._ask("robot", i)["robot"]
+            except LiveRefused as refusal:
+                if refusal.status != 409 or not self._final():
+                    raise
+            else:
+                self._robots[i] = answer
+                return answer
+        return self._final_robot(i)
 
     def beams(self, robot: int | None) -> dict[str, Any]:
         """The beams of robot ``robot``'s last scan (None: every active robot's), as the
-        worker's ``beams`` answers.
+        worker's ``beams`` answers; once the run has ended, none (``final``: true: the
+        page keeps those it drew).
 
         Raises:
-            LiveRefused: as :meth:`command`; 422 when there is no robot ``robot``.
+            LiveRefused: as :meth:`command` while the run starts; 422 when there is no
+                robot ``robot``.
         """
-        return self._ask("beams", "all" if robot is None else robot)["beams"]
+        if not self._final():
+            try:
+                beams: dict[str, Any] = self._ask("beams", "all" if robot is None
+                                                  else robot)["beams"]
+                return beams
+            except LiveRefused as refusal:
+                if refusal.status != 409 or not self._final():
+                    raise
+        self._check_robot(robot)
+        return {"segments": [], "every": 1, "step": self.step, "time": self.time,
+                "final": True}
+
+    def _final(self) -> bool:
+        """True once the run has ended or is ending (its worker answers no more reads)."""
+        return self.state in (*ENDED, "stopping") or self._ended.is_set()
+
+    def _check_robot(self, i: int | None) -> None:
+        robots = int(self.meta.get("robots", 0))
+        if i is not None and not 0 <= i < robots:
+            raise LiveRefused(422, f"robot {i}: the run has robots 0..{robots - 1}")
+
+    def _final_robot(self, i: int) -> dict[str, Any]:
+        """Robot ``i`` at the end: its last answer, else what the last frame shows."""
+        self._check_robot(i)
+        if i in self._robots:
+            return {**self._robots[i], "final": True}
+        frame = self.frame
+        if frame is None:
+            raise LiveRefused(409, f"live run {self.id} has ended ({self.status or self.state})")
+        robots = int(np.frombuffer(frame, "<u4", 1, 4)[0])
+        x, y, yaw = np.frombuffer(frame, "<f4", 3, 12 + 12 * i).tolist()
+        goal = (self.meta.get("goals") or [None] * robots)[i]
+        return {"id": i, "type": None, "state": STATE_NAMES[frame[12 + 12 * robots + i]],
+                "time": self.time, "x": x, "y": y, "yaw": yaw, "v": None, "w": None,
+                "vRef": None, "headingRef": None, "goal": goal, "lines": [], "skipped": 0,
+                "final": True}
 
     def command(self, name: str, argument: Any = None) -> dict[str, Any]:
         """Send ``play``, ``pause``, ``step``, ``stop`` or ``speed``; the run's state after.
+
+        Stop answers once the run has ended, or ``stopping`` after :data:`STOP_WAIT`.
 
         Raises:
             LiveRefused: 409 when the run has ended or not started, 504 when the
                 worker does not answer.
         """
+        if name == "stop":
+            return self._stop()
         answer = self._ask(name, argument)
+        self._take_answer(answer)
+        self._notify()
+        return self.as_dict()
+
+    def _take_answer(self, answer: dict[str, Any]) -> None:
         with self._lock:
-            if self.state not in ENDED:
+            if self.state not in (*ENDED, "stopping"):
                 self.state = {"playing": "running", "paused": "paused"}.get(answer["state"],
                                                                             self.state)
                 self.speed = answer["speed"]
-                if answer["step"] > self.step:
-                    self.step, self.time = answer["step"], answer["time"]
-        if name == "stop":
+            if answer["step"] > self.step:
+                self.step, self.time = answer["step"], answer["time"]
+
+    def _stop(self) -> dict[str, Any]:
+        with self._lock:
+            if self.state == "stopping":  # a second Stop: the first one's answer
+                ask = False
+            else:
+                self._check_going()
+                self.state, ask = "stopping", True
+        self._notify()
+        if ask:
+            try:
+                self._take_answer(self._ask("stop", None))
+            except LiveRefused as refusal:
+                if refusal.status != 409:  # (409: it ended meanwhile, as asked)
+                    raise
             threading.Thread(target=self._end_if_stuck, daemon=True).start()
+        self._ended.wait(STOP_WAIT + 1.0)  # the end comes on the stream, after the answer
         self._notify()
         return self.as_dict()
 
     def _ask(self, name: str, argument: Any) -> dict[str, Any]:
         """One command and the worker's answer (refusals raised)."""
         with self._control_lock:
-            self._check_going()
+            if name != "stop":
+                self._check_going()
             try:
                 self._control.send((name, argument))
                 if not self._control.poll(COMMAND_TIMEOUT):
@@ -250,6 +342,8 @@ class LiveRun:
     def _check_going(self) -> None:
         if self.state == "starting":
             raise LiveRefused(409, f"live run {self.id} is still starting")
+        if self.state == "stopping":
+            raise LiveRefused(409, f"live run {self.id} is stopping")
         if self.state in ENDED:
             raise LiveRefused(409, f"live run {self.id} has ended ({self.status or self.state})")
 

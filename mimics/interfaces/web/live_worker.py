@@ -19,7 +19,8 @@ It talks to the server over three pipes:
 * ``stream``: the worker sends ``("ready", info)`` or ``("failed", one line)``
   once, then ``("frame", step, time, body)`` (``body`` in the layout of
   :mod:`mimics.interfaces.web.live_frames`), ``("meta", dict)`` whenever the walls
-  or goals change, and ``("end", info)`` last.
+  or goals change, ``("moved", robot, step)`` when an edit moved a robot (the page
+  breaks its trail there), and ``("end", info)`` last.
 """
 
 from __future__ import annotations
@@ -45,6 +46,8 @@ POLL = 0.05
 ALL_BEAMS = 60_000
 #: Seconds a beams request waits for a step boundary before it is refused.
 BEAMS_WAIT = 5.0
+#: Seconds Stop waits for the run's end before it answers (the page then reads "stopping").
+STOP_WAIT = 5.0
 
 
 def worker_main(request: dict[str, Any], control: Connection, edits: Connection,
@@ -79,6 +82,20 @@ def worker_main(request: dict[str, Any], control: Connection, edits: Connection,
                fps=request["fps"], paused=request["paused"]).serve(control, edits)
 
 
+class LiveEnd:
+    """The first observer of a live run: at its end, before the recorder writes it, an end
+    a re-run would not reach by itself (Stop, the wall limit) joins the scenario's edits
+    (``Simulation.record_end``), and the summary gets ``paced_wall_time``: the run's wall
+    seconds with its pacing and pauses, beside ``wall_time``, the engine's own."""
+
+    def __init__(self, recorder: Any) -> None:
+        self.recorder = recorder
+
+    def on_end(self, sim: Any, result: Any) -> None:
+        sim.record_end()
+        self.recorder.extra["paced_wall_time"] = sim.wall_time + sim.waited
+
+
 class LiveWorker:
     """A prepared simulation, its recorder and its stepper, driven from the pipes.
 
@@ -105,6 +122,7 @@ class LiveWorker:
         self._sent_walls: Any = None
         self._last_step = -1
         self._flush_next_step = False  # Pause asked: the step in flight is sent when done
+        sim.observers.insert(0, LiveEnd(recorder))  # before the recorder's on_end
         sim.observers.append(self)  # on_step: the step in flight at a Pause is sent
         self.stepper = SimulationStepper(sim, self.on_frame, speed=speed, fps=fps)
         self.send("ready", {"run": str(folder), "meta": self.meta(),
@@ -188,16 +206,16 @@ class LiveWorker:
             elif name == "step":
                 stepper.step()
                 stepper.wait_paused()
-            elif name == "stop":
+            elif name == "stop":  # answered once the run has ended (or STOP_WAIT passed)
                 stepper.stop()
+                with contextlib.suppress(BaseException):  # a raise is finish()'s to report
+                    stepper.wait_ended(STOP_WAIT)
             elif name == "speed":
                 stepper.set_speed(float(argument))
             elif name == "robot":
                 return {**self.status(), "robot": self.robot(int(argument))}
-            elif name == "beams":  # (a short wait: a Stop must not queue behind a long step)
-                return {**self.status(), "beams": stepper.between_steps(
-                    lambda sim: self.beams(None if argument == "all" else int(argument)),
-                    timeout=BEAMS_WAIT)}
+            elif name == "beams":
+                return {**self.status(), "beams": self.beams_now(argument)}
             else:
                 return {**self.status(), "error": f"unknown command {name!r}"}
         except MimicsError as exc:
@@ -227,6 +245,21 @@ class LiveWorker:
                 "goal": None if math.isnan(goal[0]) else [float(goal[0]), float(goal[1])],
                 "lines": [f"{e.time:.2f} s  {e.kind}: {e.detail}" for e in events[-2000:]],
                 "skipped": max(0, len(events) - 2000)}
+
+    def beams_now(self, argument: Any) -> dict[str, Any]:
+        """``beams`` at the next step boundary (a short wait: a Stop must not queue behind a
+        long step), or at once once the run has ended (nothing steps any more)."""
+        robot = None if argument == "all" else int(argument)
+        if self.stepper.state != "ended":
+            try:
+                return self.stepper.between_steps(lambda sim: self.beams(robot),
+                                                  timeout=BEAMS_WAIT)
+            except MimicsError:
+                if self.stepper.state != "ended":
+                    raise
+        with contextlib.suppress(BaseException):  # a raise is finish()'s to report
+            self.stepper.wait_ended(BEAMS_WAIT)
+        return self.beams(robot)
 
     def beams(self, robot: int | None) -> dict[str, Any]:
         """The beams of robot ``robot``'s scan now (None: every active robot's), as the
@@ -280,6 +313,8 @@ class LiveWorker:
                 answer = ("refused", f"{type(exc).__name__}: {exc}")
             else:
                 answer = ("ok", applied)
+                if applied["kind"] == "move_robot":  # the page breaks its trail there
+                    self.send("moved", applied["robot"], applied["step"])
                 if self.stepper.state == "paused":  # no frame would show it until Play
                     self.send_frame(self.frame())
             with contextlib.suppress(BrokenPipeError, OSError):
@@ -289,9 +324,15 @@ class LiveWorker:
         """Answer commands until the run ends, then send ``end``."""
         threading.Thread(target=self.edit_loop, args=(edits,), name="mimics-live-edits",
                          daemon=True).start()
+        wall_limit = self.sim.wall_limit
         while self.stepper.state != "ended":
             try:
                 if not control.poll(POLL):
+                    # the wall limit counts pauses, but only a step checks it: a run paused
+                    # past it ends here, as if it had stepped on to its limit
+                    if (wall_limit is not None and self.stepper.state == "paused"
+                            and self.sim.elapsed() >= wall_limit):
+                        self.stepper.stop("wall_limit")
                     continue
                 name, argument = control.recv()
             except (EOFError, OSError):  # the server went away: end the run, keep its folder

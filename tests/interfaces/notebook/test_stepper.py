@@ -50,8 +50,9 @@ def test_stop_ends_the_run_with_status_stopped_and_a_last_frame():
     stepper.wait_paused()
     stepper.stop()
     assert stepper.wait_ended(timeout=60)
-    # Stop while paused: the next step ends the run through the engine's stop criterion
-    assert sim.status == "stopped" and sim.state.step == 2 and frames[-1] == 2
+    # Stop while paused ends the run where it is, without another step, its end recorded
+    assert sim.status == "stopped" and sim.state.step == 1 and frames[-1] == 1
+    assert [(e.kind, e.step, e.status) for e in sim.scenario.edits] == [("end", 1, "stopped")]
     stepper.play()  # nothing happens after the end
     assert stepper.state == "ended"
 

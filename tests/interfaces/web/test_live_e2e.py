@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import re
+import tomllib
 import urllib.request
 from pathlib import Path
 from typing import Any
@@ -55,7 +56,10 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
                                            "algorithm": "go_to_goal", "seed": 2})
     live = "window.workbench.live"
     page.goto(f"{url}/#/live/{run['id']}")
-    expect(page.get_by_label("Live state")).to_contain_text("running")
+    expect(page.get_by_label("Live state")).to_contain_text("running, recording runs/")
+    # the action at hand is highlighted: Pause while it runs
+    expect(page.get_by_role("button", name="Pause")).to_have_class("primary")
+    expect(page.get_by_role("button", name="Resume")).to_be_disabled()
     page.wait_for_function(f"{live}.frame && {live}.frame.time > 0")
     first_time = page.evaluate(f"{live}.frame.time")
     before = picture(page)
@@ -64,8 +68,9 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     assert picture(page) != before  # it moves while it runs
     # Pause: the picture holds still
     page.get_by_role("button", name="Pause").click()
-    expect(page.get_by_role("button", name="Pause")).to_have_attribute("aria-pressed", "true")
-    expect(page.get_by_role("button", name="Resume")).to_have_attribute("aria-pressed", "false")
+    expect(page.get_by_role("button", name="Resume")).to_have_class("primary")
+    expect(page.get_by_role("button", name="Pause")).to_be_disabled()
+    expect(page.get_by_label("Live state")).to_contain_text("paused at t = ")
     page.wait_for_timeout(300)  # a step in flight at the Pause (under 1 ms for 2 robots) ends
     paused = call(f"{url}/api/live/{run['id']}", "GET")
     page.wait_for_function(f"Math.round({live}.frame.time * 10) === {paused['step']}")
@@ -85,7 +90,11 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     expect(inspector.locator('[data-field="type"]')).to_have_text("Pioneer2DX")
     expect(inspector.locator('[data-field="x"]')).to_have_text(f"{x0:.3f} m")
     expect(inspector.locator('[data-field="v"]')).not_to_have_text("n/a")
-    # its beams, from the worker's last scan: Pioneer2DX's 180; every robot's: robot 1's 30 too
+    # its beams, asked for, from the worker's last scan: Pioneer2DX's 180; every robot's:
+    # robot 1's 30 too
+    page.wait_for_timeout(300)
+    assert page.evaluate(f"{live}.beams.length") == 0  # none unless asked for
+    page.get_by_label("Selected robot's beams").check()
     page.wait_for_function(f"{live}.beams.length === 180")
     page.wait_for_timeout(50)  # the next animation frame draws them
     one_robot = picture(page)
@@ -94,7 +103,7 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     page.wait_for_function(f"{live}.beams.length === 210")
     page.wait_for_timeout(50)
     assert picture(page) != one_robot
-    every.uncheck()  # (no beams request may meet the run's end below)
+    every.uncheck()
     page.wait_for_function(f"{live}.beams.length === 180")
     # a drag moves robot 1 (it stands still, no goal) to (5, 4.5); the inspector follows it
     x, y = page.evaluate(f"Array.from({live}.frame.poses.slice(3, 5))")
@@ -112,24 +121,46 @@ def test_watch_pause_step_edit_and_stop_a_live_run(page: Any, site: tuple[str, P
     # a wall through robot 0 is refused, in one line on the page
     robot = page.evaluate(f"Array.from({live}.frame.poses.slice(0, 2))")
     drag(page, (robot[0], robot[1] - 0.8), (robot[0], robot[1] + 0.8))
-    expect(page.get_by_role("alert")).to_contain_text("edit refused")
+    # one sentence: no "edit:" prefix, no 7-digit floats
+    alert = page.get_by_role("alert")
+    expect(alert).to_contain_text("Edit refused: the wall would touch robot 0 at (")
+    assert re.fullmatch(r"Edit refused: the wall would touch robot 0 at \(-?\d+(\.\d{1,3})?, "
+                        r"-?\d+(\.\d{1,3})?\)\.", alert.text_content())
     assert take_refusals(page, 422) == 1
     assert page.evaluate(f"{live}.meta.map.segments.length") == walls + 1
-    # nothing selected any more (no inspector request may meet the run's end), Resume, Stop:
-    # the folder is complete, with the two edits
+    # the move broke robot 1's trail, as the replay breaks it
+    assert page.evaluate(f"{live}.past.some((p) => p.jumped.has(1)) || "
+                         f"{live}.frame.jumped.has(1)")
+    # Fit view after a zoom: the whole map again
     page.get_by_label("Select / drag robot").check()
-    drag(page, (9.5, 5.5), (9.5, 5.5))
-    expect(inspector.locator('[data-field="type"]')).to_be_hidden()
-    page.wait_for_timeout(300)
+    scale = page.evaluate(f"{live}.view.scale")
+    page.mouse.move(640, 300)
+    page.mouse.wheel(0, -600)
+    page.wait_for_function(f"{live}.view.scale > {scale} * 1.5")
+    page.get_by_role("button", name="Fit view").click()
+    assert abs(page.evaluate(f"{live}.view.scale") - scale) < 1e-6
+    # Resume and Stop with robot 1 inspected, its beams drawn: the inspector's requests meet
+    # the run's end without an error in the console (the page fixture checks)
     page.get_by_role("button", name="Resume").click()
-    expect(page.get_by_role("button", name="Resume")).to_have_attribute("aria-pressed", "true")
+    expect(page.get_by_role("button", name="Pause")).to_have_class("primary")
+    page.wait_for_timeout(400)
     page.get_by_role("button", name="Stop").click()
-    expect(page.get_by_label("Live state")).to_contain_text("finished (stopped)")
+    state = page.get_by_label("Live state")
+    expect(state).to_contain_text("stopped at t = ")
+    expect(state).to_contain_text("; recorded in runs/")
+    assert "recording" not in state.text_content() and "finished" not in state.text_content()
+    expect(page.locator("#message")).not_to_contain_text("starting")
     expect(page.get_by_role("link", name="Open the replay")).to_be_visible()
+    page.wait_for_timeout(500)  # (requests in flight at the end come back)
     end = call(f"{url}/api/live/{run['id']}", "GET")
     recorded = load_run(root / end["run"])
     assert recorded.summary["status"] == "stopped"
     assert (recorded.events["kind"] == "edit").sum() == 2
+    # the drag recorded at the millimetre (x = 5.003, not the screen's 5.0031782...)
+    move = tomllib.loads((root / end["run"] / "scenario.toml").read_text())["edits"][0]
+    assert move["kind"] == "move_robot"
+    for value, meant in ((move["x"], 5.0), (move["y"], 4.5)):
+        assert round(value, 3) == value and abs(value - meant) < 0.05
     # the Runs page lists the live run at the top
     page.goto(f"{url}/#/runs")
     expect(page.get_by_role("link", name=f"live {run['id']}:")).to_contain_text("finished")
@@ -148,7 +179,7 @@ def test_run_live_from_the_scenarios_page_a_battery_row_and_an_error_shown(
     expect(page).to_have_url(re.compile(r"#/live/\d+$"), timeout=120_000)
     expect(page.get_by_label("Live state")).to_contain_text("running")
     page.get_by_role("button", name="Stop").click()
-    expect(page.get_by_label("Live state")).to_contain_text("finished (stopped)")
+    expect(page.get_by_label("Live state")).to_contain_text("stopped at t = ")
     # a battery's row: the same run again, live
     page.goto(f"{url}/#/batteries")
     page.get_by_label("Battery name").fill("one")
@@ -165,7 +196,8 @@ def test_run_live_from_the_scenarios_page_a_battery_row_and_an_error_shown(
                                                                       timeout=90_000)
     page.get_by_role("button", name="Run live: run 1").click()
     expect(page).to_have_url(re.compile(r"#/live/\d+$"), timeout=120_000)
-    expect(page.get_by_label("Live state")).to_contain_text("finished (time_limit)")
+    expect(page.get_by_label("Live state")).to_contain_text(
+        "finished: the time limit was reached at t = 0.50 s")
     live_id = int(page.url.rsplit("/", 1)[1])
     ended = call(f"{url}/api/live/{live_id}", "GET")
     row = call(f"{url}/api/batteries/status?path=batteries/one", "GET")["runs"][0]
@@ -180,4 +212,4 @@ def test_run_live_from_the_scenarios_page_a_battery_row_and_an_error_shown(
     page.goto(f"{url}/#/live/{run['id']}")
     expect(page.get_by_role("alert")).to_contain_text(  # the file named as in the workspace
         "error: ValueError in robot 0 at t=0 s, algorithms/raises.py:2: no way forward")
-    expect(page.get_by_label("Live state")).to_contain_text("error")
+    expect(page.get_by_label("Live state")).to_contain_text("ended in error")

@@ -184,14 +184,19 @@ def test_a_stopping_rule_battery_shows_its_evidence(page: Any, site: tuple[str, 
                                            exact=True)).to_be_visible()
     page.get_by_role("button", name="Start battery").click()
     progress = page.get_by_label("Progress", exact=True)
-    playwright_api.expect(progress).to_contain_text("6 of 6 runs finished (stopped",
+    # no collision in 0.5 s: no spread, on which the rule never stops: max_seeds, unmet
+    playwright_api.expect(progress).to_contain_text("8 of 8 runs finished (stopped",
                                                     timeout=90_000)
     rule = page.get_by_role("table", name="Stopping rule")
     playwright_api.expect(rule).to_contain_text("Until the 95% interval of collisions is "
                                                 "within ± 0.5")
     playwright_api.expect(rule.locator("tbody tr")).to_have_count(2)
-    playwright_api.expect(rule.locator("tbody tr").first).to_contain_text("3 of 3")
-    playwright_api.expect(rule.locator("tbody tr").first).to_contain_text("met")
+    playwright_api.expect(rule.locator("tbody tr").first).to_contain_text("4 of 4")
+    playwright_api.expect(rule.locator("tbody tr").first).to_contain_text("max seeds")
+    unmet = page.get_by_role("list", name="Targets not met")
+    playwright_api.expect(unmet.locator("li")).to_have_count(2)
+    playwright_api.expect(unmet.locator("li").first).to_contain_text(
+        "target not met: go_to_goal x line")
     intervals = page.get_by_role("table", name="Intervals per cell")
     playwright_api.expect(intervals).to_contain_text("95% Wilson interval")
     playwright_api.expect(intervals.locator("tbody tr")).to_have_count(2)

@@ -5,6 +5,7 @@
 import { api, element, guarded, say } from "./api.js";
 import { createInspector } from "./inspector.js";
 import { fetchLiveBeams, liveSource } from "./live_inspector.js";
+import { liveStateLine, refusalSentence } from "./live_words.js";
 import { parseFrames } from "./runs.js";
 import { STATE_NAMES, WorldView, drawGoals, drawHeadings, drawIds, drawRobots, drawTrails }
   from "./view.js";
@@ -32,7 +33,10 @@ export async function showLiveRuns(list) {
 export async function startLive(body) {
   say("starting a live run...");
   const run = await guarded(() => api.post("/api/live", body));
-  if (run) window.location.hash = `#/live/${run.id}`;
+  if (run) {
+    say(`live run ${run.id} started`);
+    window.location.hash = `#/live/${run.id}`;
+  }
   return run;
 }
 
@@ -45,7 +49,8 @@ export class LivePage {
     this.status = null; // the last state message (GET /api/live/ID)
     this.frame = null; // { robots, poses, states, time } of the latest frame
     this.frames = 0; // frames received on this page (tests and the frame rate)
-    this.past = [];
+    this.past = []; // earlier frames for the trails: { poses, jumped: robots moved since }
+    this.moved = new Set(); // robots an edit moved since the last frame (their trails break)
     this.selected = -1;
     this.beams = []; // segments of the inspector's beams (live_inspector.js)
     this.drag = null; // a robot being dragged, or a wall being drawn
@@ -73,7 +78,7 @@ export class LivePage {
         + "run folder (events.parquet, scenario.toml). Right-drag or Shift+drag pans."),
       this.editLine);
     this.canvas = element("canvas", { "aria-label": "Live canvas" });
-    const button = (text, action) => element("button", { type: "button", "aria-pressed": "false",
+    const button = (text, action) => element("button", { type: "button",
       onclick: () => this.control(action) }, text);
     this.pauseButton = button("Pause", "pause");
     this.resumeButton = button("Resume", "resume");
@@ -86,6 +91,11 @@ export class LivePage {
     this.speed.value = "1";
     this.trails = element("input", { type: "checkbox", checked: true, "aria-label": "Trails",
       onchange: () => this.view.redraw() });
+    // the selected robot's beams cost the run a trace of its scan: drawn only when asked
+    this.beamsBox = element("input", { type: "checkbox", "aria-label": "Selected robot's beams",
+      onchange: () => { this.beams = []; this.view.redraw(); fetchLiveBeams(this); } });
+    this.fitButton = element("button", { type: "button", title: "Show the whole map",
+      onclick: () => { if (this.meta) this.view.fit(this.meta.map.bounds); } }, "Fit view");
     this.clock = element("span", { role: "timer", "aria-label": "Simulated time" }, "t = 0.00 s");
     // the Runs page's inspector: a clicked robot's values, beams and events so far, as it runs
     this.inspectorPanel = element("div", { class: "inspector", "aria-label": "Inspector" });
@@ -94,7 +104,9 @@ export class LivePage {
       element("div", { class: "canvas-box" }, this.canvas),
       element("div", { class: "controls" }, this.pauseButton, this.resumeButton, this.stepButton,
         this.stopButton, element("label", {}, "speed ", this.speed), this.clock,
-        element("label", {}, this.trails, " trails"))), this.inspectorPanel);
+        element("label", {}, this.trails, " trails"),
+        element("label", {}, this.beamsBox, " beams of the selected robot"), this.fitButton)),
+    this.inspectorPanel);
     this.view = new WorldView(this.canvas, (c, view) => this.paint(c, view));
     this.view.drawStatic = (c, view) => {
       if (!this.meta) return;
@@ -126,6 +138,7 @@ export class LivePage {
     this.frame = null;
     this.frames = 0;
     this.past = [];
+    this.moved = new Set();
     this.selected = -1;
     this.details = null;
     this.beams = [];
@@ -154,23 +167,25 @@ export class LivePage {
     if (typeof data !== "string") {
       const parsed = parseFrames(data);
       if (this.frame && this.frame.robots === parsed.robots) {
-        this.past.push(this.frame.poses);
+        this.past.push({ poses: this.frame.poses, jumped: this.frame.jumped });
         if (this.past.length > TRAIL_FRAMES) this.past.shift();
       }
       this.frame = { robots: parsed.robots, poses: parsed.poses, states: parsed.states,
-        time: parsed.times[0] };
+        time: parsed.times[0], jumped: this.moved };
+      this.moved = new Set();
       this.frames += 1;
       this.showClock();
       this.view.redraw();
       if (this.inspector.selected >= 0 && this.inspector.selected < parsed.robots) {
         this.inspector.update();
       }
-      if (this.inspector.allBeams || this.inspector.selected >= 0) fetchLiveBeams(this);
+      fetchLiveBeams(this);
       return;
     }
     const message = JSON.parse(data);
     if (message.type === "meta") this.takeMeta(message);
     else if (message.type === "state") this.takeState(message);
+    else if (message.type === "moved") this.moved.add(message.robot);
   }
 
   takeMeta(meta) {
@@ -187,10 +202,13 @@ export class LivePage {
   }
 
   takeState(status) {
+    const before = this.status ? this.status.state : "";
     this.status = status;
     const ended = status.state === "finished" || status.state === "error";
-    this.stateLine.textContent = `${status.state}${status.status ? ` (${status.status})` : ""}`
-      + (status.run ? `, recording ${status.run}` : "");
+    this.stateLine.textContent = liveStateLine(status);
+    if (ended && before !== status.state && !status.error) {
+      say(`live run ${status.id}: ${this.stateLine.textContent}`);
+    }
     if (status.error) {
       this.errorBox.textContent = `error: ${status.error}`;
       say(`live run ${status.id}: ${status.error.split("\n")[0]}`, true);
@@ -205,13 +223,17 @@ export class LivePage {
     this.showClock();
   }
 
+  // The action at hand is highlighted: Pause while it runs, Resume while paused; the one in
+  // effect is disabled, and every control once the run ends (or while it stops).
   showControls() {
     const state = this.status ? this.status.state : "starting";
     const going = state === "running" || state === "paused";
-    this.pauseButton.setAttribute("aria-pressed", String(state === "paused"));
-    this.resumeButton.setAttribute("aria-pressed", String(state === "running"));
     for (const b of [this.pauseButton, this.resumeButton, this.stepButton, this.stopButton,
       this.speed]) b.disabled = !going;
+    this.pauseButton.classList.toggle("primary", state === "running");
+    this.resumeButton.classList.toggle("primary", state === "paused");
+    if (state === "running") this.resumeButton.disabled = true;
+    if (state === "paused") this.pauseButton.disabled = true;
   }
 
   showClock() {
@@ -224,6 +246,7 @@ export class LivePage {
   }
 
   async control(action) {
+    if (action === "stop") this.takeState({ ...this.status, state: "stopping" });
     const answer = await guarded(() => api.post(`/api/live/${this.id}/${action}`));
     if (answer) this.takeState({ ...answer, type: "state" });
   }
@@ -243,11 +266,13 @@ export class LivePage {
       this.errorBox.textContent = "";
       say(`edit applied at step ${applied.step}`);
       // the selected robot's values and lines again (paused, the time did not move)
+      this.detailsKey = null;
       if (this.inspector.selected >= 0) this.inspector.select(this.inspector.selected);
       return applied;
     } catch (error) {
-      this.errorBox.textContent = `edit refused: ${error.message}`;
-      say(`edit refused: ${error.message}`, true);
+      const sentence = refusalSentence(error.message);
+      this.errorBox.textContent = `Edit refused: ${sentence}`;
+      say(`edit refused: ${sentence}`, true);
       return undefined;
     }
   }
@@ -274,6 +299,8 @@ export class LivePage {
     if (this.tool === "move") {
       this.selected = robot;
       if (!this.inspector.allBeams) this.beams = [];
+      this.details = null;
+      this.detailsKey = null;
       this.inspector.select(robot);
       fetchLiveBeams(this);
       if (robot >= 0) {
@@ -322,10 +349,7 @@ export class LivePage {
     if (!this.frame || !this.meta) return;
     const { robots, poses, states } = this.frame;
     if (robots !== this.halfLength.length) return; // a frame before its meta
-    if (this.trails.checked && this.past.length) {
-      const every = Math.max(1, Math.floor(this.past.length / TRAIL_POINTS));
-      drawTrails(c, view, this.past.filter((_, k) => k % every === 0), poses, robots);
-    }
+    if (this.trails.checked && this.past.length) this.paintTrails(c, view);
     if (this.beams.length) view.drawBeams(this.beams);
     drawRobots(c, view, poses, this.halfLength, this.halfWidth,
       (i) => this.colors[states[i]] || "#000", robots);
@@ -340,6 +364,23 @@ export class LivePage {
       c.stroke();
     }
     this.paintDrag(c, view);
+  }
+
+  // The trails through every k-th earlier frame, broken where an edit moved a robot (as the
+  // replay breaks them): a kept point knows the robots moved since the kept point before it.
+  paintTrails(c, view) {
+    const { robots, poses } = this.frame;
+    const every = Math.max(1, Math.floor(this.past.length / TRAIL_POINTS));
+    const kept = [];
+    const jumps = [];
+    let since = new Set();
+    this.past.forEach((entry, k) => {
+      for (const robot of entry.jumped) since.add(robot);
+      if (k % every === 0) { kept.push(entry.poses); jumps.push(since); since = new Set(); }
+    });
+    for (const robot of this.frame.jumped) since.add(robot);
+    jumps.push(since);
+    drawTrails(c, view, kept, poses, robots, (i, j) => j > 0 && jumps[j].has(i));
   }
 
   // What is being dragged: the robot's new place, or the wall or rectangle being drawn.

@@ -241,21 +241,27 @@ export function drawGoals(c, view, goals) {
   c.stroke();
 }
 
-// Each robot's heading: a line from its centre to its front.
+// Each robot's heading: a white arrowhead from behind its centre to near its front, filled
+// (readable at the zoom that fits a whole map, where a line of a pixel or two read as a "U").
 export function drawHeadings(c, view, frame, robots, halfLength, halfWidth) {
   const { scale, offsetX, offsetY } = view;
-  c.strokeStyle = HEADING_COLOR;
-  c.lineWidth = Math.max(1, Math.min(2, halfWidth[0] * scale * 0.3));
+  c.fillStyle = HEADING_COLOR;
   c.beginPath();
   for (let i = 0; i < robots; i++) {
-    const x = frame[3 * i];
-    const y = frame[3 * i + 1];
+    const x = offsetX + frame[3 * i] * scale;
+    const y = offsetY - frame[3 * i + 1] * scale;
     const t = frame[3 * i + 2];
+    const cos = Math.cos(t) * scale;
+    const sin = Math.sin(t) * scale;
     const l = halfLength[i];
-    c.moveTo(offsetX + x * scale, offsetY - y * scale);
-    c.lineTo(offsetX + (x + l * Math.cos(t)) * scale, offsetY - (y + l * Math.sin(t)) * scale);
+    const w = halfWidth[i] * 0.6;
+    // (dx, dy) in the robot's frame -> screen (y down): tip ahead, base behind the centre
+    c.moveTo(x + 0.9 * l * cos, y - 0.9 * l * sin);
+    c.lineTo(x - 0.25 * l * cos - w * sin, y - (-0.25 * l * sin + w * cos));
+    c.lineTo(x - 0.25 * l * cos + w * sin, y - (-0.25 * l * sin - w * cos));
+    c.closePath();
   }
-  c.stroke();
+  c.fill();
 }
 
 // Robot ids (0-based, as in the logs) beside the robots, when they fit.
