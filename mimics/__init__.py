@@ -26,6 +26,7 @@ _EXPORTS = {
     "RangerSpec": "mimics.world.robot_types",
     "PidGains": "mimics.world.robot_types",
     "MimicsError": "mimics.world.errors",
+    "UserCodeError": "mimics.interfaces.user_errors",
     "load_scenario": "mimics.catalog",
     "find_algorithm": "mimics.catalog",
     "list_algorithms": "mimics.catalog",

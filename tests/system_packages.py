@@ -27,6 +27,11 @@ def _has_file(path: str) -> Callable[[], bool]:
     return lambda: Path(path).exists()
 
 
+def _has_pkg_config(module: str) -> bool:
+    done = subprocess.run(["pkg-config", "--exists", module], capture_output=True, check=False)
+    return done.returncode == 0
+
+
 # A part: how to tell it is there, and the Debian packages that provide it.
 PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
     "compiler": (_has_command("gcc"), ["gcc", "g++", "libc6-dev"]),
@@ -44,6 +49,14 @@ PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
          "python3-std-msgs", "python3-rosgraph-msgs", "python3-std-srvs",
          "python3-visualization-msgs", "python3-roslaunch", "libroscpp-dev", "ros-core-dev",
          "g++", "pkg-config"],
+    ),
+    # roscpp nodes built by the tests: the headers and pkg-config files of their messages
+    "roscpp": (
+        lambda: _has_command("pkg-config")() and all(
+            _has_pkg_config(module) for module in ("roscpp", "std_msgs", "nav_msgs",
+                                                   "geometry_msgs")),
+        ["libroscpp-dev", "libstd-msgs-dev", "libnav-msgs-dev", "libgeometry-msgs-dev",
+         "pkg-config", "g++"],
     ),
     # ROS 1's own bag reader (Python), an independent check of `mimics export --bag`
     "rosbag": (_has_file("/usr/lib/python3/dist-packages/rosbag/__init__.py"),

@@ -22,7 +22,7 @@ import inspect
 import math
 import time
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
@@ -36,6 +36,7 @@ from mimics.engine.user_code import (
     user_traceback,
     where_of,
 )
+from mimics.engine.view_hub import hub_of
 from mimics.engine.watchdog import StepTimeout, blame, raise_in_thread
 from mimics.world.errors import AlgorithmError
 
@@ -58,6 +59,8 @@ class UserFailure:
     traceback: str
     where: str = ""
     line: str = ""
+    # the exception itself, for mimics.simulate to raise with the user's frames
+    exception: BaseException | None = field(default=None, repr=False, compare=False)
 
     def describe(self) -> str:
         """``"AttributeError in robot 0 at t=0 s, my_algo.py:7: message"``, then the source
@@ -97,7 +100,7 @@ def failure_from_exception(robot: int, now: float, exc: BaseException) -> UserFa
     """The failure of a user call that raised ``exc``, placed at the user's innermost line."""
     place = failure_place(exc)
     return UserFailure(robot, now, type(exc).__name__, first_line(exc), user_traceback(exc),
-                       str(place) if place else "", place.text if place else "")
+                       str(place) if place else "", place.text if place else "", exc)
 
 
 def invalid_output(robot: int, now: float, message: str, step: Any = None,
@@ -156,6 +159,8 @@ class PerRobotController(Controller):
 
     def reset(self, sim: Simulation) -> list[UserFailure]:
         failures = []
+        hub = hub_of(sim)
+        hub.refresh()
         self._robots = [Robot(sim, i) for i in range(sim.state.n)]
         self._instances = []
         for robot in self._robots:
@@ -175,6 +180,7 @@ class PerRobotController(Controller):
 
     def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
         failures = []
+        hub_of(sim).refresh()  # the views' mirrors: this step's values, copied once
         state = sim.state
         now = state.time
         clock = time.perf_counter

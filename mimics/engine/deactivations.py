@@ -35,6 +35,8 @@ class RobotDeactivations:
     _stalls: StallDetector
     _ever_deadlocked: np.ndarray
     _ever_livelocked: np.ndarray
+    #: the exception of the failure that ended the run under "abort" (None: none)
+    user_exception: BaseException | None = None
 
     def _mark_departures_and_arrivals(self, ids: np.ndarray, distance: np.ndarray) -> None:
         """Mark robots ``ids`` that left the map or are ``distance`` from their goal."""
@@ -108,5 +110,6 @@ class RobotDeactivations:
                 failed.append(robot)
         if self.policy == "abort" and self.status == "running":
             self.error = failures[0].describe()
+            self.user_exception = failures[0].exception
             self.status = "error"
         return np.array(failed, dtype=np.int64)

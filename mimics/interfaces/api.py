@@ -15,10 +15,11 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from mimics.engine.simulation import Policy
 from mimics.interfaces.notebook.run import RunView, record_run
+from mimics.interfaces.user_errors import user_code_error
 from mimics.records.layout import check_run_output
 from mimics.records.run_folder import load_run as load_run_folder
 from mimics.records.runner import prepare
@@ -37,7 +38,8 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
              out: str | Path | None = None, wall_limit: float | None = None,
              params: dict[str, Any] | None = None,
              observers: tuple[Any, ...] = (), record_scans: bool = False,
-             allow_overlap: bool = False) -> RunView:
+             allow_overlap: bool = False,
+             on_error: Literal["raise", "record"] = "raise") -> RunView:
     """Run one simulation and return its outcome, recorded; with ``out``, also write its folder.
 
     Without ``out`` the run is recorded in memory (the same rows a run folder
@@ -59,7 +61,17 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
         record_scans: with ``out``, also record the laser scans (scans.parquet).
         allow_overlap: keep robots that start touching walls or each other, or outside
             the map (by default the scenario is refused, naming them).
+        on_error: when the algorithm fails (status ``error``), ``"raise"``
+            ``mimics.UserCodeError`` (the recorded run as its
+            ``.run``, the algorithm's exception as its cause), or ``"record"``: return the
+            run, its ``error`` in the summary.
+
+    Raises:
+        UserCodeError: the algorithm failed, with ``on_error="raise"``.
+        MimicsError: a bad scenario, algorithm or argument (before anything runs).
     """
+    if on_error not in ("raise", "record"):
+        raise MimicsError(f"on_error: expected 'raise' or 'record', got {on_error!r}")
     _check_flag("record_scans", record_scans)
     _check_flag("allow_overlap", allow_overlap)
     if out is not None:  # before the run: a folder over one of its inputs is refused
@@ -68,7 +80,10 @@ def simulate(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | N
     sim = prepare(scenario, algorithm, robots=robots, time=time, seed=seed, policy=policy,
                   wall_limit=wall_limit, params=params, observers=observers,
                   allow_overlap=allow_overlap)
-    return record_run(sim, out, record_scans=record_scans)
+    view = record_run(sim, out, record_scans=record_scans)
+    if view.status == "error" and on_error == "raise":
+        raise user_code_error(view, sim.user_exception)
+    return view
 
 
 def _check_flag(name: str, value: Any) -> None:

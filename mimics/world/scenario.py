@@ -142,6 +142,10 @@ class Scenario:
                     f"scenario {self.name!r}: robot {far[0]}'s {what} "
                     f"{values[far[0]].tolist()} is farther than {MAX_MAP_COORDINATE:g} m from "
                     "the origin (expected coordinates within the limits of a map)")
+        yaw = stages[:, 2]
+        outside = np.abs(yaw) > np.pi
+        if outside.any():  # headings in [-pi, pi] from step 0; those in it stay bit for bit
+            stages[outside, 2] = (yaw[outside] + np.pi) % (2 * np.pi) - np.pi
         half_goal = np.isnan(goals).sum(axis=1) == 1
         if half_goal.any():
             i = int(np.flatnonzero(half_goal)[0])

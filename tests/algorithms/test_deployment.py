@@ -9,7 +9,7 @@ from mimics.scenarios import cave, obstacle_room
 from tests.stage import stage_file
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture  # each test: the Stage data is given back to one test at a time
 def stage() -> None:
     stage_file("cave_filled.png")
 

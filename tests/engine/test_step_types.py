@@ -17,7 +17,8 @@ GOOD = [(0.5, 0.0), (1, 0), (np.float32(0.5), np.int64(0)), (np.array(0.5), 0.0)
 
 @pytest.mark.parametrize("output", BAD, ids=repr)
 def test_a_step_returning_texts_or_truth_values_is_an_invalid_output(output: Any) -> None:
-    run = mimics.simulate("line", lambda robot: output, robots=2, time=0.3, seed=1)
+    run = mimics.simulate("line", lambda robot: output, robots=2, time=0.3, seed=1,
+                          on_error="record")
     assert run.status == "error"
     message = run.summary()["error"]
     assert "InvalidOutput" in message and "robot 0" in message and "two numbers" in message
@@ -36,6 +37,6 @@ def test_a_team_step_returning_texts_or_truth_values_is_an_invalid_output(speeds
         def team_step(team: Any) -> Any:
             return speeds, np.zeros(2)
 
-    run = mimics.simulate("line", Team, robots=2, time=0.3, seed=1)
+    run = mimics.simulate("line", Team, robots=2, time=0.3, seed=1, on_error="record")
     assert run.status == "error"
     assert "team_step() must return" in run.summary()["error"]

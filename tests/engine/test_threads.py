@@ -67,7 +67,7 @@ from mimics.catalog import load_scenario
 from mimics.engine.helper_threads.threads import helpers_worth
 from mimics.engine.simulation import Simulation
 
-Simulation(load_scenario("cave", robots=6), deployment_team, seed=1, time_limit=0.5).run()
+Simulation(load_scenario("obstacle_room", robots=6), deployment_team, seed=1, time_limit=0.5).run()
 started = parallel._is_initialized  # Numba's own pool, which mimics never uses
 worth = helpers_worth(8)
 numba.set_num_threads(1)  # the user's knob still counts

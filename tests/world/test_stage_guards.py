@@ -20,7 +20,11 @@ import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from tests.stage import STAGE_SCENARIOS
+import pytest
+
+from mimics.catalog import load_scenario
+from mimics.world.errors import MimicsError
+from tests.stage import REAL_DATA_VAR, STAGE_SCENARIOS, stage_file
 
 ROOT = Path(__file__).resolve().parents[2]
 TESTS = ROOT / "tests"
@@ -124,6 +128,7 @@ def test_every_stage_test_skips_with_the_reason_when_the_data_is_missing(
     empty.mkdir()
     env = {key: value for key, value in os.environ.items() if key != "CI"}
     env["MIMICS_DATA"] = str(empty)  # before the user folder and ../shared/data
+    env[REAL_DATA_VAR] = str(empty)  # what the guards give back: nothing either
     report = tmp_path / "report.xml"
     child = subprocess.run(
         [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:randomly",
@@ -146,3 +151,28 @@ def test_every_stage_test_skips_with_the_reason_when_the_data_is_missing(
                            "needs_stage_scenario):\n" + "\n".join(unguarded))
     assert any(name.startswith(KNOWN_STAGE_TEST) for name in skipped), skipped
     assert child.returncode == 0, child.stdout[-3000:]
+
+
+ESCAPE = """
+from mimics.catalog import load_scenario
+load_scenario("cave", robots=2)
+"""
+
+
+def test_a_test_that_reaches_the_data_without_its_guard_fails_here_as_on_a_fresh_clone(
+        ) -> None:
+    # in the test's own process...
+    with pytest.raises(MimicsError, match="mimics data get stage"):
+        load_scenario("cave", robots=2)
+    # ...and in a process it starts, which inherits the hidden data folder
+    child = subprocess.run([sys.executable, "-c", ESCAPE], cwd=ROOT, capture_output=True,
+                           text=True, timeout=120, check=False)
+    assert child.returncode != 0 and "mimics data get stage" in child.stderr
+
+
+def test_the_guard_gives_the_data_back_to_its_test_and_its_children() -> None:
+    stage_file("cave_filled.png")  # skips here when no data folder holds it
+    assert load_scenario("cave", robots=2).robot_count == 2
+    child = subprocess.run([sys.executable, "-c", ESCAPE], cwd=ROOT, capture_output=True,
+                           text=True, timeout=120, check=False)
+    assert child.returncode == 0, child.stderr[-2000:]

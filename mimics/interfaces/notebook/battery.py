@@ -26,6 +26,7 @@ from typing import Any
 
 import pandas as pd
 
+from mimics.interfaces.notebook.columns import COMPARE, SUMMARY, chosen, interval_columns
 from mimics.interfaces.notebook.html import enable_figure_display, figure_img, in_kernel
 from mimics.world.errors import MimicsError
 
@@ -113,31 +114,49 @@ class BatteryView:
 
         return runs_table(self.folder)
 
-    def summary(self) -> pd.DataFrame:
-        """The report's aggregate: one row per algorithm x scenario (x parameter point)."""
-        return self.report_tables()["aggregate"]
+    def summary(self, columns: str | list[str] | None = None) -> pd.DataFrame:
+        """The report's aggregate: one row per algorithm x scenario (x parameter point).
+
+        Args:
+            columns: None: the runs, the failed ones, and the mean goals reached and
+                collisions with their 95% half-widths; ``"all"``: every count (done,
+                unfinished, deadlocks, escapes, wall time...); or a list of names.
+        """
+        return chosen(self.report_tables()["aggregate"], columns, SUMMARY, "summary")
 
     def intervals(self, metrics: list[str] | None = None, *, exclude_failed: bool = False,
-                  method: str = "t") -> pd.DataFrame:
+                  method: str = "t", columns: str | list[str] | None = None
+                  ) -> pd.DataFrame:
         """Per cell, its runs, done and failed, and each metric's estimate with its 95%
         interval and the runs it rests on (the intervals table of ``mimics battery
-        report``)."""
-        return self.evidence(metrics=metrics, exclude_failed=exclude_failed,
-                             method=method).intervals
+        report``).
+
+        Args:
+            columns: None: the runs, the failed ones and the estimate and bounds of
+                ``metrics`` (default: success and time to goal); ``"all"``: every
+                metric with the runs it rests on; or a list of names.
+        """
+        table = self.evidence(metrics=metrics, exclude_failed=exclude_failed,
+                              method=method).intervals
+        return chosen(table, columns, interval_columns(table, metrics), "intervals")
 
     def compare(self, baseline: str | None = None, metrics: list[str] | None = None, *,
-                exclude_failed: bool = False, adjust: str = "holm", method: str = "t"
-                ) -> pd.DataFrame:
+                exclude_failed: bool = False, adjust: str = "holm", method: str = "t",
+                columns: str | list[str] | None = None) -> pd.DataFrame:
         """Each algorithm minus ``baseline`` (default: the battery's first), paired by
         scenario, parameters and seed (``mimics battery compare``): rates by Newcombe's
         interval and McNemar's test, means by the t interval and Wilcoxon's test, raw
         and adjusted p-values, the pairs, the primary metric marked.
 
+        ``columns``: None: the difference, its interval and the adjusted p-value;
+        ``"all"``: the test, the raw p-value, the primary mark and notes too; or a list.
+
         Raises:
-            MimicsError: an unknown baseline, metric, adjustment or method.
+            MimicsError: an unknown baseline, metric, adjustment, method or column.
         """
-        return self.evidence(baseline, metrics, exclude_failed=exclude_failed, adjust=adjust,
-                             method=method).comparison
+        table = self.evidence(baseline, metrics, exclude_failed=exclude_failed, adjust=adjust,
+                              method=method).comparison
+        return chosen(table, columns, COMPARE, "compare")
 
     @property
     def failed(self) -> list[str]:
@@ -233,7 +252,12 @@ class BatteryView:
 
     def _repr_html_(self) -> str:
         tables = self.report_tables()
-        runs, failures, agg = tables["runs"], tables["failures"], tables["aggregate"]
+        runs, failures = tables["runs"], tables["failures"]
+        # the default columns, as summary(), intervals() and compare() give them
+        agg = chosen(tables["aggregate"], None, SUMMARY, "summary")
+        intervals = chosen(tables["intervals"], None,
+                           interval_columns(tables["intervals"], None), "intervals")
+        comparison = chosen(tables["comparison"], None, COMPARE, "compare")
         counts = ", ".join(f"{n} {state}" for state, n in self.counts.items()) or "no runs"
         parts = [f'<div class="mimics-battery"><h4>{html.escape(str(self.folder))}: '
                  f"{len(runs)} runs ({html.escape(counts)})</h4>"]
@@ -243,9 +267,9 @@ class BatteryView:
             parts.append(agg.to_html(index=False, float_format=lambda v: f"{v:.3g}",
                                      na_rep="-"))
         for title, frame in (("Per cell: each metric with its 95% interval (t for means, "
-                              "Wilson for proportions)", tables["intervals"]),
+                              "Wilson for proportions)", intervals),
                              ("Paired by seed against the baseline: mean difference, 95% "
-                              "t interval, Wilcoxon signed-rank p", tables["comparison"])):
+                              "t interval, Wilcoxon signed-rank p", comparison)):
             if not frame.empty:
                 parts.append(f"<p>{title}</p>")
                 parts.append(frame.to_html(index=False, float_format=lambda v: f"{v:.3g}",
@@ -269,19 +293,25 @@ def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None
 
     Args:
         spec: a battery file, a dict in its form (``{"battery": {...}, "scenarios":
-            [...]}``), or a ``mimics.batteries.spec.BatterySpec``.
-        out: the battery folder, new or empty (default: ``batteries/NAME-TIME``
-            in the current folder, NAME being the file's stem or ``battery``).
+            [...]}``), or a ``mimics.batteries.spec.BatterySpec``. In a dict, the
+            algorithms may be functions or classes (defined in the notebook: they are
+            pickled to the workers) as well as names and paths.
+        out: the battery folder (default: ``batteries/NAME-TIME`` in the current
+            folder, NAME being the file's stem or ``battery``). A folder holding this
+            same battery is continued (its runs not yet done run; a finished one is
+            just opened), one holding another battery is refused.
         workers: local worker processes (default: one per core).
         dask: a Dask scheduler address instead of local workers.
         progress: show the progress bar (default: in a notebook cell, or on a terminal;
             False: none).
 
     Raises:
-        MimicsError: a bad battery, or a folder that already holds one; nothing runs.
+        MimicsError: a bad battery, or a folder that holds another battery; nothing runs.
     """
+    from mimics.batteries.driver import resume_battery
     from mimics.batteries.driver import run_battery as drive
     from mimics.batteries.spec import BatterySpec, load_battery, spec_from_dict
+    from mimics.interfaces.notebook.battery_spec import same_battery, with_inline_algorithms
     from mimics.world.limits import check_time, check_wall_seconds, check_whole
     from mimics.world.output_paths import as_path, check_outputs
 
@@ -297,7 +327,7 @@ def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None
     if out is not None:
         out = as_path("run_battery: out", out)
     if isinstance(spec, dict):
-        spec = spec_from_dict(spec, base=Path.cwd(), source="")
+        spec = spec_from_dict(with_inline_algorithms(spec), base=Path.cwd(), source="")
     elif not isinstance(spec, BatterySpec):
         if not isinstance(spec, str | Path):
             raise MimicsError(f"run_battery: expected a battery file, a dict or a BatterySpec, "
@@ -311,11 +341,18 @@ def run_battery(spec: Any, out: str | Path | None = None, *, workers: int | None
     if out is None:
         stem = Path(spec.source).stem if spec.source else "battery"
         out = Path("batteries") / f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}"
+    again = same_battery(out, spec)  # a cell run again: go on with its battery
+
+    def run(bar: bool | None) -> Any:
+        if again:
+            return resume_battery(out, workers=workers, dask=dask, progress=bar)
+        return drive(spec, out, workers=workers, dask=dask, progress=bar)
+
     if (progress is None or progress) and in_kernel():
         with CellProgress(out, total=len(spec.runs())):
-            result = drive(spec, out, workers=workers, dask=dask, progress=False)
+            result = run(False)
     else:
-        result = drive(spec, out, workers=workers, dask=dask, progress=progress)
+        result = run(progress)
     return BatteryView(out, result)
 
 

@@ -22,6 +22,12 @@ def rows_table(rows: Iterable[tuple[str, str]]) -> str:
     return f'<table class="mimics-summary"><tbody>{cells}</tbody></table>'
 
 
+def error_block(text: str) -> str:
+    """An error in red, its lines kept (the source line under the message)."""
+    return ('<pre class="mimics-error" style="color:#c00;white-space:pre-wrap;'
+            f'font-weight:bold">{html.escape(text)}</pre>')
+
+
 def png_bytes(figure: Any) -> bytes:
     """A Matplotlib figure as PNG bytes, at its own size."""
     buffer = io.BytesIO()

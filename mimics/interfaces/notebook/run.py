@@ -33,7 +33,13 @@ import pandas as pd
 
 from mimics.engine.outcome import RunResult
 from mimics.interfaces.notebook.animation import MAX_FRAMES, MAX_MB, Animation, animate
-from mimics.interfaces.notebook.html import enable_figure_display, figure_img, rows_table
+from mimics.interfaces.notebook.html import (
+    enable_figure_display,
+    error_block,
+    figure_img,
+    rows_table,
+)
+from mimics.interfaces.user_errors import cell_places
 from mimics.records.memory import MemoryRun, save_run
 from mimics.records.recorder import RobotLogs, check_save_target, prepare_run_folder
 from mimics.records.run_folder import Run
@@ -44,6 +50,7 @@ from mimics.world.output_paths import as_path, check_outputs
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
+    from mimics.world.scenario import Scenario
 
 
 class Summary(dict[str, Any]):
@@ -96,6 +103,17 @@ class RunView:
     def collisions(self) -> int:
         """Robots deactivated by a collision."""
         return int(self.record.summary["collisions"])
+
+    @property
+    def scenario(self) -> Scenario:
+        """The Scenario that was run (map, robot types, starts, goals, settings), the same
+        after ``simulate()`` as after ``load_run()``; its name is ``run.scenario.name``."""
+        return self.record.scenario
+
+    @property
+    def error(self) -> str:
+        """What ended a run in error (the failure, its place and line); "" for other runs."""
+        return str(self.record.summary.get("error") or "")
 
     @property
     def trajectory(self) -> pd.DataFrame:
@@ -192,8 +210,10 @@ class RunView:
         summary = self.record.summary
         title = (f"{summary.get('scenario')} / {summary.get('algorithm')} / seed "
                  f"{summary.get('seed')}")
-        parts = [f"<div class=\"mimics-run\"><h4>{_escape(title)}</h4>",
-                 rows_table(summary_rows(summary))]
+        parts = [f"<div class=\"mimics-run\"><h4>{_escape(title)}</h4>"]
+        if self.error:  # what went wrong first, where the eye lands
+            parts.append(error_block(cell_places(self.error)))
+        parts.append(rows_table(summary_rows(summary)))
         try:
             figure = self.plot(width_px=800, height_px=600)
         except MimicsError as exc:  # an empty trajectory: the table alone

@@ -129,6 +129,7 @@ class LiveWidget(anywidget.AnyWidget):  # type: ignore[misc]
         with self._sending, self.hold_sync():
             self.frame = png
             self.frames += 1
-            self.time = float(sim.state.time)
+            # a sum of steps (0.1 + 0.2 = 0.30000000000000004): shown to the nanosecond
+            self.time = round(float(sim.state.time), 9)
             self.status = sim.status
             self.state = "ended" if sim.status != "running" else self.stepper.state

@@ -44,7 +44,7 @@ def test_table_has_one_row_per_run_with_each_runs_outcome(battery):
 
 
 def test_summary_is_the_reports_aggregate(battery):
-    summary = battery.summary()
+    summary = battery.summary(columns="all")
     expected = aggregate(runs_table(battery.folder))
     assert len(summary) == 1 and summary.iloc[0]["runs"] == 3
     assert summary.equals(expected)
@@ -52,7 +52,7 @@ def test_summary_is_the_reports_aggregate(battery):
     assert set(tables) == {"runs", "failures", "aggregate", "intervals", "comparison", "costs"}
     assert tables["failures"].empty
     # one algorithm: nothing to compare; the intervals rest on the 3 done runs
-    assert battery.compare().empty and battery.intervals()["done"].tolist() == [3]
+    assert battery.compare().empty and battery.intervals(columns="all")["done"].tolist() == [3]
 
 
 def test_compare_pairs_runs_by_seed_against_the_baseline(tmp_path):

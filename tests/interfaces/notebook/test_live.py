@@ -46,12 +46,16 @@ def test_widget_frames_steps_and_records_the_same_run_as_simulate():
 def test_page_commands_reach_the_stepper():
     sim = prepare("line", "go_to_goal", robots=2, time=600.0, seed=1)
     view = LiveWidget(sim, speed=math.inf, autoplay=False)
-    view._on_message(view, {"command": "step"}, [])
-    view.stepper.wait_paused()
-    assert sim.state.step == 1
+    for count in (1, 2, 3):
+        view._on_message(view, {"command": "step"}, [])
+        view.stepper.wait_paused()
+        assert sim.state.step == count
+    assert sim.state.time == 0.1 + 0.1 + 0.1 != 0.3  # the engine's sum of steps...
+    assert view.time == 0.3  # ...shown rounded
     view._on_message(view, {"command": "stop"}, [])
     view.stepper.wait_ended(timeout=60)
-    assert view.state == "ended" and view.status == "stopped" and sim.state.step == 2
+    # Stop ends the run where it is: no step more
+    assert view.state == "ended" and view.status == "stopped" and sim.state.step == 3
     view._on_message(view, {"command": "rm -rf"}, [])  # anything else is ignored
     view.close()
 

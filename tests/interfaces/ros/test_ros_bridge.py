@@ -95,6 +95,7 @@ def test_rospy_example_drives_five_robots_and_lockstep_repeats_exactly(ros_env, 
 
 def test_roscpp_example_drives_five_robots(ros_env, tmp_path):
     require("compiler")
+    require("roscpp")
     binary = tmp_path / "go_to_goal_node"
     flags = subprocess.run(["pkg-config", "--cflags", "--libs", "roscpp", "std_msgs",
                             "nav_msgs", "geometry_msgs"], capture_output=True, text=True,
