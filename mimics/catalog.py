@@ -49,8 +49,14 @@ def _first_line(module: ModuleType) -> str:
     return (module.__doc__ or "").strip().splitlines()[0] if module.__doc__ else ""
 
 
-def _load_file(path: Path, kind: str) -> ModuleType:
-    """Import a user's ``.py`` file under a unique module name."""
+def _load_file(path: Path, kind: str, limit: float | None = None) -> ModuleType:
+    """Import a user's ``.py`` file under a unique module name.
+
+    ``limit`` (s): the import is stopped past it (an endless loop at file level) as a
+    step past a run's wall limit is (:mod:`mimics.engine.watchdog`). Whatever the
+    file does at import (a syntax error, an exception, ``sys.exit``, a time-out) is
+    one :class:`MimicsError` naming the file and its line.
+    """
     if not path.is_file():
         raise MimicsError(f"{kind} file {path} does not exist")
     digest = hashlib.sha1(str(path.resolve()).encode()).hexdigest()[:10]
@@ -62,21 +68,39 @@ def _load_file(path: Path, kind: str) -> ModuleType:
         raise MimicsError(f"{path}: cannot be imported as Python")
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
+    from mimics.engine.watchdog import LoadTimeout, StepTimeout, watched_load
+
     try:
-        spec.loader.exec_module(module)
+        with watched_load(limit):
+            spec.loader.exec_module(module)
     except SyntaxError as exc:
         del sys.modules[name]
         raise MimicsError(f"{path}, line {exc.lineno}: syntax error: {exc.msg}") from exc
-    except Exception as exc:  # user code at import time: report it in one line
+    except StepTimeout as exc:  # an endless loop at file level, stopped by the watchdog
         del sys.modules[name]
-        from mimics.engine.user_code import failure_place, first_line
+        raise LoadTimeout(f"{path}{_line_in(exc, path)}: importing it did not finish within "
+                          f"{limit:g} s (an endless loop outside step()?)") from None
+    except (Exception, SystemExit) as exc:  # user code at import time: report it in one line
+        del sys.modules[name]
+        from mimics.engine.user_code import first_line
 
-        place = failure_place(exc)  # the user's line that raised, as for a syntax error
-        where = ("" if place is None else f", line {place.line}"
-                 if Path(place.file).resolve() == path.resolve() else f" (at {place})")
-        raise MimicsError(f"{path}{where}: importing it raised {type(exc).__name__}: "
-                          f"{first_line(exc)}") from exc
+        what = (f"called sys.exit({exc.code!r})" if isinstance(exc, SystemExit)
+                else f"raised {type(exc).__name__}: {first_line(exc)}")
+        raise MimicsError(f"{path}{_line_in(exc, path)}: importing it {what}") from exc
     return module
+
+
+def _line_in(exc: BaseException, path: Path) -> str:
+    """``", line 7"``: the user's line that ``exc`` came from (``" (at other.py:3)"`` when
+    it is in another file of the user's; "" when none is)."""
+    from mimics.engine.user_code import failure_place
+
+    place = failure_place(exc)
+    if place is None:
+        return ""
+    if Path(place.file).resolve() == path.resolve():
+        return f", line {place.line}"
+    return f" (at {place})"
 
 
 def _looks_like_path(name: str) -> bool:
@@ -118,8 +142,11 @@ def _scheme_providers() -> dict[str, Any]:
     return {point.name: point for point in importlib.metadata.entry_points(group=SCHEME_GROUP)}
 
 
-def find_algorithm(name_or_path: str | Path) -> tuple[str, Any]:
+def find_algorithm(name_or_path: str | Path, *, load_limit: float | None = None
+                   ) -> tuple[str, Any]:
     """The algorithm's display name and module, from a built-in name, a file path or a scheme.
+
+    ``load_limit`` (s): a ``.py`` file's import is stopped past it (see ``_load_file``).
 
     A C or C++ file gives a ready controller instead of a module (compiled on
     first use, then found in the cache): a fresh one per call; so does a
@@ -139,7 +166,7 @@ def find_algorithm(name_or_path: str | Path) -> tuple[str, Any]:
         if path.suffix != ".py":
             raise AlgorithmError(f"algorithm {text!r}: expected a .py, .c or .cpp file or a "
                                  "built-in name")
-        return path.stem, _load_file(path, "algorithm")
+        return path.stem, _load_file(path, "algorithm", load_limit)
     if text not in _builtin_names(mimics.algorithms):
         known = ", ".join(_builtin_names(mimics.algorithms))
         raise AlgorithmError(f"unknown algorithm {text!r} (expected a .py, .c or .cpp file or "

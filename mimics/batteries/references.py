@@ -51,6 +51,9 @@ def algorithm_label(ref: str) -> str:
 
 
 def check_algorithms(value: Any, base: Path, fail: Any) -> tuple[str, ...]:
+    """The battery's algorithm references, made absolute. A ``.py`` file is checked for
+    existence only: it is imported, checked and run inside the workers alone, so that a
+    broken or hostile submission costs its own runs, never the battery."""
     from mimics.catalog import find_algorithm
     from mimics.engine.controllers import controller_from
 
@@ -63,8 +66,12 @@ def check_algorithms(value: Any, base: Path, fail: Any) -> tuple[str, ...]:
     for name in value:
         try:
             ref = resolve_algorithm(name, base)
-            label, module = find_algorithm(ref)
-            controller_from(module, label)
+            if ref.endswith(".py"):  # a submission: only its name here; it loads in a worker
+                if not Path(ref).is_file():
+                    raise MimicsError(f"algorithm file {ref} does not exist")
+            else:
+                label, module = find_algorithm(ref)
+                controller_from(module, label)
         except MimicsError as exc:
             raise fail(f"[battery] algorithms: {exc}") from None
         if ref in refs:

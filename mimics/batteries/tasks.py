@@ -15,12 +15,18 @@ the wall-clock limit) and ``crashed`` (the worker process died).
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import random
+import re
+import shutil
 import sys
+import tempfile
 import time
 import traceback
-from dataclasses import asdict, dataclass, field
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -117,22 +123,55 @@ def execute(task: Task, worker: str) -> Outcome:
     """
     import numpy as np
 
-    from mimics.batteries.metrics import run_digest, summary_metrics
-    from mimics.records.layout import SUMMARY_JSON
-    from mimics.records.runner import prepare, run_to_folder
-    from mimics.world.errors import MimicsError
-
     started = time.time()
     outcome = Outcome(task.run_id, task.attempt, "error", worker=worker, started=started)
     for name in [n for n in sys.modules if n.startswith("mimics_user_")]:
         del sys.modules[name]  # user files (catalog._load_file): fresh module state per run
     random.seed(task.seed)
     np.random.seed(task.seed % 2**32)
+    from mimics.engine.user_code import shown_path
+
+    shown = shown_path(task.algorithm)  # as the teacher's working folder shows it
+    with private_folder():  # the submission runs where it sees no other file
+        original = task.algorithm
+        if original.endswith(".py") and Path(original).is_file():
+            # a copy, alone in the folder: its __file__ leads to no classmate's file
+            copy = Path.cwd() / Path(original).name
+            shutil.copyfile(original, copy)
+            task = replace(task, algorithm=str(copy))
+        outcome = _execute(task, outcome)
+        if task.algorithm != original:  # reasons name the submitted file, not the copy
+            outcome.error = _named_as(outcome.error, task.algorithm, original, shown)
+            outcome.traceback = _named_as(outcome.traceback, task.algorithm, original, shown)
+        return outcome
+
+
+def _named_as(text: str, copy: str, original: str, shown: str) -> str:
+    """``text`` with the private copy's path (absolute, or relative to its folder: a
+    failure's place) replaced by the submitted file's."""
+    text = text.replace(copy, original)
+    return re.sub(rf"(?<![\w/\\.]){re.escape(Path(copy).name)}(?=[:\"])", shown, text)
+
+
+def _execute(task: Task, outcome: Outcome) -> Outcome:
+    from mimics.batteries.metrics import run_digest, summary_metrics
+    from mimics.catalog import find_algorithm
+    from mimics.engine.watchdog import LoadTimeout
+    from mimics.records.layout import SUMMARY_JSON
+    from mimics.records.runner import prepare, run_to_folder
+    from mimics.world.errors import MimicsError
+
     try:
         _configure_scheme(task)
+        # the submission's import, under the run's time-out (an endless loop at file level)
+        find_algorithm(task.algorithm, load_limit=task.timeout)
         sim = prepare(task.scenario, task.algorithm, time=task.time, seed=task.seed,
                       policy=task.policy,  # type: ignore[arg-type]
                       wall_limit=task.timeout, params=task.params)
+    except LoadTimeout as exc:
+        outcome.state = "timeout"
+        outcome.error = f"wall-clock timeout: {exc}"
+        return _ended(outcome)
     except MimicsError as exc:
         outcome.error = f"the run could not start: {exc}"
         return _ended(outcome)
@@ -167,6 +206,20 @@ def execute(task: Task, worker: str) -> Outcome:
         first = next((e for e in result.events if e.kind == "exception"), None)
         outcome.traceback = first.traceback if first is not None else ""
     return _ended(outcome)
+
+
+@contextlib.contextmanager
+def private_folder() -> Iterator[None]:
+    """Run the body in a new empty working folder (removed after): a submission's relative
+    paths (``open("bob.py")``) reach no classmate's file."""
+    before = os.getcwd()
+    folder = tempfile.mkdtemp(prefix="mimics-run-")
+    os.chdir(folder)
+    try:
+        yield
+    finally:
+        os.chdir(before)
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def _written_summary(path: Path) -> dict[str, Any] | None:

@@ -1,7 +1,15 @@
 """What user code sees: ``robot`` (one robot) and ``team`` (all active robots).
 
-Both are thin views over the world's arrays: reading ``robot.pose`` gives a
-read-only view of that robot's row, never a copy of the world.
+Neither holds the simulation. The arrays they give are read-only views of
+*mirrors*: copies of the world's arrays refreshed once per step (a few rows of
+numbers: microseconds), so writing into them, even after turning ``writeable``
+back on, never reaches the world. What cannot be copied ahead (a scan row is
+traced when first read, messages, the log) goes through a generator
+(:class:`ViewHub`'s link): no attribute, closure or ``__dict__`` of a view leads
+to the simulation. In-process Python can still reach any object through ``gc``
+or frames; battery workers close those ways with an audit hook
+(:mod:`mimics.engine.guard`), and the worker process is the boundary
+(docs/explanation/containment.md).
 
 >>> # inside an algorithm
 >>> # x, y, theta = robot.pose;  ranges = robot.scan.ranges;  gx, gy = robot.goal
@@ -14,7 +22,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mimics.engine.sensors import COMMS_COLUMNS, within_range
+from mimics.engine.sensors import COMMS_COLUMNS
+from mimics.engine.view_hub import ViewHub, hub_of
 from mimics.world.maps import Map
 from mimics.world.robot_types import RobotType
 
@@ -27,73 +36,64 @@ def _frozen(view: np.ndarray) -> np.ndarray:
     return view
 
 
-_Views = dict[str, tuple[np.ndarray, np.ndarray]]
-
-
-def _row_view(views: _Views, key: str, source: np.ndarray, index: Any) -> np.ndarray:
-    """A read-only view ``source[index]``, made on first use and then reused.
-
-    The engine updates its arrays in place, so one view shows the current
-    values at every step: user code reading a sensor pays a dict look-up, not
-    a new view. The view is remade if ``source`` is ever a different array.
-    """
-    hit = views.get(key)
-    if hit is None or hit[0] is not source:
-        hit = views[key] = (source, _frozen(source[index]))
-    return hit[1]
+def _row(views: dict[str, np.ndarray], key: str, source: np.ndarray, index: Any) -> np.ndarray:
+    """A read-only view ``source[index]`` of a mirror array, made on first use and reused
+    (the mirror is refreshed in place: one view shows each step's values)."""
+    view = views.get(key)
+    if view is None:
+        view = views[key] = _frozen(source[index])
+    return view
 
 
 class Scan:
     """One robot's latest ranger reading."""
 
-    __slots__ = ("_index", "_sim", "_views")
+    __slots__ = ("_index", "_link", "_mirror", "_views")
 
-    def __init__(self, sim: Simulation, index: int) -> None:
-        self._sim = sim
+    def __init__(self, hub: ViewHub, index: int) -> None:
         self._index = index
-        self._views: _Views = {}
+        self._mirror = hub.mirror
+        self._link = hub.link
+        self._views: dict[str, np.ndarray] = {}
 
-    def _beams(self) -> tuple[int, slice]:
-        return self._index, slice(0, int(self._sim.types.beam_count[self._index]))
+    def _current(self) -> dict[str, np.ndarray]:
+        mirror = self._mirror
+        index = self._index
+        if mirror.scan_step[index] != mirror.step:  # first read this step: trace, copy
+            self._link.send(("scan_row", index))
+        views = self._views
+        if "ranges" not in views:
+            count = mirror.beam_count[index]
+            views["ranges"] = _frozen(mirror.scan[index, :count])
+            views["hit_codes"] = _frozen(mirror.scan_hit[index, :count])
+        return views
 
     @property
     def ranges(self) -> np.ndarray:
         """Distance per beam (m); ``max_range`` where nothing was hit."""
-        state = self._sim.state
-        if state.pending_scan is not None:  # this row only: the others may be traced meanwhile
-            state.scan_row(self._index)
-        hit = self._views.get("ranges")
-        source = state.scan_buffer
-        if hit is not None and hit[0] is source:  # the common case, inlined
-            return hit[1]
-        return _row_view(self._views, "ranges", source, self._beams())
+        return self._current()["ranges"]
 
     @property
     def angles(self) -> np.ndarray:
         """Beam angles relative to the robot's heading (rad), right to left."""
-        hit = self._views.get("angles")
-        source = self._sim.types.beam_offsets
-        if hit is not None and hit[0] is source:
-            return hit[1]
-        return _row_view(self._views, "angles", source, self._beams())
+        angles = self._views.get("angles")
+        if angles is None:
+            angles = self._views["angles"] = self._link.send(("angles", self._index))
+        return angles
 
     @property
     def hits(self) -> np.ndarray:
         """True where a beam hit something within range."""
-        state = self._sim.state
-        if state.pending_scan is not None:
-            state.scan_row(self._index)
-        count = self._sim.types.beam_count[self._index]
-        return state.scan_hit_buffer[self._index, :count] != -2
+        return self._current()["hit_codes"] != -2
 
     @property
     def max_range(self) -> float:
         """The ranger's range (m)."""
-        return float(self._sim.types.max_range[self._index])
+        return self._mirror.max_range[self._index]
 
     def points(self) -> np.ndarray:
         """Hit points in the world frame ``(hits, 2)``, from the measured pose."""
-        x, y, theta = self._sim.state.measured_pose[self._index]
+        x, y, theta = self._mirror.measured_pose[self._index]
         hit = self.hits
         angles = theta + self.angles[hit]
         r = self.ranges[hit]
@@ -108,177 +108,181 @@ class Robot:
     ``acceleration``, ``odometry``, ``scan``, ``comms``. Ground truth:
     ``true_pose``, ``true_velocity``. Also ``goal``, ``time``, ``dt``, ``map``,
     ``memory`` (a dict kept between steps), ``rng`` (seeded), ``log(msg)``,
-    ``send(msg, to=None)`` and ``inbox``.
+    ``send(msg, to=None)`` and ``inbox``. Arrays are read-only copies of the world's
+    values at this step's sensing: nothing done to them changes the world.
     """
 
-    __slots__ = ("_sim", "_type", "_views", "id", "scan")
+    __slots__ = ("_link", "_mirror", "_type", "_views", "id", "scan")
 
     def __init__(self, sim: Simulation, index: int) -> None:
-        self._sim = sim
+        hub = hub_of(sim)  # the simulation itself is not kept
         self.id = index
-        self.scan = Scan(sim, index)
-        self._views: _Views = {}
+        self._mirror = hub.mirror
+        self._link = hub.link
+        self.scan = Scan(hub, index)
+        mirror = hub.mirror
+        self._views: dict[str, np.ndarray] = {
+            "pose": _frozen(mirror.measured_pose[index]),
+            "goal": mirror.goal[index]}  # read as Python floats, never handed out
         self._type: RobotType | None = None
 
     @property
     def pose(self) -> np.ndarray:
         """Measured ``(x, y, theta)``."""
-        hit = self._views.get("pose")
-        source = self._sim.state.measured_pose
-        if hit is not None and hit[0] is source:  # the common case, inlined (as Scan.ranges)
-            return hit[1]
-        return _row_view(self._views, "pose", source, self.id)
+        return self._views["pose"]
 
     @property
     def position(self) -> np.ndarray:
         """Measured ``(x, y)``."""
-        return _row_view(self._views, "position", self._sim.state.measured_pose,
-                         (self.id, slice(0, 2)))
+        return _row(self._views, "position", self._mirror.measured_pose, (self.id, slice(0, 2)))
 
     @property
     def heading(self) -> float:
         """Measured heading (rad)."""
-        return float(self._sim.state.measured_pose[self.id, 2])
+        return float(self._views["pose"][2])
 
     @property
     def true_pose(self) -> np.ndarray:
         """Ground-truth ``(x, y, theta)``."""
-        return _row_view(self._views, "true_pose", self._sim.state.pose, self.id)
+        return _row(self._views, "true_pose", self._mirror.pose, self.id)
 
     @property
     def velocity(self) -> np.ndarray:
         """Measured ``(v, w)``: speed (m/s) and turn rate (rad/s)."""
-        return _row_view(self._views, "velocity", self._sim.state.measured_velocity, self.id)
+        return _row(self._views, "velocity", self._mirror.measured_velocity, self.id)
 
     @property
     def true_velocity(self) -> np.ndarray:
         """Ground-truth ``(v, w)``."""
-        return _row_view(self._views, "true_velocity", self._sim.state.velocity, self.id)
+        return _row(self._views, "true_velocity", self._mirror.velocity, self.id)
 
     @property
     def acceleration(self) -> np.ndarray:
         """Measured ``(dv/dt, dw/dt)``."""
-        return _row_view(self._views, "acceleration", self._sim.state.measured_acceleration,
-                         self.id)
+        return _row(self._views, "acceleration", self._mirror.measured_acceleration, self.id)
 
     @property
     def odometry(self) -> np.ndarray:
         """The odometer's integrated ``(x, y, theta)`` estimate (drifts with motion)."""
-        return _row_view(self._views, "odometry", self._sim.state.odometry, self.id)
+        return _row(self._views, "odometry", self._mirror.odometry, self.id)
 
     @property
     def goal(self) -> tuple[float, float] | None:
         """``(x, y)`` of the goal, or None for robots without one."""
-        hit = self._views.get("goal")  # kept as views, the common case inlined
-        source = self._sim.state.goal
-        row = (hit[1] if hit is not None and hit[0] is source
-               else _row_view(self._views, "goal", source, self.id))
-        gx, gy = row.tolist()  # Python floats in one call
+        gx, gy = self._views["goal"].tolist()  # Python floats in one call
         return None if math.isnan(gx) else (gx, gy)
 
     @property
     def time(self) -> float:
         """Simulated time (s)."""
-        return self._sim.state.time
+        return self._mirror.time
 
     @property
     def dt(self) -> float:
         """The simulation step (s)."""
-        return self._sim.scenario.settings.dt
+        return self._mirror.dt
 
     @property
     def type(self) -> RobotType:
         """This robot's type (dimensions, dynamics, sensors)."""
         if self._type is None:  # looked up once: a scenario (frozen) never changes it
-            self._type = self._sim.scenario.robot_type(self.id)
+            self._type = self._link.send(("type", self.id))
         return self._type
 
     @property
     def map(self) -> Map:
         """The map: its walls as edited so far (``mimics.engine.edits``)."""
-        return self._sim.world_map
+        return self._link.send(("map", self.id))  # type: ignore[no-any-return]
 
     @property
     def memory(self) -> dict[str, Any]:
         """A dict that persists between this robot's steps."""
-        return self._sim.state.memory[self.id]
+        return self._link.send(("memory", self.id))  # type: ignore[no-any-return]
 
     @property
     def rng(self) -> np.random.Generator:
         """This robot's generator for user code: its own stream of the run's seed."""
-        return self._sim.user_rng(self.id)
+        return self._link.send(("rng", self.id))  # type: ignore[no-any-return]
 
     @property
     def comms(self) -> np.ndarray:
         """Rows ``[id, x, y, theta, v, w]`` of active robots within communication range."""
-        x, y = self._sim.state.measured_pose[self.id, :2]
-        return within_range(self._sim.comms_table(), x, y, self._sim.scenario.settings.comm_range)
+        return self._link.send(("comms", self.id))  # type: ignore[no-any-return]
 
     comms_columns = COMMS_COLUMNS
 
     @property
     def inbox(self) -> list[tuple[int, Any]]:
         """Messages ``(sender_id, message)`` delivered to this robot this step."""
-        return self._sim.messages.inbox(self.id)
+        return self._link.send(("inbox", self.id))  # type: ignore[no-any-return]
 
     def send(self, message: Any, to: int | None = None) -> None:
         """Send a message to robot ``to`` (or to all within range); it arrives next step."""
-        self._sim.messages.send(self.id, message, to)
+        self._link.send(("send", self.id, message, to))
 
     def log(self, message: str) -> None:
         """Add a message to this step's ``user_msg`` column of the log."""
-        current = self._sim.state.user_message[self.id]
-        text = f"{current} | {message}" if current else str(message)
-        self._sim.state.user_message[self.id] = text
+        self._link.send(("log", self.id, message))
 
     def __repr__(self) -> str:
-        x, y, theta = self._sim.state.pose[self.id]
+        x, y, theta = self._mirror.pose[self.id]
         return f"Robot(id={self.id}, x={x:.3f}, y={y:.3f}, theta={theta:.3f})"
 
 
 class TeamScan:
     """Latest scans of the team's robots: ``ranges (k, B)`` and ``angles (k, B)``."""
 
-    __slots__ = ("_rows", "_sim")
+    __slots__ = ("_link", "_mirror", "_read", "_rows")
 
-    def __init__(self, sim: Simulation, rows: np.ndarray) -> None:
-        self._sim = sim
+    def __init__(self, hub: ViewHub, rows: np.ndarray) -> None:
+        self._mirror = hub.mirror
+        self._link = hub.link
         self._rows = rows
+        self._read: dict[str, np.ndarray] | None = None
+
+    def _traced(self) -> dict[str, np.ndarray]:
+        if self._read is None:
+            self._read = self._link.send(("team_scan", self._rows))
+        return self._read
 
     @property
     def ranges(self) -> np.ndarray:
         """Distances ``(k, B)``; NaN in slots beyond a robot's beam count."""
-        return self._sim.state.scan[self._rows]
+        return self._traced()["ranges"]
 
     @property
     def angles(self) -> np.ndarray:
         """Beam angles relative to each heading ``(k, B)``."""
-        return self._sim.types.beam_offsets[self._rows]
+        return self._link.send(("team_angles", self._rows))  # type: ignore[no-any-return]
 
     @property
     def hits(self) -> np.ndarray:
         """True where a beam hit something."""
-        return self._sim.state.scan_hit[self._rows] != -2
+        return self._traced()["hits"]
 
     @property
     def max_range(self) -> np.ndarray:
         """Each robot's ranger range ``(k,)``."""
-        return self._sim.types.max_range[self._rows]
+        return np.asarray(self._mirror.max_range)[self._rows]
 
 
 class Team:
     """All robots an algorithm drives in one call, as arrays (first axis = robot).
 
     ``ids`` are the robots' indices; ``pose``, ``velocity``, ``goal`` (NaN rows
-    for no goal), ``scan.ranges`` etc. are arrays of matching rows.
+    for no goal), ``scan.ranges`` etc. are arrays of matching rows, copies of the
+    world's: nothing done to them changes the world.
     """
 
-    __slots__ = ("_sim", "ids", "scan")
+    __slots__ = ("_link", "_mirror", "ids", "scan")
 
     def __init__(self, sim: Simulation, ids: np.ndarray) -> None:
-        self._sim = sim
-        self.ids = ids
-        self.scan = TeamScan(sim, ids)
+        hub = hub_of(sim)  # the simulation itself is not kept
+        hub.refresh()  # a team view is made for each call: it shows this step's values
+        self._mirror = hub.mirror
+        self._link = hub.link
+        self.ids = np.array(ids, copy=True)
+        self.scan = TeamScan(hub, self.ids)
 
     def __len__(self) -> int:
         return len(self.ids)
@@ -286,73 +290,76 @@ class Team:
     @property
     def pose(self) -> np.ndarray:
         """Measured poses ``(k, 3)``."""
-        return self._sim.state.measured_pose[self.ids]
+        return self._mirror.measured_pose[self.ids]
 
     @property
     def true_pose(self) -> np.ndarray:
         """Ground-truth poses ``(k, 3)``."""
-        return self._sim.state.pose[self.ids]
+        return self._mirror.pose[self.ids]
 
     @property
     def velocity(self) -> np.ndarray:
         """Measured ``(v, w)`` rows ``(k, 2)``."""
-        return self._sim.state.measured_velocity[self.ids]
+        return self._mirror.measured_velocity[self.ids]
+
+    def _types(self) -> dict[str, np.ndarray]:
+        return self._link.send(("team_types", self.ids))  # type: ignore[no-any-return]
 
     @property
     def max_speed(self) -> np.ndarray:
         """Each robot's top speed ``(k,)`` (m/s, its type's ``kv``)."""
-        return self._sim.types.plant.kv[self.ids]
+        return self._types()["kv"]
 
     @property
     def length(self) -> np.ndarray:
         """Each robot's length ``(k,)`` (m, along its heading)."""
-        return 2.0 * self._sim.types.half_length[self.ids]
+        return 2.0 * self._types()["half_length"]
 
     @property
     def width(self) -> np.ndarray:
         """Each robot's width ``(k,)`` (m)."""
-        return 2.0 * self._sim.types.half_width[self.ids]
+        return 2.0 * self._types()["half_width"]
 
     @property
     def odometry(self) -> np.ndarray:
         """Odometer estimates ``(k, 3)``."""
-        return self._sim.state.odometry[self.ids]
+        return self._mirror.odometry[self.ids]
 
     @property
     def goal(self) -> np.ndarray:
         """Goals ``(k, 2)``, NaN rows for robots without one."""
-        return self._sim.state.goal[self.ids]
+        return self._mirror.goal[self.ids]
 
     @property
     def time(self) -> float:
         """Simulated time (s)."""
-        return self._sim.state.time
+        return self._mirror.time
 
     @property
     def dt(self) -> float:
         """The simulation step (s)."""
-        return self._sim.scenario.settings.dt
+        return self._mirror.dt
 
     @property
     def map(self) -> Map:
         """The map: its walls as edited so far (``mimics.engine.edits``)."""
-        return self._sim.world_map
+        return self._link.send(("map", None))  # type: ignore[no-any-return]
 
     @property
     def memory(self) -> dict[str, Any]:
         """A dict shared by the team, kept between steps."""
-        return self._sim.team_memory
+        return self._link.send(("team_memory", None))  # type: ignore[no-any-return]
 
     @property
     def rng(self) -> np.random.Generator:
         """The team's generator for user code: its own stream of the run's seed."""
-        return self._sim.user_rng()
+        return self._link.send(("rng", None))  # type: ignore[no-any-return]
 
     @property
     def comms(self) -> np.ndarray:
         """Rows ``[id, x, y, theta, v, w]`` of all active robots."""
-        return self._sim.comms_table()
+        return self._link.send(("comms", None))  # type: ignore[no-any-return]
 
     def log(self, robot_id: int, message: str) -> None:
         """Add a message to robot ``robot_id``'s ``user_msg`` column this step."""
-        Robot(self._sim, int(robot_id)).log(message)
+        self._link.send(("log", int(robot_id), message))

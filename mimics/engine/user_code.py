@@ -59,6 +59,8 @@ def is_user_file(filename: str) -> bool:
     path = os.path.abspath(filename)
     if path.startswith(_USER_PARTS):
         return True
+    if any(f"{os.sep}{name}{os.sep}" in path for name in ("site-packages", "dist-packages")):
+        return False  # a package, also one whose folder joined sys.path later (ROS's rospy)
     return not path.startswith(_NOT_USER)
 
 

@@ -20,18 +20,24 @@ The watchdog only interrupts while the simulation is inside user code
 the engine's own arrays are never left half-updated. Watchdogs exist only in
 runs with a wall limit; one thread per process (``mimics-wall-limit``) checks
 them every :data:`POLL` seconds and ends :data:`IDLE` seconds after the last run.
+
+The import of a user's file is watched the same way (:func:`watched_load`): an
+endless loop at file level ends in a :class:`StepTimeout` naming its line.
 """
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
+import math
 import os
 import threading
 import time
 import weakref
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 from mimics.engine.user_code import failure_place, user_traceback
+from mimics.world.errors import MimicsError
 
 #: Seconds past the wall limit before user code still running is interrupted.
 GRACE = 0.5
@@ -60,6 +66,28 @@ class StepTimeout(BaseException):
 
     robot: int = -1
     entry: str = "step()"
+
+
+class LoadTimeout(MimicsError):
+    """A user's file did not finish importing within its limit (the message names it)."""
+
+
+@contextlib.contextmanager
+def watched_load(limit: float | None) -> Iterator[None]:
+    """Run the body (a user file's import) under a :class:`Watchdog` of ``limit`` seconds:
+    code still running past it gets :class:`StepTimeout`. ``None``: unwatched."""
+    if limit is None or not math.isfinite(limit):
+        yield
+        return
+    started = time.perf_counter()
+    watchdog = Watchdog(max(0.0, limit - GRACE), lambda: time.perf_counter() - started,
+                        raise_in_thread)
+    watchdog.enter()
+    try:
+        yield
+    finally:
+        watchdog.leave()
+        watchdog.close()
 
 
 def blame(stop: StepTimeout, robot: int, entry: str) -> None:

@@ -65,7 +65,7 @@ def prepare(scenario: str | Path | Scenario, algorithm: Any, *, robots: int | No
                                allow_overlap=allow_overlap, seed=seed)
         check_memory(built, time=time)
         if isinstance(algorithm, str | Path):
-            name, module = find_algorithm(algorithm)
+            name, module = find_algorithm(algorithm, load_limit=wall_limit)
         else:
             name, module = getattr(algorithm, "__name__", "algorithm"), algorithm
         return Simulation(built, module, seed=seed, policy=policy, time_limit=time,

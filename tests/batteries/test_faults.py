@@ -48,7 +48,7 @@ def test_every_fault_is_recorded_and_the_other_runs_complete(tmp_path: Path) -> 
     assert error["segfault"] == ("the worker process died during the run (killed by signal "
                                  "SIGSEGV)")
     assert "Segmentation fault" in table.loc["segfault", "traceback"]
-    assert "segfault.py\", line 7 in step" in table.loc["segfault", "traceback"]
+    assert "segfault.py\", line 9 in step" in table.loc["segfault", "traceback"]
     assert "non-finite reference (speed_ref=nan" in error["nan"]
     for name in ("go_to_goal", "slow_go"):
         assert table.loc[name, "status"] == "time_limit"

@@ -26,7 +26,7 @@ class RowRecorder:
     def step(self, robot):
         if self.readers is not None and robot.id not in self.readers:
             return 0.0, robot.heading
-        self.rows[(robot._sim.state.step, robot.id)] = (robot.scan.ranges.tobytes(),
+        self.rows[(round(robot.time / robot.dt), robot.id)] = (robot.scan.ranges.tobytes(),
                                                         robot.scan.hits.tobytes())
         return 0.0, robot.heading + 0.3
 

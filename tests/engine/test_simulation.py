@@ -193,11 +193,13 @@ def test_odometry_drifts_only_while_moving() -> None:
     assert drift > 1e-4
 
 
-def test_robot_view_reads_the_world_without_copies() -> None:
+def test_robot_view_reads_the_world_through_read_only_copies() -> None:
     seen = {}
 
     def step(robot):
         seen["pose"] = robot.pose
+        seen["pose_then"] = robot.pose.copy()
+        seen["world_then"] = sim.state.measured_pose[robot.id].copy()
         seen["scan"] = robot.scan.ranges
         seen["goal"] = robot.goal
         seen["comms"] = robot.comms
@@ -207,9 +209,12 @@ def test_robot_view_reads_the_world_without_copies() -> None:
 
     sim = Simulation(line(robots=2), step, time_limit=0.2)
     sim.run()
-    assert np.shares_memory(seen["pose"], sim.state.measured_pose)
+    # a mirror of the world's values at this step's sensing, never the world's own array
+    assert not np.shares_memory(seen["pose"], sim.state.measured_pose)
     assert not seen["pose"].flags.writeable
+    assert seen["pose_then"].tolist() == seen["world_then"].tolist()
     assert seen["scan"].shape == (270,)
+    assert not np.shares_memory(seen["scan"], sim.state.scan_buffer)
     assert seen["goal"] == (20.0, 2.0)
     assert seen["comms"].shape == (2, 6)
     assert sim.state.memory[0]["calls"] == 2
@@ -217,21 +222,27 @@ def test_robot_view_reads_the_world_without_copies() -> None:
 
 
 def test_robot_view_rows_are_made_once_and_follow_the_world() -> None:
-    sim = Simulation(line(robots=2), lambda r: (0.5, 0.0), time_limit=1.0)
+    world_then: list[list[float]] = []
+
+    def step(robot):
+        world_then.append(sim.state.measured_pose[robot.id].tolist())
+        return 0.5, 0.0
+
+    sim = Simulation(line(robots=2), step, time_limit=1.0)
     sim.start()
     robot = sim.controller._robots[1]
     pose, ranges = robot.pose, robot.scan.ranges
     sim.step()
     sim.step()
-    # the same read-only objects, showing this step's values (no new arrays per read)
+    # the same read-only objects, showing the last step's values (no new arrays per read)
     assert robot.pose is pose and robot.scan.ranges is ranges
-    assert pose.tolist() == sim.state.measured_pose[1].tolist()
-    assert not ranges.flags.writeable and np.shares_memory(ranges, sim.state.scan)
-    assert robot.position.tolist() == sim.state.measured_pose[1, :2].tolist()
-    # a replaced world array is picked up, never a stale row
+    assert pose.tolist() == world_then[-1]
+    assert not ranges.flags.writeable
+    assert robot.position.tolist() == world_then[-1][:2]
+    # a replaced world array is copied from at the next step, never a stale row
     sim.state.measured_pose = sim.state.measured_pose.copy()
-    sim.state.measured_pose[1, 0] = 123.0
-    assert robot.pose[0] == 123.0 and robot.pose is not pose
+    sim.step()
+    assert robot.pose.tolist() == world_then[-1]
 
 
 def test_noise_free_odometer_reads_the_true_pose_exactly() -> None:

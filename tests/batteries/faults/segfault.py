@@ -1,8 +1,10 @@
-"""Crashes the interpreter (a null-pointer read through ctypes) at its first step."""
+"""Crashes the interpreter (a SIGSEGV sent to itself) at its first step. (ctypes, the
+other way to a null-pointer read, is refused to user code in battery workers.)"""
 
-import ctypes
+import os
+import signal
 
 
 def step(robot):
-    ctypes.string_at(0)
+    os.kill(os.getpid(), signal.SIGSEGV)
     return 1.0, 0.0
