@@ -15,6 +15,7 @@ import os
 import time
 from pathlib import Path
 
+from mimics.batteries.compile_once import compile_missing_parts
 from mimics.batteries.tasks import Outcome, Task
 from mimics.batteries.workers import STARTUP_LIMIT, WorkerProcess
 from mimics.world.errors import MimicsError
@@ -32,7 +33,9 @@ class LocalExecutor:
     Args:
         workers: how many processes run simulations at once.
         log_dir: folder of the workers' logs.
-        warm_up: each worker loads the compiled kernels with a tiny run at start.
+        warm_up: each worker loads the compiled kernels with a tiny run at start;
+            before the workers start, what Numba's cache lacks is compiled once
+            (:mod:`mimics.batteries.compile_once`), not once per worker.
     """
 
     kind = "local"
@@ -46,6 +49,8 @@ class LocalExecutor:
         self.threads = max(1, (os.cpu_count() or 1) // workers)
         self._spawned = 0
         self._startup_failures = 0
+        if warm_up:
+            compile_missing_parts(log_dir)
         self._slots = [self._spawn() for _ in range(workers)]
 
     @property

@@ -6,7 +6,10 @@ imports the engine once (it preloads :mod:`mimics.batteries.preload`); each
 worker is forked from it with everything imported, loads the compiled Numba
 kernels with a tiny warm-up run, and then runs tasks sent over a pipe until
 told to stop, so that imports and kernels are loaded once per worker, not per
-run, and replacing a dead worker is cheap. Each worker runs Numba's parallel
+run, and replacing a dead worker is cheap. On a fresh install a local battery
+compiles the kernels Numba's cache lacks once, before its workers start
+(:mod:`mimics.batteries.compile_once`); the workers of a Dask battery, started on
+each Dask worker's machine, compile at their warm-up as before. Each worker runs Numba's parallel
 kernels on ``threads`` threads (one when there are as many workers as cores:
 the battery's parallelism is across runs). The parent keeps the other end of
 the pipe (:class:`WorkerProcess`):

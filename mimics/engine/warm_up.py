@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from mimics.engine.dynamics import move_robots
+from mimics.engine.dynamics import advance_pose, move_robots
 from mimics.engine.helper_threads.chunks import LEAD
 from mimics.engine.helper_threads.threads import _finish_and_wait, _join, solo_arrays
 from mimics.engine.ranger_noise import _add_noise
@@ -100,8 +100,8 @@ def compile_index_kernels() -> None:
 
 
 def compile_motion_kernels() -> None:
-    """The checks after the robots move, the dynamics and the helper threads' waits, for
-    the engine's argument types."""
+    """The checks after the robots move, the dynamics (the odometry's arcs too) and the
+    helper threads' waits, for the engine's argument types."""
     none, rows = np.zeros(0), np.zeros((0, 2))
     _check_kernel(tuple(_empty_robots()), none, none, np.zeros(0, np.int64),
                   tuple(_empty_grid()), np.zeros((0, 3)), rows, 0.0, 0.0, 1.0, 1.0, 0.1, none,
@@ -109,6 +109,7 @@ def compile_motion_kernels() -> None:
     gains = np.zeros((0, 3))
     move_robots(np.zeros(0, np.int64), rows, rows, rows, rows, rows, rows, none, gains, gains,
                 none, none, none, none, 0.1, none, none)
+    advance_pose(np.zeros((0, 3)), none, none)  # odometry: else each battery worker compiles it
     control, share = solo_arrays(0)  # the helper threads' waits (checks and rays use them)
     _join(share)
     _finish_and_wait(control, share, False, 0, 1)
