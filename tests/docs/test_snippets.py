@@ -157,5 +157,6 @@ def test_first_battery_tutorial_runs(tmp_path, monkeypatch, capsys):
     assert len(set(digests)) == len(digests)
     assert (tmp_path / "night-plots/outcomes.png").is_file()
     assert (tmp_path / "night-plots/time_to_goal.png").is_file()
+    assert (tmp_path / "night-plots/arrivals.png").is_file()
     capsys.readouterr()
 
