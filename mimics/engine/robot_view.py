@@ -1,15 +1,8 @@
 """What user code sees: ``robot`` (one robot) and ``team`` (all active robots).
 
-Neither holds the simulation. The arrays they give are read-only views of
-*mirrors*: copies of the world's arrays refreshed once per step (a few rows of
-numbers: microseconds), so writing into them, even after turning ``writeable``
-back on, never reaches the world. What cannot be copied ahead (a scan row is
-traced when first read, messages, the log) goes through a generator
-(:class:`ViewHub`'s link): no attribute, closure or ``__dict__`` of a view leads
-to the simulation. In-process Python can still reach any object through ``gc``
-or frames; battery workers close those ways with an audit hook
-(:mod:`mimics.engine.guard`), and the worker process is the boundary
-(docs/explanation/containment.md).
+Neither holds the simulation: they read per-step copies of the world's arrays
+and ask for the rest through a link, both kept by :mod:`mimics.engine.view_hub`
+(which says why, and what in-process Python cannot guarantee).
 
 >>> # inside an algorithm
 >>> # x, y, theta = robot.pose;  ranges = robot.scan.ranges;  gx, gy = robot.goal
