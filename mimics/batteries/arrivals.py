@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from mimics.batteries.metrics import is_missing
 from mimics.world.errors import MimicsError
 
 #: The columns of a runs table that :func:`arrival_curves` reads.
@@ -167,7 +168,7 @@ def run_record(row: dict[str, Any]) -> tuple[list[float], int, float] | None:
     """A run's arrival times, goal robots and censoring time, or None without a record."""
     times = row.get("arrival_times")
     goals = row.get("goal_robots")
-    if times is None or isinstance(times, float) or _missing(goals):  # NaN: no record
+    if times is None or isinstance(times, float) or is_missing(goals):  # NaN: no record
         return None
     goals = int(goals)
     horizon = _number(row.get("horizon"))
@@ -181,8 +182,4 @@ def run_record(row: dict[str, Any]) -> tuple[list[float], int, float] | None:
 
 
 def _number(value: Any) -> float:
-    return math.nan if _missing(value) else float(value)
-
-
-def _missing(value: Any) -> bool:
-    return value is None or value is pd.NA or (isinstance(value, float) and math.isnan(value))
+    return math.nan if is_missing(value) else float(value)

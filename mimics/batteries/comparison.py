@@ -176,21 +176,23 @@ def paired_comparison(table: pd.DataFrame, baseline: str | None = None,
         for (scenario, label), group in mine.groupby(["scenario", "parameters"], sort=False):
             theirs = base[(base["scenario"] == scenario) & (base["parameters"] == label)]
             pairs = group.merge(theirs, on="seed", suffixes=("", "_base"))
+            base_side = pairs[[c for c in pairs.columns if c.endswith("_base")]].rename(
+                columns=lambda c: c[:-len("_base")])  # the baseline's runs, as a runs table
             for metric in chosen:
                 rows.append({"algorithm": algorithm, "baseline": baseline,
                              "scenario": scenario, "parameters": label, "metric": metric,
                              "primary": metric == primary,
-                             **_compare_metric(pairs, metric, method)})
+                             **_compare_metric(pairs, base_side, metric, method)})
     frame = pd.DataFrame(rows, columns=list(COMPARISON_COLUMNS))
     if not frame.empty:
         frame["p_adjusted"] = adjust_p_values(frame["p_value"].to_numpy(dtype=float), adjust)
     return frame
 
 
-def _compare_metric(pairs: pd.DataFrame, metric: str, method: str) -> dict[str, Any]:
-    """The difference of one metric over the pairs: interval, test, p-value and note."""
-    base_side = pairs[[c for c in pairs.columns if c.endswith("_base")]].rename(
-        columns=lambda c: c[:-len("_base")])
+def _compare_metric(pairs: pd.DataFrame, base_side: pd.DataFrame, metric: str,
+                    method: str) -> dict[str, Any]:
+    """The difference of one metric over the pairs (``base_side``: their baseline runs):
+    interval, test, p-value and note."""
     mine = metric_values(pairs, metric)
     theirs = metric_values(base_side, metric)
     if METRICS[metric].proportion:

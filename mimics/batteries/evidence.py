@@ -10,8 +10,9 @@ the outcomes, and the seeds that gave identical runs.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd
 
@@ -23,6 +24,10 @@ from mimics.batteries.comparison import (
     paired_comparison,
 )
 from mimics.batteries.seed_warnings import identical_seed_warnings
+
+if TYPE_CHECKING:
+    from mimics.batteries.rounds import CellStatus
+    from mimics.batteries.until import UntilRule
 
 
 @dataclass(frozen=True)
@@ -42,6 +47,8 @@ class Evidence:
         warnings: cells whose seeds gave identical runs.
         adjust: the p-value adjustment of the comparison.
         tests: p-values the comparison made (what ``adjust`` adjusts for).
+        until: the battery's stopping rule (None: a fixed battery).
+        cells: each cell's progress under it (empty without one).
     """
 
     table: pd.DataFrame
@@ -55,6 +62,8 @@ class Evidence:
     warnings: list[str]
     adjust: str
     tests: int
+    until: UntilRule | None = None
+    cells: list[CellStatus] = field(default_factory=list)
 
 
 def default_primary(table: pd.DataFrame, named: str = "") -> str:
@@ -84,18 +93,12 @@ def battery_evidence(folder: str | Path, *, baseline: str | None = None,
         MimicsError: for a folder that is no battery, or an unknown option value.
     """
     from mimics.batteries.report import runs_table
-    from mimics.batteries.rounds import until_status
-    from mimics.batteries.store import BatteryStore
+    from mimics.batteries.rounds import folder_until_status
 
     chosen = check_metrics(metrics)
     if table is None:
         table = runs_table(folder)
-    store = BatteryStore.open(folder)
-    try:
-        spec = store.spec()
-        statuses = until_status(store, spec)
-    finally:
-        store.close()
+    spec, statuses = folder_until_status(folder)
     primary = default_primary(table, spec.primary)
     if metrics is None:  # the primary first, and the stopping rule's metric
         wanted = [primary] if primary else []
@@ -108,11 +111,12 @@ def battery_evidence(folder: str | Path, *, baseline: str | None = None,
              for s in statuses if s.state == "max seeds"]
     if table.empty:
         empty = pd.DataFrame()
-        return Evidence(table, chosen, primary, empty, empty, empty, [], unmet, [], adjust, 0)
+        return Evidence(table, chosen, primary, empty, empty, empty, [], unmet, [], adjust, 0,
+                        spec.until, statuses)
     comparison = paired_comparison(table, baseline, chosen, exclude_failed=exclude_failed,
                                    adjust=adjust, primary=primary, method=method)
     tests = int(comparison["p_value"].notna().sum())
     return Evidence(table, chosen, primary,
                     cell_intervals(table, chosen, exclude_failed=exclude_failed, method=method),
                     comparison, cost_table(table), failed_runs_lines(table), unmet,
-                    identical_seed_warnings(table), adjust, tests)
+                    identical_seed_warnings(table), adjust, tests, spec.until, statuses)

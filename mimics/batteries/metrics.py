@@ -190,17 +190,18 @@ def row_value(row: Mapping[str, Any], metric: str, *, count_failed: bool = True)
         return math.nan
     if metric == "success":
         robots, reached = values.get("goal_robots", row.get("robots")), row.get("reached_goal")
-        if _missing(robots) or _missing(reached):
+        if is_missing(robots) or is_missing(reached):
             return math.nan
         return float(int(reached) >= int(robots))
     if metric in SUMMARY_STATS:
         value = values.get(metric)
         return math.nan if value is None else float(value)
     value = row.get(metric)
-    return math.nan if _missing(value) else float(value)
+    return math.nan if is_missing(value) else float(value)
 
 
-def _missing(value: Any) -> bool:
+def is_missing(value: Any) -> bool:
+    """None, NaN or pandas.NA: no value."""
     if value is None:
         return True
     try:

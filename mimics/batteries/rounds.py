@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from mimics.batteries.metrics import row_value
@@ -149,3 +150,17 @@ def until_status(store: BatteryStore, spec: BatterySpec) -> list[CellStatus]:
                                 half_width(list(values.values()), rule.metric),
                                 listed[0] if listed else cell.label))
     return found
+
+
+def folder_until_status(folder: str | Path) -> tuple[BatterySpec, list[CellStatus]]:
+    """The battery folder's spec and every cell's progress (:func:`until_status`).
+
+    Raises:
+        MimicsError: when ``folder`` is not a battery folder.
+    """
+    store = BatteryStore.open(folder)
+    try:
+        spec = store.spec()
+        return spec, until_status(store, spec)
+    finally:
+        store.close()

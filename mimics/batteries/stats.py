@@ -114,16 +114,27 @@ def t_interval(values: np.ndarray | list[float]) -> Interval:
     NaN values (undefined, such as a time to goal that was never reached) are left out.
     """
     data = finite(values)
+    short = _without_spread(data)
+    if short is not None:
+        return short
+    n, mean = len(data), float(data.mean())
+    half = _t_quantile(n - 1) * float(data.std(ddof=1)) / math.sqrt(n)
+    return Interval(mean, mean - half, mean + half, n)
+
+
+def _without_spread(data: np.ndarray) -> Interval | None:
+    """The interval of a sample too small or too flat for one (None otherwise): NaN
+    everywhere without values, NaN ends with one value, a point with no spread (exactly
+    the values, not the rounding of a mean)."""
     n = len(data)
     if n == 0:
         return Interval(math.nan, math.nan, math.nan, 0)
     mean = float(data.mean())
     if n < 2:
         return Interval(mean, math.nan, math.nan, 1)
-    if data.min() == data.max():  # no spread: exactly, not the rounding of a mean
+    if data.min() == data.max():
         return Interval(mean, mean, mean, n)
-    half = _t_quantile(n - 1) * float(data.std(ddof=1)) / math.sqrt(n)
-    return Interval(mean, mean - half, mean + half, n)
+    return None
 
 
 def sample_skewness(data: np.ndarray) -> float:
@@ -188,16 +199,11 @@ def skew_corrected_interval(values: np.ndarray | list[float]) -> Interval:
     one value NaN ends and values without spread a point interval.
     """
     data = finite(values)
-    n = len(data)
-    if n == 0:
-        return Interval(math.nan, math.nan, math.nan, 0)
-    mean = float(data.mean())
-    if n < 2:
-        return Interval(mean, math.nan, math.nan, 1)
-    if data.min() == data.max():
-        return Interval(mean, mean, mean, n)
-    mean, low, high = skew_corrected_ends(data, _t_quantile(n - 1))
-    return Interval(mean, low, high, n)
+    short = _without_spread(data)
+    if short is not None:
+        return short
+    mean, low, high = skew_corrected_ends(data, _t_quantile(len(data) - 1))
+    return Interval(mean, low, high, len(data))
 
 
 def bootstrap_interval(values: np.ndarray | list[float], *, seed: int = 0,
@@ -214,20 +220,15 @@ def bootstrap_interval(values: np.ndarray | list[float], *, seed: int = 0,
     if resamples < 1:
         raise ValueError(f"resamples: expected at least 1, got {resamples}")
     data = finite(values)
-    n = len(data)
-    if n == 0:
-        return Interval(math.nan, math.nan, math.nan, 0)
-    mean = float(data.mean())
-    if n < 2:
-        return Interval(mean, math.nan, math.nan, 1)
-    if data.min() == data.max():
-        return Interval(mean, mean, mean, n)
+    short = _without_spread(data)
+    if short is not None:
+        return short
     from scipy.stats import bootstrap
 
     result = bootstrap((data,), np.mean, n_resamples=resamples, confidence_level=CONFIDENCE,
                        method="BCa", random_state=np.random.default_rng(seed))
     ends = result.confidence_interval
-    return Interval(mean, float(ends.low), float(ends.high), n)
+    return Interval(float(data.mean()), float(ends.low), float(ends.high), len(data))
 
 
 def wilson_interval(successes: int, n: int) -> Interval:

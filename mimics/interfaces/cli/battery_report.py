@@ -169,15 +169,9 @@ def print_warnings(folder: Path) -> None:
 
 def print_until_progress(folder: Path, console: Console) -> None:
     """The stopping rule's progress per cell (nothing for a battery without one)."""
-    from mimics.batteries.rounds import until_status
-    from mimics.batteries.store import BatteryStore
+    from mimics.batteries.rounds import folder_until_status
 
-    store = BatteryStore.open(folder)
-    try:
-        spec = store.spec()
-        cells = until_status(store, spec)
-    finally:
-        store.close()
+    spec, cells = folder_until_status(folder)
     if spec.until is None:
         return
     rule = spec.until

@@ -242,21 +242,14 @@ def evidence(request: Request, path: str, baseline: str | None = None,
     progress per cell (cells stopped short of their target named) and the identical-seed
     warnings (NaN as null)."""
     from mimics.batteries.evidence import battery_evidence
-    from mimics.batteries.rounds import until_status
-    from mimics.batteries.store import BatteryStore
 
     folder = battery_folder(request.app.state.workspace, path)
     found = battery_evidence(folder, baseline=baseline, metrics=metric,
                              exclude_failed=exclude_failed, adjust=adjust, method=interval)
     table = found.table
-    store = BatteryStore.open(folder)
-    try:
-        spec = store.spec()
-        cells = [c.as_dict() for c in until_status(store, spec)]
-    finally:
-        store.close()
     algorithms = list(dict.fromkeys(table["algorithm"])) if not table.empty else []
-    rule = spec.until
+    rule = found.until
+    cells = [c.as_dict() for c in found.cells]
     return {"path": path, "metrics": found.metrics, "algorithms": algorithms,
             "baseline": baseline or (algorithms[0] if algorithms else None),
             "primary": found.primary or None, "adjust": found.adjust, "tests": found.tests,
