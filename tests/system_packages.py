@@ -43,12 +43,15 @@ PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
         and _has_file("/usr/lib/python3/dist-packages/tf2_ros")()
         and _has_file("/usr/lib/python3/dist-packages/std_srvs")()
         and _has_file("/usr/lib/python3/dist-packages/visualization_msgs")()
-        and _has_file("/usr/lib/python3/dist-packages/roslaunch")(),
+        and _has_file("/usr/lib/python3/dist-packages/roslaunch")()
+        # the Stage node styles' tests: message_filters' time sync and teleop by rostopic
+        and _has_file("/usr/lib/python3/dist-packages/message_filters")()
+        and _has_command("rostopic")(),
         ["python3-rospy", "python3-rosmaster", "python3-tf2-ros", "python3-sensor-msgs",
          "python3-nav-msgs", "python3-geometry-msgs", "python3-tf2-msgs",
          "python3-std-msgs", "python3-rosgraph-msgs", "python3-std-srvs",
-         "python3-visualization-msgs", "python3-roslaunch", "libroscpp-dev", "ros-core-dev",
-         "g++", "pkg-config"],
+         "python3-visualization-msgs", "python3-roslaunch", "python3-message-filters",
+         "python3-rostopic", "libroscpp-dev", "ros-core-dev", "g++", "pkg-config"],
     ),
     # roscpp nodes built by the tests: the headers and pkg-config files of their messages
     "roscpp": (

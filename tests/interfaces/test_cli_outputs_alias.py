@@ -82,7 +82,6 @@ def test_export_refuses_one_file_for_both_outputs_and_links_into_the_run(
 
 
 def test_an_export_beside_the_run_is_still_written(work: Path) -> None:
-    pytest.importorskip("rosbags")
     assert main(["export", "run", "--mcap", "run.mcap"]) == 0
     assert (work / "run.mcap").stat().st_size > 0
 
