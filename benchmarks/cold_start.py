@@ -4,7 +4,7 @@
                                     [--results benchmarks/results.json]
     python benchmarks/cold_start.py --parts [--repeats 3]
 
-``--parts`` compiles each part of the first-run compile (``mimics.engine.warm_up``:
+``--parts`` compiles each part of the first-run compile (``mimics.engine.compiling.warm_up``:
 index, motion, the ray kernel, its helpers, still) alone in a fresh process with
 an empty cache and prints its CPU seconds (median) and its kernels' own compile
 times (nested compiles subtracted), slowest first: where a cold run's CPU goes,
@@ -200,7 +200,7 @@ class Timer(event.Listener):
         rows.append([d.py_func.__module__ + "." + d.py_func.__qualname__, took - nested])
 
 event.register("numba:compile", Timer())
-from mimics.engine import warm_up
+from mimics.engine.compiling import warm_up
 imported = time.process_time()
 getattr(warm_up, sys.argv[2])()
 done = time.process_time()

@@ -86,7 +86,7 @@ def measure_env(observation: str, steps: int, repeats: int) -> dict[str, Any]:
 def measure_engine(steps: int, repeats: int) -> dict[str, Any]:
     """The same random references through the engine alone (no environment layer)."""
     from mimics.catalog import load_scenario
-    from mimics.engine.controllers import TeamController
+    from mimics.engine.user_code import TeamController
     from mimics.records.runner import prepare
 
     scenario = load_scenario(SCENARIO)

@@ -53,7 +53,7 @@ def _load_file(path: Path, kind: str, limit: float | None = None) -> ModuleType:
     """Import a user's ``.py`` file under a unique module name.
 
     ``limit`` (s): the import is stopped past it (an endless loop at file level) as a
-    step past a run's wall limit is (:mod:`mimics.engine.watchdog`). Whatever the
+    step past a run's wall limit is (:mod:`mimics.engine.user_code.watchdog`). Whatever the
     file does at import (a syntax error, an exception, ``sys.exit``, a time-out) is
     one :class:`MimicsError` naming the file and its line.
     """
@@ -68,7 +68,7 @@ def _load_file(path: Path, kind: str, limit: float | None = None) -> ModuleType:
         raise MimicsError(f"{path}: cannot be imported as Python")
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
-    from mimics.engine.watchdog import LoadTimeout, StepTimeout, watched_load
+    from mimics.engine.user_code import LoadTimeout, StepTimeout, watched_load
 
     try:
         with watched_load(limit):

@@ -3,7 +3,7 @@
 On a fresh install (an empty Numba cache) every worker used to compile every
 part of the kernels itself, at its warm-up and first runs: the same 15-30 s of
 CPU once per worker, on cores the workers share. Instead the battery process
-asks :func:`mimics.engine.warm_up.missing_parts` and, if some part is missing,
+asks :func:`mimics.engine.compiling.warm_up.missing_parts` and, if some part is missing,
 compiles each in a short-lived process of its own, all at once, and waits for
 them; the workers then load every part from the cache at their warm-up.
 
@@ -52,7 +52,7 @@ def compile_missing_parts(log_dir: Path | None, limit: float = COMPILE_LIMIT) ->
     Returns:
         The parts whose process ended well (empty when the cache had everything).
     """
-    from mimics.engine.warm_up import missing_parts
+    from mimics.engine.compiling.warm_up import missing_parts
 
     missing = missing_parts()
     if not missing:
@@ -88,6 +88,6 @@ def _compile_part(part: str, log_path: str) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the battery's: it kills us
     if log_path:
         _redirect_output(log_path)
-    from mimics.engine.warm_up import compile_part
+    from mimics.engine.compiling.warm_up import compile_part
 
     compile_part(part)

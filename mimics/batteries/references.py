@@ -55,7 +55,7 @@ def check_algorithms(value: Any, base: Path, fail: Any) -> tuple[str, ...]:
     existence only: it is imported, checked and run inside the workers alone, so that a
     broken or hostile submission costs its own runs, never the battery."""
     from mimics.catalog import find_algorithm
-    from mimics.engine.controllers import controller_from
+    from mimics.engine.user_code import controller_from
 
     if isinstance(value, str):
         value = [value]

@@ -156,7 +156,7 @@ def _named_as(text: str, copy: str, original: str, shown: str) -> str:
 def _execute(task: Task, outcome: Outcome) -> Outcome:
     from mimics.batteries.metrics import run_digest, summary_metrics
     from mimics.catalog import find_algorithm
-    from mimics.engine.watchdog import LoadTimeout
+    from mimics.engine.user_code import LoadTimeout
     from mimics.records.layout import SUMMARY_JSON
     from mimics.records.runner import prepare, run_to_folder
     from mimics.world.errors import MimicsError

@@ -31,7 +31,7 @@ Worker stdout and stderr (user ``print`` calls included) go to
 ``workers/NAME.log`` in the battery folder, not to the terminal. Submissions are
 imported only here, never in the battery process, each run in a fresh empty
 working folder, under an audit hook that refuses user code ``gc`` and frames
-(:mod:`mimics.engine.guard`).
+(:mod:`mimics.engine.user_code.guard`).
 """
 
 from __future__ import annotations
@@ -81,7 +81,7 @@ def worker_main(conn: Any, parent_pid: int, log_path: str, death_signal: bool,
     _limit_threads(threads)
     if warm_up:
         warm_up_engine()
-    from mimics.engine.guard import install_guard
+    from mimics.engine.user_code import install_guard
 
     install_guard()  # after the warm-up: user code may not walk gc or frames to the world
     name = multiprocessing.current_process().name

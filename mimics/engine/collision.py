@@ -34,7 +34,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from mimics.engine.kernel_options import INNER
+from mimics.engine.compiling.kernel_options import INNER
 from mimics.engine.robot_index import RobotIndex, build_robot_index, coerce_robot_index
 from mimics.engine.spatial_index import (
     SegmentGrid,

@@ -12,9 +12,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mimics.engine.controllers import UserFailure
 from mimics.engine.outcome import Event
 from mimics.engine.state import Status
+from mimics.engine.user_code import UserFailure
 
 if TYPE_CHECKING:
     from mimics.engine.stall import StallDetector

@@ -41,9 +41,9 @@ import math
 import numpy as np
 from numba import njit
 
+from mimics.engine.compiling.kernel_minmax import larger, smaller
 from mimics.engine.helper_threads.chunks import LEAD, begin_run, end_run, next_chunk
 from mimics.engine.helper_threads.threads import helpers, helpers_worth, solo_arrays
-from mimics.engine.kernel_minmax import larger, smaller
 
 GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # SplitMix64's increment
 MIX1, MIX2 = np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)

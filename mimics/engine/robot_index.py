@@ -20,8 +20,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from mimics.engine.kernel_minmax import larger, smaller
-from mimics.engine.kernel_options import INNER
+from mimics.engine.compiling.kernel_minmax import larger, smaller
+from mimics.engine.compiling.kernel_options import INNER
 from mimics.engine.spatial_index import cell_span, coerce_array, grid_frame
 
 MAX_CELLS_PER_ROBOT = 4  # the grid never has more than 4 n + 1024 cells

@@ -23,12 +23,11 @@ from typing import Any, Literal, Protocol
 
 import numpy as np
 
-from mimics.engine.compile_clock import compile_seconds
-from mimics.engine.controllers import Controller, TeamController, UserFailure, controller_from
+from mimics.engine.compiling import compile_seconds, heap_frozen
+from mimics.engine.compiling.warm_up import load_step_kernels
 from mimics.engine.deactivations import RobotDeactivations
 from mimics.engine.dynamics import move_robots
 from mimics.engine.edits import WorldEdits
-from mimics.engine.heap_freeze import heap_frozen
 from mimics.engine.messages import MessageBus, clear_messages
 from mimics.engine.noise_streams import AlgorithmStreams, RangerNoise, StepStreams
 from mimics.engine.outcome import Event, RunResult, TimingStats, result_from_state, run_digest
@@ -43,8 +42,15 @@ from mimics.engine.sensors import (
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
 from mimics.engine.step_checks import check_moved
-from mimics.engine.warm_up import load_step_kernels
-from mimics.engine.watchdog import StepTimeout, Watchdog, describe_timeout
+from mimics.engine.user_code import (
+    Controller,
+    StepTimeout,
+    TeamController,
+    UserFailure,
+    Watchdog,
+    controller_from,
+    describe_timeout,
+)
 from mimics.world.limits import MAX_SEED, check_steps, check_whole
 from mimics.world.scenario import Scenario
 
@@ -70,13 +76,13 @@ class Simulation(RobotDeactivations, WorldEdits):
     Args:
         scenario: the world and its robots.
         algorithm: a module, function or class following the algorithm contract
-            (``mimics.engine.controllers``), or a ready ``Controller``.
+            (``mimics.engine.user_code.controllers``), or a ready ``Controller``.
         seed: seeds every random draw of the run.
         policy: on an exception in user code, ``"abort"`` ends the run with
             status ``error``; ``"deactivate"`` deactivates only that robot.
         time_limit: simulated seconds (default: the scenario's setting).
         wall_limit: wall-clock seconds after which the run stops (status ``wall_limit``);
-            user code still running then is stopped (``mimics.engine.watchdog``).
+            user code still running then is stopped (``mimics.engine.user_code.watchdog``).
         stop_when: a predicate on the simulation that ends the run when true.
         observers: objects with optional ``on_start``, ``on_step``, ``on_edit``, ``on_end``.
 

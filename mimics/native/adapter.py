@@ -1,17 +1,17 @@
-"""A compiled algorithm as a :class:`~mimics.engine.controllers.Controller`.
+"""A compiled algorithm as a :class:`~mimics.engine.user_code.controllers.Controller`.
 
 ``mimics_step`` runs for every active robot in one call into the host code
 (``host.c``), which fills each robot's ``mimics_robot`` from the world's
 arrays and times each call on its own, as the Python per-robot form does.
 ``mimics_team_step`` goes through the Python team form: it is handed the
-same arrays as ``team`` (``mimics.engine.robot_view.Team``).
+same arrays as ``team`` (``mimics.engine.user_code.robot_view.Team``).
 
 Failures follow the contract of ``controllers.py``: a non-zero return code
 or a non-finite reference is recorded against the robot and handled by the
 run's policy. A crash (a segfault) takes the process with it: batteries
 record it as ``crashed`` and ``mimics run`` runs such files in a child
 process (``mimics.interfaces.cli.native``). A call still running past a
-run's wall limit is cut: the watchdog (``mimics.engine.watchdog``) sends
+run's wall limit is cut: the watchdog (``mimics.engine.user_code.watchdog``) sends
 :data:`CUT_SIGNAL` to the thread running it, whose handler in ``host.c``
 jumps back to the host; the run then ends as a Python step stopped there.
 """
@@ -25,9 +25,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mimics.engine.controllers import Controller, TeamController, UserFailure
-from mimics.engine.robot_view import Robot, Team
-from mimics.engine.watchdog import StepTimeout
+from mimics.engine.user_code import (
+    Controller,
+    Robot,
+    StepTimeout,
+    Team,
+    TeamController,
+    UserFailure,
+)
 from mimics.native.build import NativeBuild, load_native
 from mimics.world.errors import AlgorithmError
 

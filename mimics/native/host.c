@@ -47,7 +47,7 @@ static int mimics_host_entry_points(void) {
 /* The ABI version the user's file was compiled against; -1 if it did not include mimics.h. */
 static int mimics_host_abi(void) { return mimics_abi_version ? mimics_abi_version() : -1; }
 
-/* Cutting a call that does not return (the wall-limit watchdog, mimics/engine/watchdog.py):
+/* Cutting a call that does not return (the wall-limit watchdog, mimics/engine/user_code/watchdog.py):
  * the watchdog sends a signal to the thread running the user's code; while that thread is
  * inside a host call below, the handler jumps back to the host, which returns -1. Outside,
  * the signal is ignored. Per thread, so that each thread's calls are cut on their own. */

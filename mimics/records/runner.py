@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from mimics.catalog import find_algorithm, load_scenario
-from mimics.engine.heap_freeze import heap_frozen
+from mimics.engine.compiling import heap_frozen
 from mimics.engine.outcome import RunResult
 from mimics.engine.simulation import Policy, Simulation
 from mimics.records.layout import FLUSH_ROWS

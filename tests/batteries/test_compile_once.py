@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from mimics.batteries import compile_once
-from mimics.engine import warm_up
+from mimics.engine.compiling import warm_up
 from tests.batteries.helpers import write_battery
 
 SAVED = re.compile(r"\[cache\] data saved to '([^']+)'")

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from typer.main import get_command
 
-from mimics.engine.robot_view import Robot, Team
+from mimics.engine.user_code import Robot, Team
 from mimics.interfaces.cli.program import app
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -110,8 +110,8 @@ def test_the_compile_time_is_given_in_one_place_only():
     home = ROOT / "docs/explanation/performance.md"
     texts = {path: path.read_text(encoding="utf-8")
              for path in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]}
-    texts[ROOT / "mimics/interfaces/cli/first_run.py"] = (
-        ROOT / "mimics/interfaces/cli/first_run.py").read_text(encoding="utf-8")
+    texts[ROOT / "mimics/interfaces/cli/compiling/first_run.py"] = (
+        ROOT / "mimics/interfaces/cli/compiling/first_run.py").read_text(encoding="utf-8")
     figures = []
     for path, text in texts.items():
         for paragraph in re.split(r"\n\s*\n", text):

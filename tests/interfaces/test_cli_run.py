@@ -14,7 +14,7 @@ import pytest
 from typer.testing import CliRunner
 
 import mimics
-from mimics.engine import warm_up
+from mimics.engine.compiling import warm_up
 from mimics.interfaces.cli import first_run, kernel_cache
 from mimics.interfaces.cli import program as cli
 from tests.processes import alive_with, left_running, marked_environment
@@ -145,7 +145,7 @@ def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path, for
     teardown (os._exit): what it compiled must be on disk by then, so that the run finds
     the part in Numba's cache."""
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    script = ("from mimics.engine import warm_up\n"
+    script = ("from mimics.engine.compiling import warm_up\n"
               "from mimics.interfaces.cli import compile_processes\n"
               "before = warm_up.missing_parts()\n"
               f"process = compile_processes.{form}('motion')\n"

@@ -15,7 +15,7 @@ import sys
 import pytest
 from numba.core import caching
 
-from mimics.engine import warm_up
+from mimics.engine.compiling import warm_up
 from mimics.interfaces.cli import kernel_cache
 
 WITNESSES = [(module, name) for part in kernel_cache.PARTS
@@ -89,7 +89,8 @@ def test_an_empty_cache_lacks_every_part_and_a_filled_one_none(tmp_path, monkeyp
     assert kernel_cache.missing_parts() == warm_up.missing_parts() == []
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
     assert kernel_cache.missing_parts() == list(kernel_cache.PARTS)
-    script = ("from mimics.engine import warm_up; print(' '.join(warm_up.missing_parts())); "
+    script = ("from mimics.engine.compiling import warm_up; "
+              "print(' '.join(warm_up.missing_parts())); "
               "warm_up.compile_part('index'); print(' '.join(warm_up.missing_parts()))")
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                           env=dict(os.environ), timeout=300, check=True)

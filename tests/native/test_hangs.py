@@ -10,8 +10,8 @@ from pathlib import Path
 
 import mimics
 from mimics.engine.state import Status
-from mimics.engine.watchdog import GRACE, RETRY
-from tests.engine.test_wall_limit import threads_left
+from mimics.engine.user_code.watchdog import GRACE, RETRY
+from tests.engine.user_code.test_wall_limit import threads_left
 from tests.native.conftest import ALGORITHMS
 from tests.processes import left_running, marked_environment
 

@@ -23,7 +23,7 @@ core saves. So the helpers are woken and waited for without the kernel
 
 Which thread computes which chunk changes from call to call; a kernel whose
 chunks depend only on their own inputs gives the same bits whatever the
-split (the ray kernel's rows do: ``tests/engine/test_threads.py``).
+split (the ray kernel's rows do: ``tests/engine/helper_threads/test_threads.py``).
 
 The calling thread may also start a call and go on with its own Python
 work while the helpers take the chunks (:meth:`Helpers.start`): it then

@@ -16,8 +16,8 @@ import math
 import numpy as np
 from numba import njit
 
-from mimics.engine.kernel_minmax import larger, smaller
-from mimics.engine.kernel_options import INNER
+from mimics.engine.compiling.kernel_minmax import larger, smaller
+from mimics.engine.compiling.kernel_options import INNER
 
 COLLINEAR_EPS = 1e-10  # a parallel segment this close to the beam's line lies on it (m)
 ANGLE_SLACK = 2e-4  # rad added around every swept span: 17x fast_atan2's error (< 1.15e-5)

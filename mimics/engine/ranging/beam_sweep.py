@@ -15,8 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
-from mimics.engine.kernel_minmax import larger, smaller
-from mimics.engine.kernel_options import INNER
+from mimics.engine.compiling.kernel_minmax import larger, smaller
+from mimics.engine.compiling.kernel_options import INNER
 from mimics.engine.ranging.beam_fan import (
     COLLINEAR_EPS,
     TAU,

@@ -35,8 +35,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from mimics.engine.kernel_minmax import larger, smaller
-from mimics.engine.kernel_options import INNER
+from mimics.engine.compiling.kernel_minmax import larger, smaller
+from mimics.engine.compiling.kernel_options import INNER
 from mimics.engine.ranging.beam_sweep import PLAN
 from mimics.engine.ranging.wall_index import point_segment_distance
 

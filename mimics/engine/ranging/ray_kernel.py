@@ -14,9 +14,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from mimics.engine.compiling.kernel_minmax import larger, smaller
+from mimics.engine.compiling.kernel_options import INNER
 from mimics.engine.helper_threads.chunks import begin, chunk_done, end, take
-from mimics.engine.kernel_minmax import larger, smaller
-from mimics.engine.kernel_options import INNER
 from mimics.engine.ranging.beam_fan import _beyond_edges, _outside_view
 from mimics.engine.ranging.beam_sweep import (
     BLOCK,

@@ -22,7 +22,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from mimics.engine.compile_clock import waiting
+from mimics.engine.compiling import waiting
 from mimics.engine.noise_streams import RangerNoise
 from mimics.engine.ranging.point_cull import SightLists
 from mimics.engine.ranging.ranger import RangerQuery, RowsInFlight, start_beams, trace_beams

@@ -21,8 +21,8 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
-from mimics.engine.kernel_minmax import larger, smaller
-from mimics.engine.kernel_options import INNER
+from mimics.engine.compiling.kernel_minmax import larger, smaller
+from mimics.engine.compiling.kernel_options import INNER
 from mimics.engine.ranging.beam_sweep import PLAN, robot_plan, wall_plan
 from mimics.engine.ranging.point_cull import SightLists, sight_lists
 from mimics.engine.ranging.wall_index import WallIndex, near_cell_of

@@ -36,8 +36,8 @@ import math
 import numpy as np
 from numba import njit
 
-from mimics.engine.kernel_minmax import larger, smaller
-from mimics.engine.kernel_options import INNER
+from mimics.engine.compiling.kernel_minmax import larger, smaller
+from mimics.engine.compiling.kernel_options import INNER
 
 MARGIN = 1e-6  # m: how clearly a sight line must cross an occluder (rounding is far smaller)
 PAD = 1e-9  # relative padding of a cell's box, for the rounding of the sensor's cell lookup

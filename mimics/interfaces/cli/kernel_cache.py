@@ -2,8 +2,8 @@
 
 ``mimics run`` starts the compile processes of a fresh install before it
 imports NumPy, Numba and the engine (about 0.5 s on one core), so that the
-second core compiles meanwhile (:mod:`mimics.interfaces.cli.first_run`). This
-module answers ``mimics.engine.warm_up.missing_parts`` without that import:
+second core compiles meanwhile (:mod:`mimics.interfaces.cli.compiling.first_run`). This
+module answers ``mimics.engine.compiling.warm_up.missing_parts`` without that import:
 it looks for each witness kernel's index file (``.nbi``) where Numba would
 put it, mirroring the cache locators of ``numba.core.caching`` that apply to
 an installed or editable mimics, in Numba's order:
@@ -33,7 +33,7 @@ import tempfile
 from pathlib import Path
 
 # A kernel of each part whose index file in Numba's cache tells the part was compiled:
-# the same kernels as ``mimics.engine.warm_up._WITNESSES`` (tested), by module and name.
+# the same kernels as ``mimics.engine.compiling.warm_up._WITNESSES`` (tested), by module and name.
 WITNESSES: dict[str, tuple[tuple[str, str], ...]] = {
     "index": (("mimics.engine.spatial_index", "_build_csr"),
               ("mimics.engine.robot_index", "_bucket"),

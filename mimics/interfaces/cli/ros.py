@@ -139,7 +139,7 @@ def ros_command(
         require_master()
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    from mimics.interfaces.cli.first_run import compiles_started, kernels_compiled_ahead
+    from mimics.interfaces.cli.compiling.first_run import compiles_started, kernels_compiled_ahead
 
     with compiles_started():  # a fresh install's compiles start before Numba is imported
         from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view

@@ -67,7 +67,7 @@ def print_summary(summary: dict[str, Any], out: Path | None) -> None:
             ("simulated time", f"{summary['sim_time']:.2f} s"),
             ("wall time", f"{summary['wall_time']:.2f} s"),
             ("speed", f"{summary['sim_speed']:.2f} s_sim/s" if summary["sim_speed"] else "-")]
-    from mimics.engine.compile_clock import compile_seconds
+    from mimics.engine.compiling import compile_seconds
 
     # kernels compiled by this process (or the run's child, for C): not the run's own time
     compiled = max(compile_seconds(), float(summary.get("compile_time") or 0.0))

@@ -97,7 +97,7 @@ def run(
     elif ros_timeout is not None or ros_names is not None:
         option = "--ros-timeout" if ros_timeout is not None else "--ros-names"
         raise fail(f"{option}: only for ros: algorithms (ros:PROGRAM [ARGS...])")
-    from mimics.interfaces.cli.first_run import compiles_started, kernels_compiled_ahead
+    from mimics.interfaces.cli.compiling.first_run import compiles_started, kernels_compiled_ahead
 
     with compiles_started():  # a fresh install's compiles start before Numba is imported
         from mimics.interfaces.live_view import VIEW_CHOICES, make_live_view

@@ -15,7 +15,7 @@ any algorithm. Actions outside the box are clipped to it; an action that is
 not two finite numbers is an error naming the agent.
 
 The engine runs the actions through :class:`PolicyController`, a controller of
-the engine's own contract (:mod:`mimics.engine.controllers`): each step the
+the engine's own contract (:mod:`mimics.engine.user_code.controllers`): each step the
 simulation asks it for references and it returns what the environment set,
 so the engine's one step loop drives everything.
 """
@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from gymnasium import spaces
 
-from mimics.engine.controllers import Controller, UserFailure
+from mimics.engine.user_code import Controller, UserFailure
 from mimics.world.errors import MimicsError
 
 if TYPE_CHECKING:

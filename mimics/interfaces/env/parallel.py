@@ -42,9 +42,9 @@ from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
 from mimics.catalog import find_algorithm
-from mimics.engine.controllers import Controller, controller_from
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
+from mimics.engine.user_code import Controller, controller_from
 from mimics.interfaces.env.actions import (
     HeadingMode,
     PolicyController,

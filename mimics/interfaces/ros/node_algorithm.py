@@ -47,7 +47,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mimics.engine.controllers import Controller, UserFailure
+from mimics.engine.user_code import Controller, UserFailure
 from mimics.interfaces.ros.names import NAME_SETS
 from mimics.world.errors import AlgorithmError, MimicsError
 

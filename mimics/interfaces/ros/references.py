@@ -1,7 +1,7 @@
 """The algorithm of a ROS-driven run: each robot's references are the ones ROS sent.
 
 It follows the ordinary algorithm contract (``step(robot)`` per robot, see
-``mimics.engine.controllers``), so the engine times each call, contains its
+``mimics.engine.user_code.controllers``), so the engine times each call, contains its
 failures and records everything as for any algorithm. A lockstep time-out
 is raised as :class:`~mimics.interfaces.ros.inbox.LockstepTimeout`; under
 the default ``abort`` policy it ends the run with status ``error`` and the
@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from mimics.engine.controllers import PerRobotController
+from mimics.engine.user_code import PerRobotController
 from mimics.interfaces.ros.conversion import twist_to_references
 from mimics.interfaces.ros.inbox import HOLD, Command, Inbox, LockstepTimeout
 from mimics.interfaces.ros.names import RosNames

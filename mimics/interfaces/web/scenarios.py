@@ -92,7 +92,7 @@ class RunBody(StrictBody):
     algorithm: str
     seed: int = Field(default=0, ge=0, le=MAX_SEED)
     time: float | None = Field(default=None, gt=0)
-    # wall-clock seconds: a step that never returns is stopped there (engine/watchdog.py)
+    # wall-clock seconds: a step that never returns is stopped there (engine/user_code/watchdog.py)
     wall_limit: float = Field(default=300.0, gt=0, le=86400)
 
 

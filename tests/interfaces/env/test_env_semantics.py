@@ -9,9 +9,8 @@ import pytest
 from conftest import open_field
 
 import mimics.env
-from mimics.engine.controllers import TeamController
-from mimics.engine.robot_view import Team
 from mimics.engine.simulation import Simulation
+from mimics.engine.user_code import Team, TeamController
 from mimics.world.errors import MimicsError
 from mimics.world.scenario import Scenario
 

@@ -12,7 +12,7 @@ import pytest
 import mimics
 from mimics.catalog import find_algorithm
 from mimics.engine.simulation import Simulation
-from mimics.engine.user_code import is_user_file, return_lines
+from mimics.engine.user_code.failure_places import is_user_file, return_lines
 from mimics.scenarios.line import scenario as line
 
 MISSPELLED = """\
@@ -233,9 +233,9 @@ def test_only_mimics_internals_and_libraries_are_not_user_files() -> None:
     import numpy
 
     import mimics.algorithms.go_to_goal
-    import mimics.engine.controllers
+    import mimics.engine.user_code.controllers
 
-    assert not is_user_file(mimics.engine.controllers.__file__)
+    assert not is_user_file(mimics.engine.user_code.controllers.__file__)
     assert not is_user_file(numpy.__file__)
     assert not is_user_file(math.__spec__.origin or "<built-in>")
     assert is_user_file(mimics.algorithms.go_to_goal.__file__)  # examples users copy

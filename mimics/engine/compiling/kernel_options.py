@@ -6,7 +6,7 @@ called only from other kernels never uses them; without them the first run's
 compile is shorter (the ray kernel's part: about 1.5 of its 9 s of CPU). Such
 kernels are still cached on disk and give the same bits: only the wrappers are
 left out. Python must never call one: with no wrapper the call crashes the
-interpreter instead of raising (``tests/engine/test_kernel_options.py`` checks
+interpreter instead of raising (``tests/engine/compiling/test_kernel_options.py`` checks
 that no Python code does). Keep ``@njit(cache=True)`` on kernels Python calls.
 """
 

@@ -26,7 +26,7 @@ from mimics.interfaces.child_processes import dying_with_parent
 NICE = {"ray": 5, "still": 19}
 # a compile process's name in ps and top (at most 15 bytes: the kernel's limit)
 NAME = "mimics-{part}"
-_COMMAND = ("import os; {nice}from mimics.engine.warm_up import compile_part; "
+_COMMAND = ("import os; {nice}from mimics.engine.compiling.warm_up import compile_part; "
             "compile_part({part!r}, helpers=False); os._exit(0)")
 _PR_SET_PDEATHSIG, _PR_SET_NAME = 1, 15
 
@@ -109,7 +109,7 @@ def _compile_in_fork(part: str, parent: int) -> None:
         for stream in (0, 1, 2):
             os.dup2(quiet, stream)
         os.nice(NICE.get(part, 0))
-        from mimics.engine.warm_up import compile_part
+        from mimics.engine.compiling.warm_up import compile_part
 
         compile_part(part, helpers=False)  # the ray kernel's helpers are the run's
         code = 0

@@ -14,7 +14,7 @@ import mimics
 from mimics.catalog import find_algorithm
 from mimics.engine.simulation import Simulation
 from mimics.engine.state import Status
-from mimics.engine.watchdog import GRACE, IDLE, POLL, RETRY
+from mimics.engine.user_code.watchdog import GRACE, IDLE, POLL, RETRY
 from mimics.scenarios.line import scenario as line
 
 LIMIT = 0.5

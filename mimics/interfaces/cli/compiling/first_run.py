@@ -1,7 +1,7 @@
 """The first run after an install: compile the kernels ahead, on every core, before the run.
 
 ``mimics run`` and ``mimics ros`` wrap their run in :func:`kernels_compiled_ahead`.
-What Numba's disk cache lacks is compiled in parallel (``mimics.engine.warm_up``):
+What Numba's disk cache lacks is compiled in parallel (``mimics.engine.compiling.warm_up``):
 the index part here, the motion part and the ray kernel each in a process of its
 own, the ray kernel's helpers here at the first scan. The run starts once index and
 motion are ready, so its summary reports the simulation's own speed. The ray part,
@@ -12,11 +12,11 @@ run ends (the next run that scans compiles it then). The still part (what
 robots standing still can see) is only a speed-up: no run waits for it, its
 robots are pinned once it is done; while the ray part is missing, it starts
 once that part is done (a run that reads no scan leaves it to the next). The
-time spent compiling or waiting is on ``mimics.engine.compile_clock``, which
+time spent compiling or waiting is on ``mimics.engine.compiling.compile_clock``, which
 the summary reports on a line of its own and the run's wall time leaves out.
 
 A compile process is a fork of the run's process, made once the run has imported
-the engine, where that is safe (:mod:`mimics.interfaces.cli.compile_processes`):
+the engine, where that is safe (:mod:`mimics.interfaces.cli.compiling.processes`):
 it compiles at once, without importing NumPy, Numba and the engine again. Where
 it is not (another OS, or threads running), it is a fresh interpreter, started as
 soon as the CLI enters :func:`compiles_started`, which tells what the cache lacks
@@ -32,7 +32,7 @@ from contextlib import contextmanager
 # nothing of mimics.engine here: importing it imports Numba (start_compiles runs before);
 # the module itself, not the package's __init__ (which imports the commands: a circle)
 import mimics.interfaces.cli.kernel_cache as kernel_cache
-from mimics.interfaces.cli.compile_processes import CompileProcess, can_fork, start_compile
+from mimics.interfaces.cli.compiling.processes import CompileProcess, can_fork, start_compile
 from mimics.interfaces.cli.output import note
 
 # the parts start_compiles found missing and the processes it started for them (none yet
@@ -91,8 +91,7 @@ def _start(missing: list[str]) -> dict[str, CompileProcess]:
 @contextmanager
 def kernels_compiled_ahead() -> Iterator[None]:
     """Compile what Numba's cache lacks around the run in the ``with`` block."""
-    from mimics.engine import warm_up
-    from mimics.engine.compile_clock import waiting
+    from mimics.engine.compiling import waiting, warm_up
 
     if _started:
         missing, aside = _started.pop()
@@ -131,7 +130,7 @@ def kernels_compiled_ahead() -> Iterator[None]:
 
 
 def _await_ray(aside: dict[str, CompileProcess], later: list[str]) -> None:
-    from mimics.engine.warm_up import compile_ray_helpers
+    from mimics.engine.compiling.warm_up import compile_ray_helpers
 
     process = aside["ray"]
     if process.poll() is None:
@@ -147,6 +146,6 @@ def _await_ray(aside: dict[str, CompileProcess], later: list[str]) -> None:
 
 def _still_part_elsewhere(process: CompileProcess) -> None:
     """Never waited for: the robots standing still are pinned once it is done."""
-    from mimics.engine.warm_up import still_part_compiling_elsewhere
+    from mimics.engine.compiling.warm_up import still_part_compiling_elsewhere
 
     still_part_compiling_elsewhere(lambda: process.poll() is not None)

@@ -8,7 +8,7 @@ traced when first read, messages, the log) goes through a generator
 (:class:`ViewHub`'s link): no attribute, closure or ``__dict__`` of a view leads
 to the simulation. In-process Python can still reach any object through ``gc``
 or frames; battery workers close those ways with an audit hook
-(:mod:`mimics.engine.guard`), and the worker process is the boundary
+(:mod:`mimics.engine.user_code.guard`), and the worker process is the boundary
 (docs/explanation/containment.md).
 
 """
@@ -23,7 +23,7 @@ import numpy as np
 from mimics.engine.sensors import within_range
 
 if TYPE_CHECKING:
-    from mimics.engine.simulation import Simulation
+    from mimics.engine.user_code.world_access import SimulationParts
 
 #: The world's arrays mirrored for the views (attribute names of ``WorldState``).
 MIRRORED = ("pose", "measured_pose", "velocity", "measured_velocity", "measured_acceleration",
@@ -40,7 +40,7 @@ def _frozen(view: np.ndarray) -> np.ndarray:
 class Mirror:
     """Copies of the world's arrays as of this step's sensing, shared by a run's views."""
 
-    def __init__(self, sim: Simulation) -> None:
+    def __init__(self, sim: SimulationParts) -> None:
         state = sim.state
         for name in MIRRORED:
             setattr(self, name, np.array(getattr(state, name), copy=True))
@@ -59,7 +59,7 @@ class ViewHub:
     """The engine's side of the views of one simulation: refreshes the mirror and serves
     the link's requests. Kept on the simulation (``sim.view_hub``), never on a view."""
 
-    def __init__(self, sim: Simulation) -> None:
+    def __init__(self, sim: SimulationParts) -> None:
         self._sim = sim
         self.mirror = Mirror(sim)
         self._comms: np.ndarray | None = None
@@ -151,7 +151,7 @@ class ViewHub:
         return self._comms
 
 
-def hub_of(sim: Simulation) -> ViewHub:
+def hub_of(sim: SimulationParts) -> ViewHub:
     """The simulation's :class:`ViewHub` (made and refreshed on first use)."""
     hub: ViewHub | None = getattr(sim, "view_hub", None)
     if hub is None:

@@ -1,7 +1,7 @@
 """What user code sees: ``robot`` (one robot) and ``team`` (all active robots).
 
 Neither holds the simulation: they read per-step copies of the world's arrays
-and ask for the rest through a link, both kept by :mod:`mimics.engine.view_hub`
+and ask for the rest through a link, both kept by :mod:`mimics.engine.user_code.view_hub`
 (which says why, and what in-process Python cannot guarantee).
 
 >>> # inside an algorithm
@@ -16,12 +16,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mimics.engine.sensors import COMMS_COLUMNS
-from mimics.engine.view_hub import ViewHub, hub_of
+from mimics.engine.user_code.view_hub import ViewHub, hub_of
 from mimics.world.maps import Map
 from mimics.world.robot_types import RobotType
 
 if TYPE_CHECKING:
-    from mimics.engine.simulation import Simulation
+    from mimics.engine.user_code.world_access import SimulationParts
 
 
 def _frozen(view: np.ndarray) -> np.ndarray:
@@ -107,7 +107,7 @@ class Robot:
 
     __slots__ = ("_link", "_mirror", "_type", "_views", "id", "scan")
 
-    def __init__(self, sim: Simulation, index: int) -> None:
+    def __init__(self, sim: SimulationParts, index: int) -> None:
         hub = hub_of(sim)  # the simulation itself is not kept
         self.id = index
         self._mirror = hub.mirror
@@ -269,7 +269,7 @@ class Team:
 
     __slots__ = ("_link", "_mirror", "ids", "scan")
 
-    def __init__(self, sim: Simulation, ids: np.ndarray) -> None:
+    def __init__(self, sim: SimulationParts, ids: np.ndarray) -> None:
         hub = hub_of(sim)  # the simulation itself is not kept
         hub.refresh()  # a team view is made for each call: it shows this step's values
         self._mirror = hub.mirror

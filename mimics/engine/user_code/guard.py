@@ -7,7 +7,7 @@ collector's lists (``gc.get_objects``, ``gc.get_referrers``) or the call stack
 ``gi_frame``), or by ``ctypes`` and tracing hooks. :func:`install_guard`
 (battery workers call it) makes these raise ``PermissionError`` when the code
 asking is the user's: the first caller outside Python's own library is a file
-of the user's (:func:`mimics.engine.user_code.is_user_file`). mimics' own code
+of the user's (:func:`mimics.engine.user_code.failure_places.is_user_file`). mimics' own code
 and installed packages (NumPy, Numba) are not affected, and neither are
 ``warnings`` and ``logging``, which read frames for their own use.
 
@@ -24,7 +24,7 @@ import sysconfig
 from pathlib import Path
 from typing import Any
 
-from mimics.engine.user_code import is_user_file
+from mimics.engine.user_code.failure_places import is_user_file
 
 #: Events refused to user code (``ctypes.*`` too).
 BLOCKED = frozenset({"gc.get_objects", "gc.get_referrers", "gc.get_referents",

@@ -30,7 +30,7 @@ from pathlib import Path
 from types import CodeType, FunctionType, TracebackType
 from typing import Any
 
-_MIMICS = Path(__file__).resolve().parent.parent
+_MIMICS = Path(__file__).resolve().parents[2]  # the mimics package
 _USER_PARTS = (str(_MIMICS / "algorithms") + os.sep,)
 # Python's library, installed packages (also Debian's dist-packages, where ROS's are) and mimics
 _NOT_USER = tuple(sorted({str(Path(p).resolve()) + os.sep for p in (

@@ -28,20 +28,20 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mimics.engine.robot_view import Robot, Team
-from mimics.engine.user_code import (
+from mimics.engine.user_code.failure_places import (
     failure_place,
     first_line,
     return_lines,
     user_traceback,
     where_of,
 )
-from mimics.engine.view_hub import hub_of
-from mimics.engine.watchdog import StepTimeout, blame, raise_in_thread
+from mimics.engine.user_code.robot_view import Robot, Team
+from mimics.engine.user_code.view_hub import hub_of
+from mimics.engine.user_code.watchdog import StepTimeout, blame, raise_in_thread
 from mimics.world.errors import AlgorithmError
 
 if TYPE_CHECKING:
-    from mimics.engine.simulation import Simulation
+    from mimics.engine.user_code.world_access import SimulationParts
 
 
 @dataclass(frozen=True)
@@ -78,12 +78,12 @@ class Controller(ABC):
     name: str = "algorithm"
     is_team: bool = False
 
-    def reset(self, sim: Simulation) -> list[UserFailure]:
+    def reset(self, sim: SimulationParts) -> list[UserFailure]:
         """Prepare for a new run; returns failures of user reset hooks."""
         return []
 
     @abstractmethod
-    def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
+    def compute(self, sim: SimulationParts, ids: np.ndarray) -> list[UserFailure]:
         """Write references for robots ``ids`` into ``sim.state.reference``."""
 
     def prepare_interrupt(self) -> None:
@@ -92,7 +92,7 @@ class Controller(ABC):
 
     def interrupt(self, thread_id: int) -> None:
         """Stop the user code running in thread ``thread_id`` (from the wall-limit watchdog):
-        a :class:`~mimics.engine.watchdog.StepTimeout` raised into Python code."""
+        a :class:`~mimics.engine.user_code.watchdog.StepTimeout` raised into Python code."""
         raise_in_thread(thread_id)
 
 
@@ -157,7 +157,7 @@ class PerRobotController(Controller):
         self._instances: list[Any] = []
         self._robots: list[Robot] = []
 
-    def reset(self, sim: Simulation) -> list[UserFailure]:
+    def reset(self, sim: SimulationParts) -> list[UserFailure]:
         failures = []
         hub = hub_of(sim)
         hub.refresh()
@@ -178,7 +178,7 @@ class PerRobotController(Controller):
                 raise
         return failures
 
-    def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
+    def compute(self, sim: SimulationParts, ids: np.ndarray) -> list[UserFailure]:
         failures = []
         hub_of(sim).refresh()  # the views' mirrors: this step's values, copied once
         state = sim.state
@@ -250,7 +250,7 @@ class TeamController(Controller):
         self._factory = factory
         self._instance: Any = None
 
-    def reset(self, sim: Simulation) -> list[UserFailure]:
+    def reset(self, sim: SimulationParts) -> list[UserFailure]:
         ids = np.flatnonzero(sim.state.active)
         try:
             self._instance = self._factory() if self._factory is not None else None
@@ -264,7 +264,7 @@ class TeamController(Controller):
             raise
         return []
 
-    def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
+    def compute(self, sim: SimulationParts, ids: np.ndarray) -> list[UserFailure]:
         state = sim.state
         now = state.time
         step = self._instance.team_step if self._instance is not None else self._team_step

@@ -36,7 +36,7 @@ import time
 import weakref
 from collections.abc import Callable, Iterator
 
-from mimics.engine.user_code import failure_place, user_traceback
+from mimics.engine.user_code.failure_places import failure_place, user_traceback
 from mimics.world.errors import MimicsError
 
 #: Seconds past the wall limit before user code still running is interrupted.
@@ -109,7 +109,7 @@ class Watchdog:
         limit: the run's wall limit (s).
         elapsed: the run's wall time so far (s), as the engine counts it for the limit.
         interrupt: stops the user code running in the given thread (the
-            controller's :meth:`~mimics.engine.controllers.Controller.interrupt`).
+            controller's :meth:`~mimics.engine.user_code.controllers.Controller.interrupt`).
     """
 
     def __init__(self, limit: float, elapsed: Callable[[], float],

@@ -1,5 +1,5 @@
 """A kernel compiled during a run is counted on the compile clock, not in the run's own
-wall time or its user code's time (``mimics.engine.compile_clock``)."""
+wall time or its user code's time (``mimics.engine.compiling.compile_clock``)."""
 
 import threading
 import time
@@ -9,7 +9,7 @@ import pytest
 from numba import njit
 
 from mimics.catalog import load_scenario
-from mimics.engine.compile_clock import compile_seconds, waiting
+from mimics.engine.compiling import compile_seconds, waiting
 from mimics.engine.simulation import Simulation
 
 

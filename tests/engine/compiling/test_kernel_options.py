@@ -11,7 +11,7 @@ from pathlib import Path
 import mimics
 import mimics.engine
 
-ROOTS = (Path(mimics.__file__).parent, Path(__file__).parents[1], Path(__file__).parents[2]
+ROOTS = (Path(mimics.__file__).parent, Path(__file__).parents[2], Path(__file__).parents[3]
          / "benchmarks")
 
 

@@ -7,7 +7,7 @@ import gc
 import weakref
 
 from mimics.algorithms import go_to_goal
-from mimics.engine.heap_freeze import heap_frozen
+from mimics.engine.compiling import heap_frozen
 from mimics.engine.simulation import Simulation
 from mimics.scenarios.line import scenario
 

@@ -42,7 +42,7 @@ than in them, so these things are changed:
   module fails once; a config file in the working folder keeps PyYAML's).
 
 * **A kernel of mimics loads with less of Numba around it**
-  (:mod:`mimics.engine.numba_library_loads`): its names from its machine code,
+  (:mod:`mimics.engine.compiling.numba_library_loads`): its names from its machine code,
   Numba's implementations it inlined without their modules, no lock events.
 
 All leave the kernels' machine code and results as they are: the same cache
@@ -63,11 +63,12 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from mimics.engine.numba_library_loads import (
+from mimics.engine.compiling.numba_library_loads import (
     environments_without_imports,
     link_modules_when_needed,
     loading_ours,
 )
+from mimics.engine.compiling.patch_record import record
 
 
 def _defer_numba_blas_check() -> None:
@@ -76,9 +77,11 @@ def _defer_numba_blas_check() -> None:
     try:
         from numba.np import linalg
     except ImportError:  # a Numba without this module: nothing to defer
+        record("blas_probe_deferred", False)
         return
     full_check = getattr(linalg, "ensure_blas", None)
     if full_check is None or getattr(full_check, "deferred_by_mimics", False):
+        record("blas_probe_deferred", full_check is not None)
         return
     first = [True]
 
@@ -91,6 +94,7 @@ def _defer_numba_blas_check() -> None:
 
     ensure_blas.deferred_by_mimics = True  # type: ignore[attr-defined]
     linalg.ensure_blas = ensure_blas
+    record("blas_probe_deferred", True)
 
 
 def _is_ours(py_func: Any) -> bool:
@@ -154,6 +158,7 @@ def _import_numba() -> None:
     finally:
         with contextlib.suppress(ValueError):
             sys.meta_path.remove(hook)
+    record("numba_import_checks_skipped", "scipy" not in hook.skipped)
 
 
 def set_up_numba() -> None:
@@ -163,7 +168,7 @@ def set_up_numba() -> None:
         from numba.core import caching, dispatcher
         from numba.core.runtime import rtsys
     except ImportError:  # a Numba laid out otherwise: as shipped, BLAS check deferred now
-        _defer_numba_blas_check()
+        _skipped_loads()
         return
     cache_class = caching.Cache
     dispatcher_class = dispatcher.Dispatcher
@@ -171,7 +176,7 @@ def set_up_numba() -> None:
         "load_overload", "_load_overload", "_guard_against_spurious_io_errors"))
         and hasattr(dispatcher_class, "_compilation_chain_init_hook"))
     if not has_parts:
-        _defer_numba_blas_check()
+        _skipped_loads()
         return
     if getattr(cache_class.load_overload, "light_by_mimics", False):  # done already
         return
@@ -195,9 +200,18 @@ def set_up_numba() -> None:
         sys.meta_path.insert(0, _BeforeArraymath())
     cache_class.load_overload = load_overload
     dispatcher_class._compilation_chain_init_hook = compilation_chain_init_hook
+    record("light_cache_loads", True)
+    record("entry_points_at_compile", True)
     _cache_runtime_library()
     link_modules_when_needed()
     environments_without_imports()
+
+
+def _skipped_loads() -> None:
+    """Numba's cache loads left as shipped; the BLAS probe deferred now."""
+    record("light_cache_loads", False)
+    record("entry_points_at_compile", False)
+    _defer_numba_blas_check()
 
 
 def _runtime_anchor() -> None:
@@ -209,10 +223,12 @@ def _cache_runtime_library() -> None:
         from numba.core import caching
         from numba.core.runtime import nrtdynmod
     except ImportError:
+        record("runtime_from_disk", False)
         return
     compile_runtime = getattr(nrtdynmod, "compile_nrt_functions", None)
     make_module = getattr(nrtdynmod, "create_nrt_module", None)
     if compile_runtime is None or make_module is None:
+        record("runtime_from_disk", False)
         return
 
     def cache_file(codegen: Any) -> Path | None:
@@ -244,6 +260,7 @@ def _cache_runtime_library() -> None:
         return library
 
     nrtdynmod.compile_nrt_functions = compile_nrt_functions
+    record("runtime_from_disk", True)
 
 
 def _write_atomically(path: Path, data: bytes) -> None:

@@ -66,7 +66,7 @@ USER_KERNEL = textwrap.dedent("""
 def runtime_cache_folder() -> Path:
     from numba.core.caching import FunctionCache
 
-    from mimics.engine import numba_setup
+    from mimics.engine.compiling import numba_setup
 
     return Path(FunctionCache(numba_setup._runtime_anchor)._cache_path)
 
@@ -107,7 +107,7 @@ def test_cached_kernels_load_without_refreshing_numba_and_others_as_shipped(tmp_
 IMPORTS = textwrap.dedent("""
     import json, sys
     import mimics.engine  # imports Numba, as every run does
-    from mimics.engine import warm_up
+    from mimics.engine.compiling import warm_up
 
     before = {name: name in sys.modules for name in ("scipy", "yaml")}
     warm_up.compile_index_kernels()  # loads (or compiles) kernels of mimics
@@ -163,7 +163,7 @@ LINKING = textwrap.dedent("""
     import json
     import llvmlite.binding as ll
     from numba import njit
-    from mimics.engine import numba_library_loads, warm_up
+    from mimics.engine.compiling import numba_library_loads, warm_up
     from mimics.engine.spatial_index import grid_frame
     from numba.core.codegen import CPUCodeLibrary
 
@@ -217,7 +217,7 @@ def test_a_cached_kernel_loads_its_symbols_from_its_machine_code_and_links_later
 
 
 def test_defined_symbols_reads_only_elf64_little_endian_objects():
-    from mimics.engine.numba_library_loads import defined_symbols
+    from mimics.engine.compiling.numba_library_loads import defined_symbols
 
     assert defined_symbols(b"\xcf\xfa\xed\xfe" + bytes(60)) is None  # Mach-O
     assert defined_symbols(b"\x7fELF\x02\x01" + bytes(10)) is None  # cut short

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numba import njit
 
-from mimics.engine.kernel_minmax import larger, smaller
+from mimics.engine.compiling.kernel_minmax import larger, smaller
 
 
 @njit(cache=False)

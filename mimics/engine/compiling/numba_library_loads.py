@@ -35,6 +35,8 @@ import weakref
 from collections.abc import Iterator
 from typing import Any
 
+from mimics.engine.compiling.patch_record import record
+
 # while one of mimics' kernels loads: how the environments it names are rebuilt
 _light_env: list[Any] = []
 
@@ -64,8 +66,10 @@ def _quiet_llvm_lock() -> Iterator[None]:
     ffi = sys.modules.get("llvmlite.binding.ffi")
     lock = getattr(getattr(ffi, "lib", None), "_lock", None)
     if not isinstance(getattr(lock, "_cblist", None), list):  # laid out otherwise: as shipped
+        record("no_lock_events", False)
         yield
         return
+    record("no_lock_events", True)
     saved, lock._cblist = lock._cblist, []  # type: ignore[union-attr]
     try:
         yield
@@ -80,11 +84,14 @@ def link_modules_when_needed() -> None:
         import llvmlite.binding as ll
         from numba.core.codegen import CPUCodeLibrary
     except ImportError:
+        record("symbols_from_machine_code", False)
         return
     full_unserialize = CPUCodeLibrary.__dict__.get("_unserialize")
     full_linking_module = CPUCodeLibrary.__dict__.get("_get_module_for_linking")
     if not isinstance(full_unserialize, classmethod) or full_linking_module is None \
             or getattr(full_linking_module, "light_by_mimics", False):
+        record("symbols_from_machine_code",
+               getattr(full_linking_module, "light_by_mimics", False))
         return
     needed = ("create_library", "_engine")
 
@@ -114,6 +121,7 @@ def link_modules_when_needed() -> None:
     get_module_for_linking.light_by_mimics = True  # type: ignore[attr-defined]
     CPUCodeLibrary._unserialize = classmethod(unserialize)  # type: ignore[assignment]
     CPUCodeLibrary._get_module_for_linking = get_module_for_linking  # type: ignore[method-assign]
+    record("symbols_from_machine_code", True)
 
 
 def defined_symbols(object_code: bytes) -> set[str] | None:
@@ -148,11 +156,13 @@ def environments_without_imports() -> None:
     try:
         from numba.core import environment
     except ImportError:
+        record("environments_without_imports", False)
         return
     full_rebuild = getattr(environment, "_rebuild_env", None)
     make = getattr(environment, "Environment", None)
     if full_rebuild is None or make is None or _light_env \
             or not isinstance(getattr(make, "_memo", None), weakref.WeakValueDictionary):
+        record("environments_without_imports", bool(_light_env))
         return
 
     def rebuild_env(module: str, consts: Any, name: str) -> Any:
@@ -167,3 +177,4 @@ def environments_without_imports() -> None:
         return env
 
     _light_env[:] = [rebuild_env]
+    record("environments_without_imports", True)
