@@ -18,6 +18,7 @@ def step(robot):
 
     # Your avoidance goes here. At hand, each in one line:
     #   robot.scan.ranges, robot.scan.angles   the laser (robots show up in it)
-    #   robot.comms                            rows [id, x, y, theta, v, w] of the others
+    #   robot.comms                            rows [id, x, y, theta, v, w] of every robot
+    #                                          in range, this one's own row included
     #   robot.memory                           a dict kept between your steps
     return speed, heading

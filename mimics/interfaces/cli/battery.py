@@ -11,6 +11,7 @@ nothing is started.
     mimics battery run --last                # the last saved battery file
     mimics battery status batteries/night1   # runs by state, rate, ETA
     mimics battery resume batteries/night1   # after a kill, a reboot, a crash
+    mimics battery add batteries/night1 late.py   # new algorithms: only their runs run
     mimics battery rerun-failed batteries/night1
     mimics battery report batteries/night1 [--csv out.csv] [--parquet out.parquet]
     mimics battery compare batteries/night1 [--baseline ALGO] [--metric M ...] [--csv out.csv]
@@ -22,13 +23,15 @@ from __future__ import annotations
 import os
 import time
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
 from rich.console import Console
 from rich.table import Table
 
+from mimics.interfaces.cli.battery_add import add_command
 from mimics.interfaces.cli.battery_args import Folder, table_console
+from mimics.interfaces.cli.battery_ends import finished, interrupted
 from mimics.interfaces.cli.battery_new import new
 from mimics.interfaces.cli.output import fail as _fail
 from mimics.world.errors import MimicsError
@@ -42,16 +45,10 @@ Dask = Annotated[str | None, typer.Option(
     help="Run on a Dask cluster: the scheduler's address (tcp://host:8786).")]
 ShowProgress = Annotated[bool | None, typer.Option(
     "--progress/--no-progress", help="Progress bar [default: when on a terminal].")]
-def _interrupted(folder: Path) -> typer.Exit:
-    Console(stderr=True, highlight=False).print(
-        f"interrupted: finished runs are kept; go on with `mimics battery resume {folder}`",
-        markup=False)
-    return typer.Exit(130)
-
-
-# -- new (battery_new.py) -------------------------------------------------------------
+# -- new (battery_new.py), add (battery_add.py) ---------------------------------------
 
 app.command("new")(new)
+app.command("add")(add_command)
 
 
 # -- run, resume, rerun-failed -------------------------------------------------------
@@ -102,8 +99,8 @@ def run(
     except MimicsError as exc:
         raise _fail(str(exc)) from None
     except KeyboardInterrupt:
-        raise _interrupted(folder) from None
-    _finished(result)
+        raise interrupted(folder) from None
+    finished(result)
 
 
 @app.command()
@@ -120,8 +117,8 @@ def resume(folder: Folder, workers: Workers = None, dask: Dask = None,
     except MimicsError as exc:
         raise _fail(str(exc)) from None
     except KeyboardInterrupt:
-        raise _interrupted(folder) from None
-    _finished(result)
+        raise interrupted(folder) from None
+    finished(result)
 
 
 @app.command("rerun-failed")
@@ -148,8 +145,8 @@ def rerun_failed_command(
     except MimicsError as exc:
         raise _fail(str(exc)) from None
     except KeyboardInterrupt:
-        raise _interrupted(folder) from None
-    _finished(result)
+        raise interrupted(folder) from None
+    finished(result)
 
 
 def _announce(folder: Path, runs: int, workers: int | None, dask: str | None,
@@ -159,37 +156,6 @@ def _announce(folder: Path, runs: int, workers: int | None, dask: str | None,
     Console(stderr=True, highlight=False).print(
         f"battery {folder}: {runs} runs{' in the first round' if rounds else ''} on {where}",
         markup=False)
-
-
-def _finished(result: Any) -> None:
-    table_console().print(result.line(), markup=False)
-    from mimics.interfaces.cli.battery_report import print_warnings
-
-    print_warnings(result.folder)
-    if result.adopted:
-        table_console().print(f"({result.adopted} run(s) had finished just before the battery "
-                              "stopped: kept)", markup=False)
-    table_console().print(f"table: `mimics battery report {result.folder}`", markup=False)
-    from mimics.batteries.tasks import FAILED_STATES
-
-    failed = {state: result.counts.get(state, 0) for state in FAILED_STATES
-              if result.counts.get(state, 0)}
-    if failed:
-        total = sum(result.counts.values())
-        states = ", ".join(f"{n} {state}" for state, n in failed.items())
-        # Running again helps only what the machine caused: a run's own exception
-        # (state error) repeats with the same seed, so it is not suggested for those.
-        again = [state for state in ("timeout", "crashed") if state in failed]
-        advice = (f"; runs that timed out or crashed may finish when run again: `mimics "
-                  f"battery rerun-failed {result.folder} "
-                  + " ".join(f"--state {state}" for state in again) + "`" if again else "")
-        if "error" in failed:
-            advice += ("; an error is the algorithm's own exception and repeats with the same "
-                       "seed: fix the code, then run the battery again")
-        Console(stderr=True, highlight=False, soft_wrap=True).print(
-            f"mimics: {sum(failed.values())} of {total} runs could not finish ({states}): see "
-            f"`mimics battery status {result.folder}`{advice}", markup=False)
-        raise typer.Exit(1)  # exit status 1: some runs could not run (`mimics --help`)
 
 
 # -- status and report ---------------------------------------------------------------

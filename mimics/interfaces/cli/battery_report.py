@@ -55,6 +55,10 @@ def report_command(
              "as CSV).")] = None,
     marks_csv: Annotated[Path | None, typer.Option(
         "--marks", help="Where --grade writes the marks [default: FOLDER/marks.csv].")] = None,
+    students: Annotated[Path | None, typer.Option(
+        help="With --grade: the class list, a CSV file,student_id[,name] whose ids key the "
+             "marks, feedback and leaderboard [default: students.csv next to the battery "
+             "file, if any].")] = None,
     baseline: Baseline = None,
     metric: Metrics = None,
     exclude_failed: ExcludeFailed = False,
@@ -63,7 +67,11 @@ def report_command(
 ) -> None:
     """The top-tier table: one row per run (misbehaving runs marked), the failed runs,
     each cell's intervals, the paired comparison against a baseline, the costs and the
-    identical-seed warnings."""
+    identical-seed warnings.
+
+    With --grade: the marks, each with its reason, written as marks.csv, with a feedback
+    file per student (FOLDER/feedback/ID.md) and a leaderboard (FOLDER/leaderboard.csv
+    and .html: mark, then mean time to goal)."""
     from mimics.batteries.printing import print_report
     from mimics.batteries.report import export_table
     from mimics.world.output_paths import check_outputs
@@ -72,7 +80,10 @@ def report_command(
         marks_out = marks_csv or (Path(folder) / "marks.csv" if grade is not None else None)
         # before reading: an export over battery.db or a run's file would lose the battery
         check_outputs({"--csv": csv, "--parquet": parquet, "--marks": marks_out},
-                      {"the battery folder": battery_records(folder), "--grade": grade})
+                      {"the battery folder": battery_records(folder), "--grade": grade,
+                       "--students": students})
+        if students is not None and grade is None:
+            raise MimicsError("--students: only with --grade (it keys the marks)")
         evidence = _evidence(folder, baseline, metric, exclude_failed, adjust, interval)
         print_report(evidence, table_console(), only_misbehaving=misbehaving, runs=runs)
         for path, fmt in ((csv, "csv"), (parquet, "parquet")):
@@ -80,27 +91,46 @@ def report_command(
                 export_table(evidence.table, path, fmt)
                 table_console().print(f"wrote {path}", markup=False)
         if grade is not None:
-            _print_marks(evidence.table, grade, marks_out or Path(folder) / "marks.csv")
+            _print_marks(folder, evidence.table, grade, marks_out or Path(folder) / "marks.csv",
+                         students)
     except MimicsError as exc:
         raise _fail(str(exc)) from None
 
 
-def _print_marks(table: Any, grading_file: Path, out: Path) -> None:
-    from mimics.batteries.grading import load_grader, marks
+def _print_marks(folder: Path, table: Any, grading_file: Path, out: Path,
+                 students_file: Path | None) -> None:
+    from mimics.batteries.grading import load_grader
+    from mimics.batteries.grading.course import grade_class, write_class
+    from mimics.batteries.grading.students import default_students_file, read_students
+    from mimics.batteries.store import BatteryStore
 
-    result = marks(table, load_grader(grading_file), where=str(grading_file))
-    rich_table = Table(title=f"marks ({grading_file.name})")
-    frame = result.reset_index() if result.index.name else result
-    for column in frame.columns:
-        rich_table.add_column(str(column), justify="right" if column == "mark" else "left")
-    for row in frame.itertuples(index=False):
-        rich_table.add_row(*(str(value) for value in row))
-    table_console().print(rich_table)
+    store = BatteryStore.open(folder)
     try:
-        frame.to_csv(out, index=False)
-    except OSError as exc:
-        raise MimicsError(f"--marks {out}: cannot write it ({exc.strerror})") from None
-    table_console().print(f"wrote {out}", markup=False)
+        spec = store.spec()
+    finally:
+        store.close()
+    base = Path(spec.source).parent if spec.source else None
+    roster_file = students_file or default_students_file(spec.source)
+    roster = read_students(roster_file) if roster_file is not None else None
+    grades = grade_class(table, load_grader(grading_file), where=str(grading_file),
+                         students=roster, base=base)
+    rich_table = Table(title=f"marks ({grading_file.name})")
+    shown = grades.table.drop(columns=["time_to_goal"])
+    for column in shown.columns:
+        rich_table.add_column(str(column), justify="right" if column == "mark" else "left")
+    for row in shown.itertuples(index=False):
+        rich_table.add_row(*("" if _blank(value) else str(value) for value in row))
+    console = table_console()
+    console.print(rich_table)
+    title = f"{spec.name or Path(folder).name}: leaderboard"
+    for path in write_class(grades, Path(folder), out, title=title):
+        console.print(f"wrote {path}", markup=False)
+    if roster_file is not None:
+        console.print(f"student ids from {roster_file}", markup=False)
+
+
+def _blank(value: Any) -> bool:
+    return value is None or (isinstance(value, float) and value != value)
 
 
 def compare_command(

@@ -9,8 +9,11 @@ one row per student (or algorithm) and at least a numeric ``mark`` column.
 them as CSV.
 
 Copies are flagged (:func:`flag_copies`): submissions whose code is the same once
-comments, blank lines and spacing are dropped, or whose runs all have the same
-digests (identical trajectories), get a ``copy_of`` column naming the others.
+comments, blank lines and spacing are dropped, or whose runs all finished with the
+same digests (identical trajectories), get a ``copy_of`` column naming the others.
+
+The course's workflow on top of the marks (a reason per mark, student ids from a
+class list, feedback files, the leaderboard) is :mod:`.course`.
 """
 
 from __future__ import annotations
@@ -114,6 +117,10 @@ def _fingerprint(rows: pd.DataFrame, key: str) -> str:
         paths = [r for r in refs.dropna().unique() if str(r).endswith(".py")]
         return code_hash(paths[0]) if len(paths) == 1 else ""
     if "digest" not in rows.columns:
+        return ""
+    if "state" in rows.columns and not (rows["state"] == "done").all():
+        # two submissions that fail at the same first step leave the same trajectories:
+        # that is the same failure, not a copy
         return ""
     order = [c for c in ("scenario", "parameters", "seed") if c in rows.columns]
     ordered = rows.sort_values(order) if order else rows
