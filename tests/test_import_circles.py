@@ -1,9 +1,11 @@
-"""No import circles among mimics' modules (the developers' guide), function-level imports
-included; imports only for type checkers (``if TYPE_CHECKING:``) do not count."""
+"""No import circles among mimics' modules (the developers' guide), counting every import:
+function-level ones and those only for type checkers (``if TYPE_CHECKING:``) too, since
+a circle a type checker follows is one a reader follows."""
 
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import mimics
@@ -17,15 +19,9 @@ def module_name(path: Path) -> str:
 
 
 def imported(path: Path, known: set[str]) -> set[str]:
-    """The mimics modules ``path`` imports, wherever in the file (not for type checkers)."""
-    tree = ast.parse(path.read_text(encoding="utf-8"))
-    typing_only = {id(node) for branch in ast.walk(tree)
-                   if isinstance(branch, ast.If) and "TYPE_CHECKING" in ast.unparse(branch.test)
-                   for node in ast.walk(branch)}
+    """The mimics modules ``path`` imports, wherever in the file."""
     names: set[str] = set()
-    for node in ast.walk(tree):
-        if id(node) in typing_only:
-            continue
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
         if isinstance(node, ast.Import):
             names.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
@@ -75,3 +71,23 @@ def test_no_module_of_mimics_is_in_an_import_circle() -> None:
     files = {module_name(path): path for path in PACKAGE.rglob("*.py")}
     graph = {name: imported(path, set(files)) - {name} for name, path in files.items()}
     assert circles(graph) == []
+
+
+PAGE_SCRIPTS = PACKAGE / "interfaces" / "web" / "static" / "js"
+JS_IMPORT = re.compile(r"""(?:^|\n)\s*import\b[^;]*?\bfrom\s+["']\./([\w.]+\.js)["']""")
+
+
+def test_the_page_scripts_are_found_and_read() -> None:
+    graph = page_imports()
+    assert len(graph) >= 10 and "app.js" in graph
+    assert {"live.js", "runs.js"} <= graph["app.js"]
+
+
+def page_imports() -> dict[str, set[str]]:
+    """Each of the workbench's page scripts -> the scripts it imports (ES modules)."""
+    return {path.name: set(JS_IMPORT.findall(path.read_text(encoding="utf-8")))
+            for path in PAGE_SCRIPTS.glob("*.js")}
+
+
+def test_no_page_script_is_in_an_import_circle() -> None:
+    assert circles(page_imports()) == []

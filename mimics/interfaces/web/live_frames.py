@@ -1,7 +1,7 @@
 """The binary frame layout shared by the replay (``/api/runs/frames``) and the live stream.
 
 One little-endian body holds T frames of n robots, read by the page with typed
-arrays (``parseFrames`` in ``static/js/runs.js``), no JSON per frame:
+arrays (``parseFrames`` in ``static/js/frames.js``), no JSON per frame:
 
 ======== ================= ==============================================
 bytes    type              content

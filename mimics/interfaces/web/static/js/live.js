@@ -6,7 +6,7 @@ import { api, element, guarded, say } from "./api.js";
 import { createInspector } from "./inspector.js";
 import { fetchLiveBeams, liveSource } from "./live_inspector.js";
 import { liveStateLine, refusalSentence } from "./live_words.js";
-import { parseFrames } from "./runs.js";
+import { parseFrames } from "./frames.js";
 import { STATE_NAMES, WorldView, drawGoals, drawHeadings, drawIds, drawRobots, drawTrails }
   from "./view.js";
 

@@ -2,6 +2,7 @@
 // state, trails, the inspector (a clicked robot's values, beams and log up to now), events on
 // the time bar, video export, the trajectories plot.
 import { api, element, guarded, say, waitJob } from "./api.js";
+import { parseFrames } from "./frames.js";
 import { createInspector, nearestRobot } from "./inspector.js";
 import { showLiveRuns } from "./live.js";
 import { enlargeable } from "./plot_view.js";
@@ -13,17 +14,6 @@ const SPEEDS = [0.1, 0.25, 0.5, 1, 2, 5, 10, 25, 50, 100];
 const EVENT_COLORS = { collision: "#d62728", deadlock: "#ff7f0e", livelock: "#9467bd",
   exception: "#e377c2", escaped: "#8c8c8c", reached_goal: "#2ca02c" };
 const TRAIL_FRAMES = 40;
-
-// Parse the body of /api/runs/frames (layout in runs.py): times, poses, states.
-export function parseFrames(buffer) {
-  const header = new DataView(buffer, 0, 8);
-  const frames = header.getUint32(0, true);
-  const robots = header.getUint32(4, true);
-  const times = new Float32Array(buffer, 8, frames);
-  const poses = new Float32Array(buffer, 8 + 4 * frames, frames * robots * 3);
-  const states = new Uint8Array(buffer, 8 + 4 * frames + 12 * frames * robots, frames * robots);
-  return { frames, robots, times, poses, states };
-}
 
 // The walls at frame k of an edited run: the last wall set of meta.walls (see runs.py) whose
 // first frame is at or before k; a run without wall edits has one set.
