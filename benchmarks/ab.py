@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import importlib
+import os
 import re
 import statistics
 import subprocess
@@ -30,6 +31,8 @@ import time
 from pathlib import Path
 from types import ModuleType
 from typing import Any
+
+from common import add_run_options, with_data_folder
 
 ROOT = Path(__file__).resolve().parent.parent
 COPY = "mimics_then"
@@ -81,14 +84,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("revision")
-    parser.add_argument("--scenario", default="cave")
-    parser.add_argument("--algorithm", default="deployment")
-    parser.add_argument("--time", type=float, default=60.0)
-    parser.add_argument("--robots", type=int, default=None)
+    add_run_options(parser, scenario="cave", algorithm="deployment", time=60.0, robots=None)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--rounds", type=int, default=6)
     parser.add_argument("--logging", action="store_true")
     args = parser.parse_args()
+    with_data_folder(os.environ)  # REV's copy lives outside the checkout: name the data folder
     import mimics
 
     codes = {args.revision: package_at(args.revision), "working tree": mimics}

@@ -29,7 +29,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from mimics.world.data_folder import ENV_VAR, data_folder
+from common import with_data_folder
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results.json"
@@ -83,8 +83,8 @@ def _alternate(command: list[str], trees: list[tuple[str, Path]], rounds: int,
 
 def _run(command: list[str], tree: Path) -> str:
     """``command`` run from ``tree`` with it first on the module path; its output."""
-    env = {ENV_VAR: str(data_folder()), **os.environ, "PYTHONPATH": os.pathsep.join(
-        [str(tree), *filter(None, [os.environ.get("PYTHONPATH")])])}
+    env = with_data_folder({**os.environ, "PYTHONPATH": os.pathsep.join(
+        [str(tree), *filter(None, [os.environ.get("PYTHONPATH")])])})
     done = subprocess.run(command, cwd=tree, env=env, capture_output=True, text=True)
     if done.returncode:
         sys.exit(f"{' '.join(command)} failed in {tree} (status {done.returncode}):\n"

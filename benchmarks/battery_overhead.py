@@ -38,7 +38,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from common import RESULTS, save
+from common import RESULTS, add_run_options, save
 
 import mimics.records.runner as runner
 from mimics.batteries import run_battery, spec_from_dict
@@ -133,7 +133,7 @@ def main() -> None:
     parser.add_argument("--no-logging", dest="logging", action="store_false",
                         help="ignored: a battery always records")
     parser.add_argument("--quick", action="store_true", help="a short smoke run")
-    parser.add_argument("--results", type=Path, default=RESULTS)
+    add_run_options(parser, results=RESULTS)
     args = parser.parse_args()
     robots = args.robots or ([1, 10] if args.quick else [1, 30, 60])
     runs = args.runs or (5 if args.quick else 20)

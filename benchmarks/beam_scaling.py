@@ -18,17 +18,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+import common
 import numpy as np
-from common import (
-    base_spec,
-    benchmark_parser,
-    meta,
-    parse_or_serve_child,
-    print_table,
-    row_from,
-    run_child,
-    save,
-)
 
 FORMS = {"team": "deployment_team", "per-robot": "deployment"}
 
@@ -59,10 +50,10 @@ def line_fit(x: list[float], y: list[float]) -> dict[str, float]:
 
 
 def main() -> None:
-    parser = benchmark_parser(__doc__, time=20.0, quick_time=2.0)
+    parser = common.benchmark_parser(__doc__, time=20.0, quick_time=2.0)
     parser.add_argument("--beams", type=int, nargs="+", default=[45, 90, 180, 360, 720])
     parser.add_argument("--form", choices=list(FORMS), default="team")
-    args = parse_or_serve_child(parser, build)
+    args = common.parse_or_serve_child(parser, build)
     if args is None:
         return
     algorithm = FORMS[args.form]
@@ -70,19 +61,16 @@ def main() -> None:
           f"per run, median of {args.repeats}, logging {'on' if args.logging else 'off'}")
     columns = ["form", "robots", "beams_per_robot", "sim_speed", "robot_steps_per_s",
                "us_per_robot_step", "rays_per_s", "peak_rss_mb", "threads", "logging"]
-    print_table("", [], columns)
-    rows: list[dict[str, Any]] = []
-    for beams in args.beams:
-        spec = base_spec(args, algorithm=algorithm, beams=beams)
-        rows.append(row_from("beam_scaling", args.form, run_child(__file__, spec, args.threads),
-                             algorithm=algorithm))
-        print_table("", rows[-1:], columns, header=False)
+    common.print_table("", [], columns)
+    rows = [common.measured_row(__file__, args, "beam_scaling", args.form, columns,
+                                extra={"algorithm": algorithm}, algorithm=algorithm, beams=beams)
+            for beams in args.beams]
     fit = line_fit([r["beams_per_robot"] for r in rows], [r["us_per_robot_step"] for r in rows])
     print(f"  least squares: us per robot-step = {fit['intercept_us']:.2f} + "
           f"{fit['us_per_beam']:.4f} * beams, R^2 = {fit['r2']:.4f}")
     for row in rows:
         row["fit_us"] = fit["intercept_us"] + fit["us_per_beam"] * row["beams_per_robot"]
-    save("beam_scaling", {"meta": meta(args), "rows": rows, "fit": fit}, args.results)
+    common.save_measured(args, "beam_scaling", rows, fit=fit)
 
 
 if __name__ == "__main__":

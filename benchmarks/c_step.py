@@ -26,15 +26,13 @@ benchmarks/results.json under ``c_step``.
 
 from __future__ import annotations
 
-import argparse
-import json
 import statistics
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from common import add_common_arguments, meta, resolve, run_child, save, time_runs
+from common import benchmark_parser, parse_or_serve_child, run_child, save_measured, time_runs
 
 C_DEPLOYMENT = Path(__file__).resolve().parents[1] / "examples" / "c" / "deployment.c"
 FORMS = ("still", "deployment", "deployment_team", "deployment.c")
@@ -110,16 +108,10 @@ def _controller_us_per_call(sim: Any, calls: int) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=20.0, quick_time=2.0)
+    parser = benchmark_parser(__doc__, time=20.0, quick_time=2.0, repeats=5, quick_repeats=2)
     parser.set_defaults(logging=False)
-    args = parser.parse_args()
-    if args.repeats is None:
-        args.repeats = 2 if args.quick else 5
-    args = resolve(args)
-    if args.child:
-        print(json.dumps(child(json.loads(args.child))))
+    args = parse_or_serve_child(parser, child=child)
+    if args is None:
         return
     spec = {"time": args.time, "warmup_time": args.warmup_time, "repeats": args.repeats,
             "calls": 20 if args.quick else 100}
@@ -146,7 +138,7 @@ def main() -> None:
               f"{row['us_per_call']:9.3f} {row['inside_us_per_call']:9.3f}")
     print("  us/call: the controller alone (world frozen), per robot; inside: the engine's "
           "clock around each call (team: per robot); CPU us/r-s: process CPU per robot-step")
-    save("c_step", {"meta": meta(args), "rows": rows, "rounds": rounds}, args.results)
+    save_measured(args, "c_step", rows, rounds=rounds)
 
 
 if __name__ == "__main__":

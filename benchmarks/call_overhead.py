@@ -26,13 +26,11 @@ benchmarks/results.json under ``call_overhead``.
 
 from __future__ import annotations
 
-import argparse
-import json
 import statistics
 from typing import Any
 
 import numpy as np
-from common import add_common_arguments, meta, resolve, run_child, save, time_runs
+from common import benchmark_parser, parse_or_serve_child, run_child, save_measured, time_runs
 
 
 def constant(robot: Any) -> tuple[float, float]:
@@ -96,20 +94,14 @@ def child(spec: dict[str, Any]) -> dict[str, Any]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=10.0, quick_time=2.0)
+    parser = benchmark_parser(__doc__, time=10.0, quick_time=2.0, repeats=7, quick_repeats=2)
     parser.add_argument("--logging", dest="logging", action="store_true",
                         help="record the runs like `mimics run` (default: not recorded)")
     parser.add_argument("--scenario", choices=("cave", "line"), default="cave")
     parser.add_argument("--robots", type=int, default=100, help="line only (the Cave has 100)")
     parser.set_defaults(logging=False)
-    args = parser.parse_args()
-    if args.repeats is None:
-        args.repeats = 2 if args.quick else 7
-    args = resolve(args)
-    if args.child:
-        print(json.dumps(child(json.loads(args.child))))
+    args = parse_or_serve_child(parser, child=child)
+    if args is None:
         return
     spec = {"scenario": args.scenario, "robots": args.robots, "time": args.time,
             "warmup_time": args.warmup_time, "repeats": args.repeats, "logging": args.logging}
@@ -146,7 +138,7 @@ def main() -> None:
     print("  us/call: (per-step wall time - team_constant's) / robots, median of the rounds;"
           " inside call: the engine's own clock around step(robot); CPU us/call: the same"
           " difference in process CPU time (all threads)")
-    save("call_overhead", {"meta": meta(args), "rows": rows, "rounds": rounds}, args.results)
+    save_measured(args, "call_overhead", rows, rounds=rounds)
 
 
 if __name__ == "__main__":

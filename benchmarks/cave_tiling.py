@@ -20,17 +20,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+import common
 import numpy as np
-from common import (
-    base_spec,
-    benchmark_parser,
-    meta,
-    parse_or_serve_child,
-    print_table,
-    row_from,
-    run_child,
-    save,
-)
 
 FORMS = {"team": "deployment_team", "per-robot": "deployment"}
 TARGET_RATIO = 1.5  # us per robot-step, 16x over 1x, at most
@@ -64,11 +55,11 @@ def build(spec: dict[str, Any]) -> Any:
 
 
 def main() -> None:
-    parser = benchmark_parser(__doc__, time=20.0, quick_time=2.0)
+    parser = common.benchmark_parser(__doc__, time=20.0, quick_time=2.0)
     parser.add_argument("--tiles", type=int, nargs="+", default=[1, 2, 4],
                         help="tiles per side (1, 2, 4: 1x, 4x, 16x the Cave)")
     parser.add_argument("--forms", nargs="+", choices=list(FORMS), default=list(FORMS))
-    args = parse_or_serve_child(parser, build)
+    args = common.parse_or_serve_child(parser, build)
     if args is None:
         return
     print(f"cave tiled {', '.join(f'{k * k}x' for k in args.tiles)} (shared walls kept), "
@@ -76,14 +67,11 @@ def main() -> None:
           f"{'on' if args.logging else 'off'}")
     columns = ["form", "tiles", "robots", "segments", "sim_speed", "robot_steps_per_s",
                "us_per_robot_step", "rays_per_s", "peak_rss_mb", "threads", "logging"]
-    print_table("", [], columns)
-    rows: list[dict[str, Any]] = []
-    for form in args.forms:
-        for k in args.tiles:
-            spec = base_spec(args, algorithm=FORMS[form], tiles=k)
-            rows.append(row_from("cave_tiling", form, run_child(__file__, spec, args.threads),
-                                 tiles=f"{k * k}x", algorithm=FORMS[form]))
-            print_table("", rows[-1:], columns, header=False)
+    common.print_table("", [], columns)
+    rows = [common.measured_row(__file__, args, "cave_tiling", form, columns,
+                                extra={"tiles": f"{k * k}x", "algorithm": FORMS[form]},
+                                algorithm=FORMS[form], tiles=k)
+            for form in args.forms for k in args.tiles]
     ratios = []
     for form in args.forms:
         mine = sorted((r for r in rows if r["form"] == form), key=lambda r: r["robots"])
@@ -94,8 +82,7 @@ def main() -> None:
                        "target_met": ratio <= TARGET_RATIO})
         print(f"  {form:>9}: us per robot-step {big['tiles']} / {small['tiles']} = {ratio:.2f} "
               f"(target <= {TARGET_RATIO:g}): {'met' if ratio <= TARGET_RATIO else 'NOT met'}")
-    save("cave_tiling", {"meta": meta(args), "rows": rows, "ratios": ratios,
-                         "shared_walls": "kept"}, args.results)
+    common.save_measured(args, "cave_tiling", rows, ratios=ratios, shared_walls="kept")
 
 
 if __name__ == "__main__":

@@ -55,7 +55,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from common import RESULTS, save
+from common import RESULTS, add_run_options, save
 
 COMMAND = ["run", "line", "go_to_goal", "--robots", "60", "--seed", "1"]
 # issue 39: the first run that reads the laser, timed as a whole process (<= 10 s)
@@ -251,7 +251,7 @@ def main() -> None:
     parser.add_argument("--parts", action="store_true",
                         help="CPU seconds of each part of the first-run compile, alone in a "
                              "fresh process (not saved)")
-    parser.add_argument("--results", type=Path, default=RESULTS)
+    add_run_options(parser, results=RESULTS)
     args = parser.parse_args()
     if args.parts:
         time_parts(args.repeats)

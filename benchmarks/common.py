@@ -1,21 +1,19 @@
-"""Shared helpers for the benchmark scripts: timing medians, RSS, logging, subprocess rows.
+"""What the benchmark scripts share: their options, timed runs, rows and results.
 
-Benchmarks are run by hand (never by the test suite); each prints a table and
-merges its figures into ``benchmarks/results.json``.
+Benchmarks are run by hand (never by the test suite; ``benchmarks/run_all.py
+--list`` names them); each prints a table and merges its figures into
+``benchmarks/results.json`` (or writes ``benchmarks/results/NAME.json``).
 
-Two ways to time runs:
+* :func:`time_runs` times fresh simulations in this process (``logging=True``:
+  recorded like ``mimics run`` into a temporary folder per run);
+* :func:`run_child` and :func:`measured_row` measure one row in a fresh process
+  (the script again, with ``--child SPEC``: each row's peak RSS its own,
+  ``NUMBA_NUM_THREADS`` per row); the child side is :func:`measure_spec`;
+* :func:`benchmark_parser` and :func:`add_run_options` give the shared options,
+  :func:`save` and :func:`write_json` write the figures, :func:`with_data_folder`
+  passes the Stage data folder on to processes that run another tree's code.
 
-* :func:`time_runs` times fresh simulations in this process (``logging=True``
-  attaches the recorder the CLI uses, :class:`mimics.records.recorder.RunRecorder`,
-  writing trajectory/events parquet parts into a fresh temporary folder per run);
-* :func:`run_child` runs one benchmark row in a fresh Python process (the
-  script itself, called with ``--child SPEC``), so that each row's peak RSS is
-  its own and ``NUMBA_NUM_THREADS`` can be set per row. The child side is
-  :func:`child_main`, which builds the simulation from the JSON spec with
-  :func:`measure_spec`.
-
-Only public entry points of mimics are used (``Simulation``, ``load_scenario``,
-``find_algorithm``, ``RunRecorder``), never kernel internals.
+Only public entry points of mimics are used, never kernel internals.
 """
 
 from __future__ import annotations
@@ -32,19 +30,23 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, MutableMapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mimics.engine.simulation import Simulation
+if TYPE_CHECKING:  # imported where a run is made: listing the benchmarks imports no engine
+    from mimics.engine.simulation import Simulation
 
 RESULTS = Path(__file__).with_name("results.json")
 
 #: The columns every benchmark row carries (see :func:`row_from`).
 ROW_COLUMNS = ["benchmark", "form", "robots", "beams_per_robot", "sim_time", "sim_speed",
                "robot_steps_per_s", "rays_per_s", "peak_rss_mb", "threads", "logging"]
+
+#: The columns of the printed tables of :func:`measured_row`'s rows.
+TABLE_COLUMNS = [*ROW_COLUMNS[1:], "us_per_robot_step"]
 
 #: Short headers for :data:`ROW_COLUMNS` in printed tables.
 HEADERS = {"beams_per_robot": "beams", "sim_speed": "s_sim/s",
@@ -87,12 +89,8 @@ def state_hashes(sim: Simulation) -> dict[str, str]:
 
 
 def attach_recorder(sim: Simulation, folder: str | Path, robot_logs: str = "auto") -> Any:
-    """Attach the recorder the CLI uses (``run_to_folder``'s) to ``sim``, writing ``folder``.
-
-    The same observer as ``mimics run``: trajectory and events parquet parts
-    while running, merged at the end, per-robot logs (``"auto"``: up to 200
-    robots), summary.txt and summary.json. ``sim`` must not have started.
-    """
+    """Attach the recorder ``mimics run`` uses to ``sim`` (not started yet), writing
+    ``folder``: Parquet tables, per-robot logs (``"auto"``: up to 200 robots), summaries."""
     from mimics.records.recorder import RunRecorder
 
     recorder = RunRecorder(folder, robot_logs=robot_logs)  # type: ignore[arg-type]
@@ -111,19 +109,14 @@ def time_runs(make: Callable[[], Simulation], repeats: int = 3, warmup: int = 1,
               min_seconds: float = 2.0, max_repeats: int = 30) -> dict[str, Any]:
     """Run fresh simulations ``warmup + repeats`` times; medians of the timed ones.
 
-    Short runs are repeated beyond ``repeats`` until the timed runs add up to
-    ``min_seconds`` of wall time (at most ``max_repeats``): a 70 ms run
-    varies by 30% from one repeat to the next on a 2-core machine.
-
-    Returns sim seconds per wall second, robot-steps per second and rays per
-    second (beams cast by active robots), with the raw wall times, the process
-    CPU time of the timed loop (all threads; a busy machine blurs wall time
-    more than CPU time), the 1-minute load average around the runs, numba's
-    threading layer and hashes of the final pose and scan arrays. With
-    ``logging`` each run (warm-ups too) is recorded into a fresh temporary
-    folder, removed after the run (outside the timing; the recorder's end of
-    run writing is inside it). ``warmup_make`` builds the warm-up runs (e.g. a
-    short one that only compiles the kernels); default ``make``.
+    Short runs are repeated until the timed ones add up to ``min_seconds`` of wall
+    time (at most ``max_repeats``): a 70 ms run varies by 30% from one to the next.
+    Returns s_sim/s, robot-steps/s and rays/s (beams cast by active robots), the
+    wall and process CPU times (all threads: less blurred by a busy machine), the
+    load average around the runs, numba's threading layer and hashes of the final
+    pose and scan. With ``logging`` each run is recorded into a temporary folder
+    (its end-of-run writing timed, its removal not). ``warmup_make`` builds the
+    warm-up runs (e.g. a short one that only compiles the kernels).
     """
     walls: list[float] = []
     cpus: list[float] = []
@@ -198,13 +191,11 @@ def default_build(spec: dict[str, Any]) -> Any:
 
 def measure_spec(spec: dict[str, Any], build: Build = default_build,
                  algorithms: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Time the runs a spec describes, in this process.
+    """Time the runs a spec describes, in this process. Its keys: ``algorithm``, ``time``,
+    ``warmup_time`` (default ``time``), ``repeats``, ``warmup``, ``seed``, ``logging``,
+    ``robot_logs``, and what ``build`` reads (default: ``scenario`` and ``params``)."""
+    from mimics.engine.simulation import Simulation
 
-    Spec keys: ``algorithm`` (name), ``time`` (simulated s), ``warmup_time``
-    (simulated s of each warm-up run; default ``time``), ``repeats``,
-    ``warmup``, ``seed``, ``logging``, ``robot_logs``, plus what ``build``
-    reads (default: ``scenario`` and ``params``).
-    """
     scenario = build(spec)
     algorithm = load_algorithm(spec["algorithm"], algorithms)
     name = spec["algorithm"]
@@ -258,14 +249,42 @@ def row_from(benchmark: str, form: str, figures: dict[str, Any], **extra: Any
     return row
 
 
-def add_common_arguments(parser: argparse.ArgumentParser, time: float, quick_time: float
-                         ) -> None:
-    """The options every benchmark script shares."""
+# -- options -----------------------------------------------------------------------
+
+#: The run options scripts share: type and help of ``--NAME`` (see :func:`add_run_options`).
+RUN_OPTIONS: dict[str, tuple[type, str]] = {
+    "time": (float, "simulated seconds per run"),
+    "repeats": (int, "timed runs, medians reported"),
+    "robots": (int, "team size, or sizes measured in turn"),
+    "scenario": (str, "scenario, a built-in name"),
+    "algorithm": (str, "algorithm, a built-in name"),
+    "results": (Path, "results file the figures merge into")}
+
+
+def add_run_options(parser: argparse.ArgumentParser, **defaults: Any) -> None:
+    """Add ``--NAME`` for each ``NAME=default`` of :data:`RUN_OPTIONS`; a list default
+    takes several values, None means the scenario's own (its time limit, its team)."""
+    for name, default in defaults.items():
+        kind, text = RUN_OPTIONS[name]
+        several = isinstance(default, list)
+        shown = ("the scenario's own" if default is None else " ".join(map(str, default))
+                 if several else f"benchmarks/{default.name}" if kind is Path else default)
+        parser.add_argument(f"--{name}", type=kind, nargs="+" if several else None,
+                            default=default, help=f"{text} (default {shown})")
+
+
+def benchmark_parser(doc: str | None, time: float, quick_time: float, repeats: int = 3,
+                     quick_repeats: int = 1) -> argparse.ArgumentParser:
+    """A parser for a script measuring rows in fresh processes: its docstring as help, the
+    options such scripts share (``--quick``: ``quick_time`` and ``quick_repeats``)."""
+    parser = argparse.ArgumentParser(description=doc,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--time", type=float, default=None,
                         help=f"simulated seconds per timed run (default {time:g}; "
                              f"{quick_time:g} with --quick)")
     parser.add_argument("--repeats", type=int, default=None,
-                        help="timed runs per row, median reported (default 3; 1 with --quick)")
+                        help=f"timed runs per row, median reported (default {repeats}; "
+                             f"{quick_repeats} with --quick)")
     parser.add_argument("--warmup", type=int, default=1, help="untimed warm-up runs per row")
     parser.add_argument("--warmup-time", type=float, default=1.0,
                         help="simulated seconds of each warm-up run (compiles the kernels)")
@@ -277,24 +296,23 @@ def add_common_arguments(parser: argparse.ArgumentParser, time: float, quick_tim
     parser.add_argument("--results", type=Path, default=RESULTS,
                         help="results file to merge into (default benchmarks/results.json)")
     parser.add_argument("--child", default=None, help=argparse.SUPPRESS)
-    parser.set_defaults(default_time=time, quick_time=quick_time)
-
-
-def benchmark_parser(doc: str | None, time: float, quick_time: float
-                     ) -> argparse.ArgumentParser:
-    """A parser for a benchmark script: its docstring as help, the shared options."""
-    parser = argparse.ArgumentParser(description=doc,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_arguments(parser, time=time, quick_time=quick_time)
+    parser.set_defaults(default_time=time, quick_time=quick_time, default_repeats=repeats,
+                        quick_repeats=quick_repeats)
     return parser
 
 
-def parse_or_serve_child(parser: argparse.ArgumentParser, build: Build | None = None
+def parse_or_serve_child(parser: argparse.ArgumentParser, build: Build | None = None,
+                         child: Callable[[dict[str, Any]], Any] | None = None
                          ) -> argparse.Namespace | None:
-    """The parsed options; None in a ``--child`` process, once it has measured its spec."""
+    """The parsed options; None in a ``--child`` process, once it has measured its spec
+    (by ``child(spec)`` if given, else :func:`measure_spec` with ``build``) and printed
+    the figures as one JSON line."""
     args = resolve(parser.parse_args())
     if args.child:
-        child_main(args.child, build or default_build)
+        if child is None:
+            child_main(args.child, build or default_build)
+        else:
+            print(json.dumps(child(json.loads(args.child))))
         return None
     return args
 
@@ -304,7 +322,7 @@ def resolve(args: argparse.Namespace) -> argparse.Namespace:
     if args.time is None:
         args.time = args.quick_time if args.quick else args.default_time
     if args.repeats is None:
-        args.repeats = 1 if args.quick else 3
+        args.repeats = args.quick_repeats if args.quick else args.default_repeats
     args.warmup_time = min(args.warmup_time, args.time)
     return args
 
@@ -324,14 +342,40 @@ def meta(args: argparse.Namespace) -> dict[str, Any]:
             "measured": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
 
 
+# -- results and tables ------------------------------------------------------------
+
 def save(section: str, rows: list[dict[str, Any]] | dict[str, Any],
          path: Path = RESULTS) -> None:
     """Merge ``rows`` under ``section`` into ``path`` (default benchmarks/results.json)."""
     path = Path(path)
     data = json.loads(path.read_text()) if path.exists() else {}
     data[section] = rows
+    write_json(path, data)
+
+
+def save_measured(args: argparse.Namespace, section: str, rows: list[dict[str, Any]],
+                  **more: Any) -> None:
+    """Merge a measured section (how it was measured, its rows, ``more``) into
+    ``args.results``."""
+    save(section, {"meta": meta(args), "rows": rows, **more}, args.results)
+
+
+def write_json(path: Path, data: Any) -> None:
+    """Write ``data`` as indented JSON to ``path`` (its folder made if need be)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(data, indent=2) + "\n")
+    path.write_text(json.dumps(data, indent=2, default=str) + "\n")
+
+
+def spread(values: list[float], digits: int = 2) -> str:
+    """``median (lowest-highest)`` of several runs' figures."""
+    return (f"{statistics.median(values):.{digits}f} "
+            f"({min(values):.{digits}f}-{max(values):.{digits}f})")
+
+
+def speeds_text(sim_speed: float, robot_steps_per_s: float, digits: int = 2) -> str:
+    """The two speeds every benchmark prints: simulated seconds and robot-steps per wall
+    second."""
+    return f"{sim_speed:.{digits}f} s_sim/s, {robot_steps_per_s:,.0f} robot-steps/s"
 
 
 def print_table(title: str, rows: list[dict[str, Any]], columns: list[str],
@@ -349,18 +393,16 @@ def print_table(title: str, rows: list[dict[str, Any]], columns: list[str],
         print("  ".join(cells), flush=True)
 
 
-def form_rows(script: str | Path, benchmark: str, args: argparse.Namespace,
-              algorithms: dict[str, str], **spec: Any) -> list[dict[str, Any]]:
-    """One row per form (``{"per-robot": "deployment", "team": ...}``), each in a fresh
-    process, printed as it comes."""
-    rows: list[dict[str, Any]] = []
-    columns = [*ROW_COLUMNS[1:], "us_per_robot_step"]
-    print_table("", [], columns)
-    for form, algorithm in algorithms.items():
-        figures = run_child(script, base_spec(args, algorithm=algorithm, **spec), args.threads)
-        rows.append(row_from(benchmark, form, figures, algorithm=algorithm))
-        print_table("", rows[-1:], columns, header=False)
-    return rows
+def measured_row(script: str | Path, args: argparse.Namespace, benchmark: str, form: str,
+                 columns: list[str], threads: int | None = None,
+                 extra: dict[str, Any] | None = None, **spec: Any) -> dict[str, Any]:
+    """One row measured by ``script --child`` in a fresh process (``spec`` on top of the
+    shared options; ``threads``, default ``--threads``), printed as it comes."""
+    figures = run_child(script, base_spec(args, **spec),
+                        args.threads if threads is None else threads)
+    row = row_from(benchmark, form, figures, **(extra or {}))
+    print_table("", [row], columns, header=False)
+    return row
 
 
 def deployment_benchmark(script: str, name: str, label: str, targets: dict[str, float],
@@ -375,9 +417,11 @@ def deployment_benchmark(script: str, name: str, label: str, targets: dict[str, 
     print(f"{name}, {label}, {args.time:g} s simulated per run, median of "
           f"{args.repeats} after {args.warmup} warm-up of {args.warmup_time:g} s, "
           f"logging {'on' if args.logging else 'off'}")
-    rows = form_rows(script, name, args,
-                     {"per-robot": "deployment", "team": "deployment_team"}, scenario=name,
-                     params={"fixed": True, "noise": "off"})  # the paper's set-up
+    print_table("", [], TABLE_COLUMNS)
+    rows = [measured_row(script, args, name, form, TABLE_COLUMNS, extra={"algorithm": algorithm},
+                         algorithm=algorithm, scenario=name,
+                         params={"fixed": True, "noise": "off"})  # the paper's set-up
+            for form, algorithm in (("per-robot", "deployment"), ("team", "deployment_team"))]
     for row in rows:
         row["target_sim_speed"] = targets[row["form"]]
         row["target_met"] = row["sim_speed"] >= targets[row["form"]]
@@ -386,7 +430,19 @@ def deployment_benchmark(script: str, name: str, label: str, targets: dict[str, 
             row["target_rss_mb"] = rss_limit_mb
             row["target_met"] = row["target_met"] and row["peak_rss_mb"] < rss_limit_mb
             memory = f", peak RSS {row['peak_rss_mb']:.0f} MB < {rss_limit_mb:g} MB"
-        print(f"  {row['form']:>9}: {row['sim_speed']:.2f} s_sim/s, target >= "
-              f"{row['target_sim_speed']:g}{memory}: "
+        print(f"  {row['form']:>9}: {speeds_text(row['sim_speed'], row['robot_steps_per_s'])}"
+              f"; target >= {row['target_sim_speed']:g} s_sim/s{memory}: "
               f"{'met' if row['target_met'] else 'NOT met'}")
-    save(name, {"meta": meta(args), "rows": rows}, args.results)
+    save_measured(args, name, rows)
+
+
+# -- the data folder ----------------------------------------------------------------
+
+def with_data_folder(env: MutableMapping[str, str]) -> MutableMapping[str, str]:
+    """``env`` with ``MIMICS_DATA`` set to the data folder as mimics finds it
+    (:func:`mimics.world.data_folder.data_folder`), as an absolute path: a copy of
+    ``mimics`` outside this checkout does not find ``shared/data`` by walking up."""
+    from mimics.world.data_folder import ENV_VAR, data_folder
+
+    env[ENV_VAR] = str(data_folder().resolve())
+    return env

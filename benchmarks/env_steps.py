@@ -36,7 +36,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from common import print_table, run_child, save
+from common import RESULTS, add_run_options, print_table, run_child, save
 
 SCENARIO = "cave"
 BAR = 1000.0  # env steps per second
@@ -141,6 +141,7 @@ def main() -> None:
     parser.add_argument("--threads", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--observation", nargs="+", default=["dict", "flat"])
     parser.add_argument("--quick", action="store_true", help="20 steps, 2 repeats")
+    add_run_options(parser, results=RESULTS)
     parser.add_argument("--child", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -168,7 +169,7 @@ def main() -> None:
                          "mean_live_agents", "reset_ms", "meets_bar"], header=len(rows) == 1)
             print("    single runs:", figures["runs_env_steps_per_s"], flush=True)
     save("env_steps", {"scenario": SCENARIO, "steps": args.steps, "repeats": args.repeats,
-                       "python": sys.version.split()[0], "rows": rows})
+                       "python": sys.version.split()[0], "rows": rows}, args.results)
 
 
 if __name__ == "__main__":

@@ -13,41 +13,25 @@ to the smallest; merges them into benchmarks/results.json under ``line_1000``.
 
 from __future__ import annotations
 
-from typing import Any
-
-from common import (
-    ROW_COLUMNS,
-    base_spec,
-    benchmark_parser,
-    meta,
-    parse_or_serve_child,
-    print_table,
-    row_from,
-    run_child,
-    save,
-)
+import common
 
 FORMS = {"per-robot": "go_to_goal", "team": "go_to_goal_team"}
 TARGET_RATIO = 0.5  # robot-steps/s at 1,000 robots over that at 10: within 2x
 
 
 def main() -> None:
-    parser = benchmark_parser(__doc__, time=21.8, quick_time=2.0)
-    parser.add_argument("--robots", type=int, nargs="+", default=[10, 1000])
-    args = parse_or_serve_child(parser)
+    parser = common.benchmark_parser(__doc__, time=21.8, quick_time=2.0)
+    common.add_run_options(parser, robots=[10, 1000])
+    args = common.parse_or_serve_child(parser)
     if args is None:
         return
     print(f"line, robots {args.robots}, {args.time:g} s simulated per run (all reach their goals "
           f"by 21.8 s), median of {args.repeats}, logging {'on' if args.logging else 'off'}")
-    columns = [*ROW_COLUMNS[1:], "us_per_robot_step"]
-    print_table("", [], columns)
-    rows: list[dict[str, Any]] = []
-    for form, algorithm in FORMS.items():
-        for n in args.robots:
-            spec = base_spec(args, algorithm=algorithm, scenario="line", params={"robots": n})
-            rows.append(row_from("line", form, run_child(__file__, spec, args.threads),
-                                 algorithm=algorithm))
-            print_table("", rows[-1:], columns, header=False)
+    common.print_table("", [], common.TABLE_COLUMNS)
+    rows = [common.measured_row(__file__, args, "line", form, common.TABLE_COLUMNS,
+                                extra={"algorithm": algorithm}, algorithm=algorithm,
+                                scenario="line", params={"robots": n})
+            for form, algorithm in FORMS.items() for n in args.robots]
     ratios = []
     for form in FORMS:
         mine = sorted((r for r in rows if r["form"] == form), key=lambda r: r["robots"])
@@ -59,7 +43,7 @@ def main() -> None:
         print(f"  {form:>9}: robot-steps/s at {big['robots']} / at {small['robots']} = "
               f"{ratio:.2f} (target >= {TARGET_RATIO:g}, within 2x): "
               f"{'met' if ratio >= TARGET_RATIO else 'NOT met'}")
-    save("line_1000", {"meta": meta(args), "rows": rows, "ratios": ratios}, args.results)
+    common.save_measured(args, "line_1000", rows, ratios=ratios)
 
 
 if __name__ == "__main__":

@@ -9,9 +9,8 @@ Prints s_sim/s and robot-steps/s for the per-robot and team ``go_to_goal``.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from common import RESULTS, print_table, save, time_runs
+from common import RESULTS, add_run_options, print_table, save, time_runs
 
 from mimics.algorithms import go_to_goal, go_to_goal_team
 from mimics.engine.simulation import Simulation
@@ -20,10 +19,8 @@ from mimics.scenarios.line import scenario
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--robots", type=int, nargs="+", default=[1, 10, 60, 100, 300, 1000])
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--time", type=float, default=21.8)
-    parser.add_argument("--results", type=Path, default=RESULTS)
+    add_run_options(parser, robots=[1, 10, 60, 100, 300, 1000], repeats=3, time=21.8,
+                    results=RESULTS)
     args = parser.parse_args()
     rows = []
     for form, algorithm in (("per-robot", go_to_goal), ("team", go_to_goal_team)):

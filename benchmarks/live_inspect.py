@@ -40,6 +40,7 @@ import numpy as np
 from websockets.sync.client import connect
 
 sys.path.insert(0, str(Path(__file__).parent))
+from common import add_run_options, write_json
 from live_stream import post, serve
 
 RESULTS = Path(__file__).with_name("results") / "live_inspect.json"
@@ -120,9 +121,7 @@ def live_once(address: str, scenario: str, sim_time: float, mode: str) -> dict[s
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--time", type=float, default=30.0)
-    parser.add_argument("--scenario", default="cave")
+    add_run_options(parser, repeats=5, time=30.0, scenario="cave")
     args = parser.parse_args()
     root = Path(tempfile.mkdtemp(prefix="mimics-inspect-bench-"))
     address, server = serve(root)
@@ -146,11 +145,10 @@ def main() -> None:
     print(f"inspecting one robot costs {rows['inspect']['cost']:.1%} of the speed (bar <= "
           f"{BAR:.0%}): {'met' if met else 'NOT met'}")
     server.should_exit = True
-    RESULTS.parent.mkdir(exist_ok=True)
-    RESULTS.write_text(json.dumps({
+    write_json(RESULTS, {
         "machine": platform.node(), "python": platform.python_version(),
         "scenario": args.scenario, "sim_time": args.time, "repeats": args.repeats,
-        "rows": rows, "bar": BAR, "bar_met": met}, indent=2) + "\n")
+        "rows": rows, "bar": BAR, "bar_met": met})
 
 
 if __name__ == "__main__":

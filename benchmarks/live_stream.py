@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 import uvicorn
+from common import write_json
 from websockets.sync.client import connect
 
 from mimics.interfaces.web.app import create_app
@@ -40,6 +41,8 @@ BARS = {"cave": {"fps": 30.0, "speed_share": 0.5}, "hospital": {"fps": 15.0}}
 
 
 def serve(root: Path) -> tuple[str, uvicorn.Server]:
+    """``mimics ui``'s app serving ``root`` from a thread of this process, on a free port;
+    returns its address (``host:port``) and the server (``should_exit`` stops it)."""
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
         port = probe.getsockname()[1]
@@ -52,6 +55,7 @@ def serve(root: Path) -> tuple[str, uvicorn.Server]:
 
 
 def post(address: str, path: str, body: Any) -> Any:
+    """POST ``body`` as JSON to the workbench at ``address``; its JSON answer."""
     request = urllib.request.Request(f"http://{address}{path}", method="POST",
                                      data=json.dumps(body).encode(),
                                      headers={"Content-Type": "application/json"})
@@ -115,9 +119,8 @@ def main() -> None:
               f"{', bar >= 50%' if 'speed_share' in bar else ''}): "
               f"{'met' if row['bar_met'] else 'NOT met'}")
     server.should_exit = True
-    RESULTS.parent.mkdir(exist_ok=True)
-    RESULTS.write_text(json.dumps({"machine": platform.node(), "python": platform.python_version(),
-                                   "rows": rows}, indent=2) + "\n")
+    write_json(RESULTS, {"machine": platform.node(), "python": platform.python_version(),
+                         "rows": rows})
 
 
 if __name__ == "__main__":

@@ -33,6 +33,8 @@ import time
 from pathlib import Path
 from typing import Any
 
+from common import add_run_options, folder_bytes, write_json
+
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.simulation import Simulation
 from mimics.records.runner import run_to_folder
@@ -62,13 +64,9 @@ def timed_run(args: argparse.Namespace, way: str, folder: Path
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--robots", type=int, default=60)
-    parser.add_argument("--repeats", type=int, default=5)
+    add_run_options(parser, robots=60, repeats=5)
     parser.add_argument("--warmup", type=int, default=1)
-    parser.add_argument("--scenario", default="line")
-    parser.add_argument("--algorithm", default="go_to_goal")
-    parser.add_argument("--time", type=float, default=None,
-                        help="simulated seconds (default: the scenario's own limit)")
+    add_run_options(parser, scenario="line", algorithm="go_to_goal", time=None)
     args = parser.parse_args()
     ways = ("none", "logs", "no_logs")
     walls: dict[str, list[float]] = {w: [] for w in ways}
@@ -82,8 +80,7 @@ def main() -> None:
                     walls[way].append(wall)
                     spent[way].append(recorder / (wall - recorder))
                     sample[way] = sim
-        sizes = {w: sum(f.stat().st_size for f in (Path(tmp) / w).rglob("*") if f.is_file())
-                 for w in ways if w != "none"}
+        sizes = {w: folder_bytes(Path(tmp) / w) for w in ways if w != "none"}
     rows: dict[str, Any] = {}
     base = statistics.median(walls["none"])
     for way in ways:
@@ -114,13 +111,12 @@ def main() -> None:
           "(median of the rounds' ratios)")
     results = RESULTS / ("logging_overhead.json" if args.scenario == "line"
                          else f"logging_overhead_{args.scenario}.json")
-    RESULTS.mkdir(parents=True, exist_ok=True)
-    results.write_text(json.dumps({
+    write_json(results, {
         "benchmark": "logging_overhead", "scenario": args.scenario,
         "algorithm": args.algorithm, "time": args.time, "logs_cost": logs_cost,
         "robots": args.robots, "steps": sample["none"].state.step, "repeats": args.repeats,
         "warmup": args.warmup, "machine": platform.platform(), "python": platform.python_version(),
-        "ways": rows}, indent=2) + "\n")
+        "ways": rows})
     print(f"wrote {results}")
 
 

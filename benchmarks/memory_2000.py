@@ -20,7 +20,6 @@ from __future__ import annotations
 import argparse
 import json
 import platform
-import resource
 import subprocess
 import sys
 import tempfile
@@ -28,13 +27,9 @@ import time
 from pathlib import Path
 from typing import Any
 
+from common import add_run_options, folder_bytes, peak_rss_mb, speeds_text, write_json
+
 RESULTS = Path(__file__).parent / "results" / "memory_2000.json"
-
-
-def peak_rss_mb() -> float:
-    """Peak resident memory of this process so far (MB)."""
-    usage = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    return usage / 1024 if sys.platform != "darwin" else usage / 1024 / 1024
 
 
 def child(args: argparse.Namespace) -> dict[str, Any]:
@@ -63,8 +58,7 @@ def child(args: argparse.Namespace) -> dict[str, Any]:
                    "write_time": summary["records"]["write_time"],
                    "recorder_time": summary["records"]["step_time"]
                    + summary["records"]["write_time"],
-                   "folder_bytes": sum(f.stat().st_size for f in Path(args.out).rglob("*")
-                                       if f.is_file())}
+                   "folder_bytes": folder_bytes(Path(args.out))}
     else:
         result = sim.run()
     wall = time.perf_counter() - start
@@ -89,8 +83,7 @@ def hospital_available() -> bool:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--robots", type=int, default=2000)
-    parser.add_argument("--time", type=float, default=60.0)
+    add_run_options(parser, robots=2000, time=60.0)
     parser.add_argument("--scenario", choices=("hospital", "line"), default=None,
                         help="Default: hospital if its Stage data is installed, else line.")
     parser.add_argument("--form", choices=("team", "per-robot"), default="team")
@@ -122,12 +115,9 @@ def main() -> None:
                  f"{row['write_time']:.2f} s of it at the end)"
                  if row["recorded"] else "")
         print(f"  {label:>12}: peak RSS {row['peak_rss_mb']:.0f} MB, wall {row['wall_time']:.1f} "
-              f"s, {row['sim_speed']:.3f} s_sim/s, {row['robot_steps_per_s']:.0f} "
-              f"robot-steps/s{extra}")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps({"benchmark": "memory_2000", "machine": platform.platform(),
-                                   "python": platform.python_version(), "runs": rows},
-                                  indent=2) + "\n")
+              f"s, {speeds_text(row['sim_speed'], row['robot_steps_per_s'], 3)}{extra}")
+    write_json(RESULTS, {"benchmark": "memory_2000", "machine": platform.platform(),
+                         "python": platform.python_version(), "runs": rows})
     print(f"wrote {RESULTS}")
 
 

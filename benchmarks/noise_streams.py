@@ -36,18 +36,9 @@ import time
 from dataclasses import replace
 from typing import Any
 
+import common
 import numpy as np
-from common import (
-    base_spec,
-    benchmark_parser,
-    default_build,
-    load_algorithm,
-    meta,
-    parse_or_serve_child,
-    row_from,
-    run_child,
-)
-from common import save as save_section
+from common import base_spec, default_build, row_from, run_child
 
 SCENARIOS = {"cave": "100 Pioneer2DX, 180 beams", "hospital": "2000 Swarmbots, 180 beams"}
 LONGER = {"cave": 6.0, "hospital": 1.0}  # the Cave's runs are 6 x --time: its steps are short
@@ -86,7 +77,7 @@ def per_step(args: Any) -> None:
     rows = []
     for scenario, label in SCENARIOS.items():
         scene = default_build({"scenario": scenario, "params": {"fixed": True, "noise": "on"}})
-        sim = Simulation(scene, load_algorithm("deployment_team"), seed=1, time_limit=1e6)
+        sim = Simulation(scene, common.load_algorithm("deployment_team"), seed=1, time_limit=1e6)
         sim.start()
         for _ in range(PER_STEP_WARM[scenario]):
             sim.step()
@@ -133,16 +124,16 @@ def per_step(args: Any) -> None:
               f"{100 * one / step:4.1f}% ({100 * hits:.0f}% of beams hit; target "
               f"< {100 * TARGET:g}%{'' if verdict is not None else ': no verdict, load'} "
               f"{load:.1f})", flush=True)
-    save_section("noise_streams_per_step", {"meta": meta(args), "rows": rows}, args.results)
+    common.save_measured(args, "noise_streams_per_step", rows)
 
 
 def main() -> None:
-    parser = benchmark_parser(__doc__, time=10.0, quick_time=0.5)
+    parser = common.benchmark_parser(__doc__, time=10.0, quick_time=0.5)
     parser.add_argument("--rounds", type=int, default=2,
                         help="alternating rounds of on/off processes (default 2)")
     parser.add_argument("--per-step", action="store_true",
                         help="time a step and its ranger noise in this process instead")
-    args = parse_or_serve_child(parser, build)
+    args = common.parse_or_serve_child(parser, build)
     if args is None:
         return
     if args.per_step:
@@ -183,7 +174,7 @@ def main() -> None:
         print(f"  {scenario:>9} ({label}): the noise streams' draws cost {100 * draws:+.1f}% "
               f"of a step (target < {100 * TARGET:g}%: {'met' if draws < TARGET else 'NOT met'})",
               flush=True)
-    save_section("noise_streams", {"meta": meta(args), "rows": rows}, args.results)
+    common.save_measured(args, "noise_streams", rows)
 
 
 if __name__ == "__main__":

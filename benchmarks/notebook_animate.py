@@ -15,11 +15,12 @@ base64 included) are printed, with the simulation's own speed for reference
 from __future__ import annotations
 
 import argparse
-import json
 import platform
 import statistics
 import time
 from pathlib import Path
+
+from common import add_run_options, speeds_text, write_json
 
 import mimics
 
@@ -30,7 +31,7 @@ MB_BAR = 10.0
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--time", type=float, default=60.0, help="simulated seconds")
+    add_run_options(parser, time=60.0)
     parser.add_argument("--repeats", type=int, default=5, help="timed animate() calls")
     args = parser.parse_args()
 
@@ -41,8 +42,7 @@ def main() -> None:
     robot_steps = len(run.trajectory) - summary["robots"]  # a row per robot-step, + step 0
     print(f"run: cave / deployment, {summary['robots']} robots, {summary['sim_time']:g} s "
           f"simulated in {simulated:.2f} s wall (first call includes start-up); engine "
-          f"{summary['sim_speed']:.1f} s_sim/s, "
-          f"{robot_steps / summary['wall_time']:.0f} robot-steps/s")
+          f"{speeds_text(summary['sim_speed'], robot_steps / summary['wall_time'], 1)}")
 
     run.animate()  # warm-up: Matplotlib, the renderer's fonts, ffmpeg's first start
     seconds, megabytes, frames = [], [], 0
@@ -61,14 +61,13 @@ def main() -> None:
           f"{'OK' if median_s < SECONDS_BAR else 'OVER'}")
     print(f"  size  median {median_mb:.2f} MB inline (video {animation.megabytes:.2f} MB)  "
           f"bar {MB_BAR:g} MB: {'OK' if median_mb < MB_BAR else 'OVER'}")
-    RESULTS.parent.mkdir(exist_ok=True)
-    RESULTS.write_text(json.dumps({
+    write_json(RESULTS, {
         "time_s": args.time, "robots": summary["robots"], "frames": frames,
         "speed": animation.speed, "size_px": [animation.width, animation.height],
         "animate_seconds": seconds, "animate_seconds_median": median_s,
         "inline_mb": megabytes, "inline_mb_median": median_mb,
         "machine": platform.platform(), "python": platform.python_version(),
-    }, indent=2) + "\n")
+    })
 
 
 if __name__ == "__main__":

@@ -36,6 +36,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from common import add_run_options
+
 import mimics.engine.ranging.scanner as scanner_module
 import mimics.engine.simulation as simulation_module
 import mimics.engine.step_checks as step_checks_module
@@ -141,9 +143,7 @@ def first_steps(args: argparse.Namespace) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--scenario", default="cave")
-    parser.add_argument("--algorithm", default="deployment_team")
-    parser.add_argument("--time", type=float, default=60.0)
+    add_run_options(parser, scenario="cave", algorithm="deployment_team", time=60.0)
     parser.add_argument("--robots", type=int, nargs="+", default=None,
                         help="the scenario's robots parameter (default: its own); several "
                              "sizes: ns per robot-step at each")

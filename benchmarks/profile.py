@@ -12,6 +12,7 @@ Compiled kernels show up as the frame that calls them (``_cast_rows``,
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import tempfile
 from pathlib import Path
@@ -19,6 +20,8 @@ from pathlib import Path
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.simulation import Simulation
 from mimics.records.recorder import RunRecorder
+
+ROOT = Path(__file__).resolve().parents[1]
 
 # name: (scenario, parameters, algorithm, simulated seconds)
 WORKLOADS = {
@@ -56,8 +59,17 @@ def profile(name: str, out: Path) -> Path:
             f"profiler, logging on\n\n"
             + profiler.output_text(unicode=False, color=False, show_all=False))
     path = out / f"{name}.txt"
-    path.write_text(text)
+    path.write_text(repository_relative(text))
     return path
+
+
+def repository_relative(text: str) -> str:
+    """A profile's text with its files named from the repository's root (``mimics/...``,
+    ``benchmarks/profile.py``) or as ``<venv>/...`` and ``<python>/...``: pyinstrument
+    names them from this machine's folders or from the script's (``../mimics/...``)."""
+    text = text.replace(f"{ROOT}/", "").replace(f"{sys.prefix}/", "<venv>/")
+    text = text.replace(f"{sys.base_prefix}/", "<python>/").replace(" ../mimics/", " mimics/")
+    return re.sub(r"(?<= )profile\.py\b", "benchmarks/profile.py", text)
 
 
 def main() -> None:

@@ -29,6 +29,7 @@ from typing import Any
 import numba
 import numpy as np
 from ab import package_at
+from common import add_run_options
 
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.ranging import ranger
@@ -97,7 +98,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--against", help="a git revision whose ranger to time alongside")
-    parser.add_argument("--repeats", type=int, default=40)
+    add_run_options(parser, repeats=40)
     parser.add_argument("--no-hospital", action="store_true")
     args = parser.parse_args()
     kernels = {"now": ranger}

@@ -26,6 +26,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from common import add_run_options, speeds_text
+
 EXAMPLE = Path(__file__).parents[1] / "examples" / "ros" / "go_to_goal_node.py"
 
 
@@ -53,8 +55,7 @@ def one_run(env: dict[str, str], robots: int, folder: Path) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--robots", type=int, nargs="+", default=[4, 20, 100])
-    parser.add_argument("--repeats", type=int, default=3)
+    add_run_options(parser, robots=[4, 20, 100], repeats=3)
     args = parser.parse_args()
     port = free_port()
     env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{port}", "ROS_IP": "127.0.0.1"}
@@ -74,8 +75,8 @@ def main() -> None:
                     rates[robots].append(rate)
                     print(f"{robots} robots, run {k}: {summary['reached_goal']}/{robots} "
                           f"reached, {summary['sim_time']:.1f} s_sim in "
-                          f"{summary['wall_time']:.2f} s: {speed:.1f} s_sim/s, "
-                          f"{rate:.0f} robot-steps/s", flush=True)
+                          f"{summary['wall_time']:.2f} s: {speeds_text(speed, rate, 1)}",
+                          flush=True)
         print(f"\nlockstep, medians of {args.repeats} (min to max):")
         print("| robots | s_sim/s | robot-steps/s |")
         print("|---|---|---|")

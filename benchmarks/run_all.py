@@ -1,27 +1,35 @@
-"""Run all the performance-issue benchmarks and print one table with the targets.
+"""The one way into the benchmarks: list them, run one, or run the performance suite.
 
+    python benchmarks/run_all.py --list             # every benchmark and what it measures
+    python benchmarks/run_all.py NAME [ARGS ...]    # one of them, e.g. cave --quick
     python benchmarks/run_all.py [--quick] [--only cave hospital ...] [--no-logging]
                                  [--threads N] [--results benchmarks/results.json]
 
-Runs, each as its own script (each row in a fresh process): ``cave.py``,
-``hospital.py``, ``line_1000.py``, ``threads.py``, ``cave_tiling.py``,
-``beam_scaling.py``, ``call_overhead.py``, ``cold_start.py``, ``swarm.py`` and
-``battery_overhead.py``,
-passing ``--quick`` (short simulated times, one timed run per row: a smoke
-run, not figures to quote), ``--no-logging``, ``--threads`` and ``--results``
-on. Their own output is
-shown as they go; then one table: benchmark, form, robots, s_sim/s,
-robot-steps/s, rays/s, peak RSS, and the target with whether it is met, plus
-the thread speedup and determinism, the beam fit, the per-call cost and the
-time to the first step with an empty and a warm Numba cache, and the
-battery's per-run costs and runs/s (Figure 2 subset). All
-figures are merged into the results file (default benchmarks/results.json).
-Nothing is asserted: the figures are for people to read.
+``--list`` reads each script's docstring (its first paragraph says what it
+measures), so the list is as current as the scripts. ``NAME`` runs
+``benchmarks/NAME.py`` (``peers/NAME`` for the peer comparisons) with ARGS,
+its exit status passed on; ``NAME --help`` shows its options.
+
+Without a NAME, the performance suite: ``cave.py``, ``hospital.py``,
+``line_1000.py``, ``threads.py``, ``cave_tiling.py``, ``beam_scaling.py``,
+``call_overhead.py``, ``cold_start.py``, ``swarm.py`` and
+``battery_overhead.py``, each as its own script (each row in a fresh
+process), passing ``--quick`` (short simulated times, one timed run per row:
+a smoke run, not figures to quote), ``--no-logging``, ``--threads`` and
+``--results`` on. Their own output is shown as they go; then one table:
+benchmark, form, robots, s_sim/s, robot-steps/s, rays/s, peak RSS, and the
+target with whether it is met, plus the thread speedup and determinism, the
+beam fit, the per-call cost, the time to the first step with an empty and a
+warm Numba cache, and the battery's per-run costs and runs/s (Figure 2
+subset). All figures are merged into the results file (default
+benchmarks/results.json). Nothing is asserted: the figures are for people to
+read.
 """
 
 from __future__ import annotations
 
 import argparse
+import ast
 import json
 import subprocess
 import sys
@@ -32,16 +40,50 @@ from typing import Any
 from common import RESULTS
 
 HERE = Path(__file__).parent
-SCRIPTS = {"cave": "cave.py", "hospital": "hospital.py", "line_1000": "line_1000.py",
-           "threads": "threads.py", "cave_tiling": "cave_tiling.py",
-           "beam_scaling": "beam_scaling.py", "call_overhead": "call_overhead.py",
-           "cold_start": "cold_start.py", "swarm": "swarm.py",
-           "battery_overhead": "battery_overhead.py"}
+#: The scripts of this folder that are not benchmarks: the shared helpers and this entry.
+NOT_BENCHMARKS = {"common", "run_all"}
+#: The performance suite run without a NAME, in this order.
+SUITE = ["cave", "hospital", "line_1000", "threads", "cave_tiling", "beam_scaling",
+         "call_overhead", "cold_start", "swarm", "battery_overhead"]
+
+
+def benchmark_scripts() -> dict[str, Path]:
+    """Every benchmark script by name: ``NAME`` for ``benchmarks/NAME.py``,
+    ``peers/NAME`` for ``benchmarks/peers/NAME.py``."""
+    found = {path.stem: path for path in sorted(HERE.glob("*.py"))
+             if path.stem not in NOT_BENCHMARKS}
+    found.update({f"peers/{path.stem}": path for path in sorted((HERE / "peers").glob("*.py"))})
+    return found
+
+
+def description(script: Path) -> str:
+    """What a benchmark measures: the first paragraph of its docstring, on one line (its
+    reStructuredText quotes dropped)."""
+    doc = ast.get_docstring(ast.parse(script.read_text(encoding="utf-8"))) or ""
+    return " ".join(doc.split("\n\n")[0].split()).replace("``", "")
+
+
+def print_list() -> None:
+    """One line per benchmark: its name and what it measures."""
+    scripts = benchmark_scripts()
+    width = max(map(len, scripts))
+    for name, script in scripts.items():
+        print(f"{name:<{width}}  {description(script)}")
+
+
+def run_one(name: str, arguments: list[str]) -> int:
+    """Run the benchmark ``name`` with ``arguments``; its exit status (2: no such name)."""
+    scripts = benchmark_scripts()
+    if name not in scripts:
+        print(f"run_all.py: error: NAME: no benchmark named {name!r}; expected one of "
+              f"{', '.join(scripts)} (see run_all.py --list)", file=sys.stderr)
+        return 2
+    return subprocess.run([sys.executable, str(scripts[name]), *arguments]).returncode
 
 
 def run_script(name: str, args: argparse.Namespace) -> bool:
     """Run one benchmark script with the shared options; True if it succeeded."""
-    command = [sys.executable, str(HERE / SCRIPTS[name]), "--results", str(args.results)]
+    command = [sys.executable, str(HERE / f"{name}.py"), "--results", str(args.results)]
     if args.quick:
         command.append("--quick")
     if args.threads is not None and name != "threads":
@@ -126,18 +168,26 @@ def print_summary(rows: list[dict[str, Any]]) -> None:
               f"{'on' if row['logging'] else 'off':>3}  {row['target']:<34} {met}")
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv and not argv[0].startswith("-"):  # NAME [ARGS ...]: its options are its own
+        sys.exit(run_one(argv[0], argv[1:]))
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--list", action="store_true",
+                        help="name every benchmark and what it measures, and stop")
     parser.add_argument("--quick", action="store_true",
                         help="short simulated times, one timed run per row (smoke run)")
-    parser.add_argument("--only", nargs="+", choices=list(SCRIPTS), default=list(SCRIPTS))
+    parser.add_argument("--only", nargs="+", choices=SUITE, default=SUITE)
     parser.add_argument("--no-logging", dest="logging", action="store_false",
                         help="do not record the runs (the issue's targets are with logging)")
     parser.add_argument("--threads", type=int, default=None,
                         help="NUMBA_NUM_THREADS for all but threads.py (default: inherited)")
     parser.add_argument("--results", type=Path, default=RESULTS)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
+    if args.list:
+        print_list()
+        return
     began = time.perf_counter()
     succeeded = [name for name in args.only if run_script(name, args)]
     failed = [name for name in args.only if name not in succeeded]

@@ -28,15 +28,12 @@ import time
 from pathlib import Path
 from typing import Any
 
+from common import add_run_options, folder_bytes, write_json
+
 from mimics.records.runner import prepare, run_to_folder
 
 RESULTS = Path(__file__).parent / "results" / "scan_recording.json"
 WAYS = ("without", "with")
-
-
-def folder_bytes(folder: Path) -> int:
-    """Total size of the files under ``folder``."""
-    return sum(f.stat().st_size for f in folder.rglob("*") if f.is_file())
 
 
 def timed_run(algorithm: str, sim_time: float, scans: bool, folder: Path) -> dict[str, Any]:
@@ -87,9 +84,9 @@ def measure(algorithm: str, sim_time: float, repeats: int, warmup: int) -> dict[
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--times", type=float, nargs="+", default=[60.0, 600.0])
-    parser.add_argument("--repeats", type=int, default=3)
+    add_run_options(parser, repeats=3)
     parser.add_argument("--warmup", type=int, default=1)
-    parser.add_argument("--algorithm", default="deployment_team")
+    add_run_options(parser, algorithm="deployment_team")
     args = parser.parse_args()
     load = os.getloadavg()[0]
     results: dict[str, Any] = {}
@@ -116,14 +113,13 @@ def main() -> None:
     print(f"load average (1 min): {load:.1f} before, {load_after:.1f} after "
           f"({os.cpu_count()} cores; the machine is shared, so wall times are noisy)")
     # lengths measured at other times stay in the file, each with its own conditions
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
     earlier = json.loads(RESULTS.read_text()) if RESULTS.exists() else {}
     runs = earlier.get("runs", {}) if earlier.get("algorithm") == args.algorithm else {}
     for length, figures in results.items():
         runs[length] = {**figures, "repeats": args.repeats, "load_average": [load, load_after],
                         "measured": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}
-    RESULTS.write_text(json.dumps({"algorithm": args.algorithm, "machine": platform.platform(),
-                                   "cpus": os.cpu_count(), "runs": runs}, indent=2) + "\n")
+    write_json(RESULTS, {"algorithm": args.algorithm, "machine": platform.platform(),
+                         "cpus": os.cpu_count(), "runs": runs})
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ of a busy machine. Printed per row, medians and ranges of ``--repeats`` runs:
   idle machine (more, when its two threads overlap), so the CPU speed is a
   floor of the idle machine's whole-process speed.
 
-Stage's figures are those of ``/work/shared/peers/stage.md`` (Stage 4.3 built
+Stage's figures are those of ``../shared/peers/stage.md`` beside the repository (Stage 4.3 built
 from source, headless, the same worlds, on the project's 2-core machine, as a
 whole process): the Cave with 100 robots tracing their 180-beam 8 m lasers,
 60 s, 2.79 to 3.64 s_sim/s; the Hospital with 2,000 robots, IR and a 2 m
@@ -39,7 +39,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import save
+from common import RESULTS, add_run_options, save, spread
 from startup import whole_process_env
 
 #: Stage 4.3's whole-process speeds on this machine (s_sim/s, lowest and highest measured).
@@ -68,15 +68,10 @@ def one_run(scenario: str, algorithm: str, sim_time: float, out: Path) -> dict[s
             "loop_speed": summary["sim_speed"]}
 
 
-def spread(values: list[float], digits: int = 2) -> str:
-    return (f"{statistics.median(values):.{digits}f} "
-            f"({min(values):.{digits}f}-{max(values):.{digits}f})")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=3)
+    add_run_options(parser, repeats=3, results=RESULTS)
     parser.add_argument("--only", default=",".join(ROWS))
     args = parser.parse_args()
     names = args.only.split(",")
@@ -91,7 +86,7 @@ def main() -> None:
                 scenario, algorithm, sim_time, _ = ROWS[name]
                 runs[name].append(one_run(scenario, algorithm, sim_time, out))
     figures: dict[str, dict[str, object]] = {}
-    print("whole processes, medians (range); Stage 4.3 from /work/shared/peers/stage.md")
+    print("whole processes, medians (range); Stage 4.3 from ../shared/peers/stage.md")
     for name in names:
         scenario, algorithm, sim_time, bar = ROWS[name]
         rows = runs[name]
@@ -117,7 +112,7 @@ def main() -> None:
             "cpu_speed_median": cpu_speed,
             "cpu_ratio_to_stage": [cpu_speed / high, cpu_speed / low],
             "bar_ratio": bar}
-    save("stage_side_by_side", figures)
+    save("stage_side_by_side", figures, args.results)
 
 
 if __name__ == "__main__":

@@ -36,9 +36,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import save
-
-from mimics.world.data_folder import data_folder
+from common import RESULTS, add_run_options, save, spread, with_data_folder
 
 COMMANDS = {"cave": ["run", "cave", "deployment", "--time", "0.1"],
             "hospital": ["run", "hospital", "deployment_team", "--time", "0.1"],
@@ -55,8 +53,7 @@ def whole_process_env(old: Path | None = None) -> dict[str, str]:
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     if old is not None:
         env["PYTHONPATH"] = str(old)
-        # a tree outside this checkout does not find shared/data by walking up from itself
-        env.setdefault("MIMICS_DATA", str(data_folder()))
+        with_data_folder(env)
     return env
 
 
@@ -98,14 +95,10 @@ def import_floor(repeats: int, old: Path | None) -> list[float]:
     return walls
 
 
-def spread(values: list[float]) -> str:
-    return f"{statistics.median(values):.2f} ({min(values):.2f}-{max(values):.2f})"
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=5)
+    add_run_options(parser, repeats=5, results=RESULTS)
     parser.add_argument("--old", type=Path, help="a folder holding another mimics package")
     parser.add_argument("--only", default=",".join(COMMANDS))
     args = parser.parse_args()
@@ -139,7 +132,7 @@ def main() -> None:
     print(f"the imports alone (no mimics code run, os._exit): whole {spread(floor)} s")
     figures["import_floor"] = {"command": f"python -c {FLOOR!r}",
                                "wall_median_s": statistics.median(floor)}
-    save("startup", figures)
+    save("startup", figures, args.results)
 
 
 if __name__ == "__main__":

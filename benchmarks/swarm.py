@@ -17,16 +17,7 @@ with those options).
 
 from __future__ import annotations
 
-from common import (
-    base_spec,
-    benchmark_parser,
-    meta,
-    parse_or_serve_child,
-    print_table,
-    row_from,
-    run_child,
-    save,
-)
+import common
 
 TARGET_SIM_SPEED = 2.0  # s_sim/s at 10,000 robots
 TARGET_RSS_MB = 2048.0  # at 10,000 robots
@@ -34,27 +25,26 @@ TARGET_FLATNESS = 1.3  # largest / smallest µs per robot-step
 
 
 def main() -> None:
-    parser = benchmark_parser(__doc__, time=10.0, quick_time=1.0)
-    parser.add_argument("--robots", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000])
-    parser.add_argument("--algorithm", default="dispersion_team")
+    parser = common.benchmark_parser(__doc__, time=10.0, quick_time=1.0)
+    common.add_run_options(parser, robots=[100, 300, 1000, 3000, 10000],
+                           algorithm="dispersion_team")
     parser.add_argument("--robot-logs", choices=["auto", "on", "off"], default="auto",
                         help="per-robot text logs when logging (auto: up to 200 robots)")
-    args = parse_or_serve_child(parser)
+    args = common.parse_or_serve_child(parser)
     if args is None:
         return
     logs = f", robot logs {args.robot_logs}" if args.logging else ""
     print(f"swarm, {args.algorithm}, {args.time:g} s simulated per run, median of "
           f"{args.repeats}, logging {'on' if args.logging else 'off'}{logs}")
     columns = ["robots", "sim_speed", "robot_steps_per_s", "us_per_robot_step", "peak_rss_mb"]
-    print_table("", [], columns)
-    rows = []
-    for n in args.robots:
-        spec = base_spec(args, algorithm=args.algorithm, scenario="swarm",
-                         params={"robots": n, "time_limit": args.time},
-                         robot_logs=args.robot_logs)
-        rows.append(row_from("swarm", "team", run_child(__file__, spec, args.threads),
-                             algorithm=args.algorithm, robot_logs=args.robot_logs))
-        print_table("", rows[-1:], columns, header=False)
+    common.print_table("", [], columns)
+    rows = [common.measured_row(__file__, args, "swarm", "team", columns,
+                                extra={"algorithm": args.algorithm,
+                                       "robot_logs": args.robot_logs},
+                                algorithm=args.algorithm, scenario="swarm",
+                                params={"robots": n, "time_limit": args.time},
+                                robot_logs=args.robot_logs)
+            for n in args.robots]
     cost = [r["us_per_robot_step"] for r in rows]
     flatness = max(cost) / min(cost)
     largest = max(rows, key=lambda r: r["robots"])
@@ -66,7 +56,7 @@ def main() -> None:
           f"{largest['robots']} robots: {largest['sim_speed']:.2f} s_sim/s (target >= "
           f"{TARGET_SIM_SPEED}), {largest['peak_rss_mb']:.0f} MB (target < {TARGET_RSS_MB:.0f})")
     section = "swarm" if args.robot_logs == "auto" else f"swarm_robot_logs_{args.robot_logs}"
-    save(section, {"meta": meta(args), "rows": rows, "summary": summary}, args.results)
+    common.save_measured(args, section, rows, summary=summary)
 
 
 if __name__ == "__main__":

@@ -13,41 +13,26 @@ run. Merges the figures into benchmarks/results.json under ``threads``.
 
 from __future__ import annotations
 
-from typing import Any
-
-from common import (
-    ROW_COLUMNS,
-    base_spec,
-    benchmark_parser,
-    meta,
-    parse_or_serve_child,
-    print_table,
-    row_from,
-    run_child,
-    save,
-)
+import common
 
 
 def main() -> None:
-    parser = benchmark_parser(__doc__, time=60.0, quick_time=5.0)
+    parser = common.benchmark_parser(__doc__, time=60.0, quick_time=5.0)
     parser.add_argument("--threads-list", type=int, nargs="+", default=[1, 2])
-    parser.add_argument("--algorithm", default="deployment_team")
-    parser.add_argument("--scenario", default="cave")
-    args = parse_or_serve_child(parser)
+    common.add_run_options(parser, scenario="cave", algorithm="deployment_team")
+    args = common.parse_or_serve_child(parser)
     if args is None:
         return
     print(f"{args.scenario} / {args.algorithm}, {args.time:g} s simulated per run, median of "
           f"{args.repeats}, logging {'on' if args.logging else 'off'}, NUMBA_NUM_THREADS "
           f"{args.threads_list}")
-    columns = [*ROW_COLUMNS[1:], "us_per_robot_step"]
-    print_table("", [], columns)
+    common.print_table("", [], common.TABLE_COLUMNS)
     form = "team" if args.algorithm.endswith("_team") else "per-robot"
-    rows: list[dict[str, Any]] = []
-    for threads in args.threads_list:
-        spec = base_spec(args, algorithm=args.algorithm, scenario=args.scenario)
-        rows.append(row_from(args.scenario, form, run_child(__file__, spec, threads),
-                             algorithm=args.algorithm, threads_requested=threads))
-        print_table("", rows[-1:], columns, header=False)
+    rows = [common.measured_row(__file__, args, args.scenario, form, common.TABLE_COLUMNS,
+                                threads, {"algorithm": args.algorithm,
+                                          "threads_requested": threads},
+                                algorithm=args.algorithm, scenario=args.scenario)
+            for threads in args.threads_list]
     base = rows[0]
     for row in rows:
         row["speedup"] = row["sim_speed"] / base["sim_speed"]
@@ -63,8 +48,8 @@ def main() -> None:
     if any(row["threads"] != row["threads_requested"] for row in rows):
         print("  warning: numba ran with a different thread count than requested "
               "(more threads than cores?)")
-    save("threads", {"meta": meta(args), "rows": rows, "identical": identical,
-                     "speedup": rows[-1]["speedup"]}, args.results)
+    common.save_measured(args, "threads", rows, identical=identical,
+                         speedup=rows[-1]["speedup"])
 
 
 if __name__ == "__main__":

@@ -21,7 +21,6 @@ says so. Prints the figures and writes ``benchmarks/results/view_costs.json``.
 from __future__ import annotations
 
 import argparse
-import json
 import platform
 import statistics
 import tempfile
@@ -30,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from common import add_run_options, write_json
 
 from mimics.catalog import list_algorithms, list_scenarios
 from mimics.engine.state import Status
@@ -119,7 +119,8 @@ def export_costs(scenario: str, algorithm: str, params: dict[str, Any], sim_time
     sim = prepare(scenario, algorithm, time=sim_time, seed=1, params=dict(params))
     run_dir = folder / "run"
     run_to_folder(sim, run_dir)
-    out: dict[str, Any] = {"run_folder": str(run_dir)}
+    # the folder's name only: it is temporary unless --keep, and a path names this machine
+    out: dict[str, Any] = {"run_folder": run_dir.name}
     for name, options in (("mp4", {"video": folder / "replay.mp4"}),
                           ("mp4_beams_robot0", {"video": folder / "replay_beams.mp4",
                                                 "robot_beams": 0}),
@@ -155,8 +156,7 @@ def big_team_frame(n: int = 2000, repeats: int = 10) -> dict[str, Any]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--time", type=float, default=60.0, help="simulated seconds per run")
-    parser.add_argument("--repeats", type=int, default=3)
+    add_run_options(parser, time=60.0, repeats=3)
     parser.add_argument("--keep", type=Path, default=None,
                         help="keep the run folder and videos here")
     args = parser.parse_args()
@@ -188,8 +188,7 @@ def main() -> None:
             "export_600_frames_below_60s": results["export"]["mp4"]["wall_s"] < 60.0}
     results["bars"] = bars
     print("bars: " + ", ".join(f"{k}: {'ok' if v else 'MISSED'}" for k, v in bars.items()))
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps(results, indent=2, default=str) + "\n")
+    write_json(RESULTS, results)
     print(f"wrote {RESULTS}")
 
 

@@ -15,17 +15,14 @@ browser is faster; the machine is shared, so figures are noisy.
 from __future__ import annotations
 
 import argparse
+import re
 import shutil
-import socket
 import statistics
-import threading
 import time
 from pathlib import Path
 
-import uvicorn
+from live_stream import serve
 from playwright.sync_api import expect, sync_playwright
-
-from mimics.interfaces.web.app import create_app
 
 COUNTER = """() => {
   const page = window.workbench.runs;
@@ -35,17 +32,10 @@ COUNTER = """() => {
 }"""
 
 
-def serve(workspace: Path) -> tuple[uvicorn.Server, int]:
-    """Start the workbench on a free port in a thread; returns the server and the port."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
-    server = uvicorn.Server(uvicorn.Config(create_app(workspace, port=port), host="127.0.0.1",
-                                           port=port, log_level="warning"))
-    threading.Thread(target=server.run, daemon=True).start()
-    while not server.started:
-        time.sleep(0.02)
-    return server, port
+def start_of_name(run: str) -> re.Pattern[str]:
+    """The accessible name of a run's button: the run, then its status and robots
+    (``runs/a time_limit, 10 robots``); its slashes escaped for Playwright's selector."""
+    return re.compile("^" + re.escape(run).replace("/", "\\/") + r"(\s|$)")
 
 
 def main() -> None:
@@ -56,16 +46,17 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--no-trails", action="store_true", help="play with trails off")
     args = parser.parse_args()
-    server, port = serve(args.workspace)
+    address, server = serve(args.workspace)
     loads, rates = [], []
     with sync_playwright() as driver:
         browser = driver.chromium.launch(executable_path=shutil.which("chromium"),
                                          args=["--no-sandbox"])
         for _ in range(args.repeats):
             page = browser.new_page(viewport={"width": 1280, "height": 800})
-            page.goto(f"http://127.0.0.1:{port}/#/runs")
+            page.goto(f"http://{address}/#/runs")
             start = time.perf_counter()
-            page.get_by_role("button", name=args.run, exact=True).click()
+            button = page.get_by_role("button", name=start_of_name(args.run))
+            button.click()
             expect(page.get_by_role("status")).to_contain_text("frames of", timeout=300_000)
             loads.append(time.perf_counter() - start)
             robots = page.evaluate("window.workbench.runs.data.robots")

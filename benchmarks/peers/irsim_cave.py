@@ -85,12 +85,15 @@ def cave_setup(map_choice: str, irsim: Any) -> dict[str, Any]:
 
     scenario = load_scenario("cave")
     kind = scenario.types[0]
+    # the map is recorded by where it comes from: its path would name this machine's folders
     if map_choice == "filled":  # the bitmap mimics' cave vectorises (Stage's cave.world)
-        bitmap = find_stage_file("cave_filled.png")
+        bitmap, label = find_stage_file("cave_filled.png"), "data folder: stage/cave_filled.png"
     else:  # IR-SIM's packaged cave.png (Stage's cave.png: walls drawn as outlines)
         bitmap = Path(irsim.__file__).parent / "world" / "map" / "cave.png"
+        label = "ir-sim package: world/map/cave.png"
     return {"poses": np.asarray(scenario.as_matrix())[:, :3].astype(float), "type": kind,
-            "bitmap": str(bitmap), "scenario_time_limit": scenario.settings.time_limit}
+            "bitmap": str(bitmap), "map_label": label,
+            "scenario_time_limit": scenario.settings.time_limit}
 
 
 def world_yaml(setup: dict[str, Any], folder: Path) -> Path:
@@ -210,7 +213,7 @@ def measure_irsim(irsim: Any, setup: dict[str, Any], sim_time: float, repeats: i
             "robot_steps_per_s": last["robot_steps"] / wall,
             "rays_per_s": last["rays"] / wall, "peak_rss_mb": peak_rss_mb(),
             "load_average_before": load, "load_average_after": os.getloadavg()[0],
-            "map": setup["bitmap"], **agreement}
+            "map": setup["map_label"], **agreement}
 
 
 def scan_agreement(irsim_scan: np.ndarray) -> dict[str, float]:
