@@ -45,7 +45,7 @@ from mimics.engine.messages import filled
 from mimics.engine.outcome import Event
 from mimics.engine.state import WorldState
 from mimics.records.arrow_columns import column_array
-from mimics.records.parts import PartWriter
+from mimics.records.parts import PartBuffer, PartWriter
 from mimics.records.trajectory import record_time
 
 EVENTS_SCHEMA = pa.schema([
@@ -58,11 +58,11 @@ STALL_KINDS = ("deadlock", "livelock")
 MESSAGE_KINDS = ("user_message", "system_message")
 
 
-class EventBuffer:
+class EventBuffer(PartBuffer):
     """Buffers event rows and writes them through a :class:`PartWriter`."""
 
     def __init__(self, writer: PartWriter) -> None:
-        self.writer = writer
+        super().__init__(writer)
         self.rows: list[tuple[Any, ...]] = []
         self.counts: dict[str, int] = {}
         self._seen = 0  # engine events already taken
@@ -97,17 +97,7 @@ class EventBuffer:
         self.rows.append((time, step, robot, kind, detail, other, start, traceback))
         self.counts[kind] = self.counts.get(kind, 0) + 1
 
-    def flush(self, table: pa.Table | None = None, last: bool = False) -> None:
-        """Write the buffered rows as one part and empty the buffer.
-
-        Args:
-            table: the buffered rows when the caller already has them from :meth:`table`.
-            last: no rows follow before the merge (see :meth:`PartWriter.write`).
-        """
-        table = table if table is not None else self.table()
-        if table is None:
-            return
-        self.writer.write(table, last)
+    def _clear(self) -> None:
         self.rows.clear()
 
     def table(self) -> pa.Table | None:

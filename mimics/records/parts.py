@@ -134,6 +134,35 @@ class PartWriter:
         return {"compression": self.compression, "use_dictionary": _dictionary_columns(self.schema)}
 
 
+class PartBuffer:
+    """Rows held in memory and written through a :class:`PartWriter` as one part at a
+    time: a subclass holds its rows its own way (:meth:`table`, :meth:`_clear`)."""
+
+    def __init__(self, writer: PartWriter) -> None:
+        self.writer = writer
+
+    def table(self) -> pa.Table | None:
+        """The buffered rows as a table (None when there are none)."""
+        raise NotImplementedError
+
+    def _clear(self) -> None:
+        """Forget the buffered rows (they have been written)."""
+        raise NotImplementedError
+
+    def flush(self, table: pa.Table | None = None, last: bool = False) -> None:
+        """Write the buffered rows as one part and empty the buffer.
+
+        Args:
+            table: the buffered rows when the caller already has them from :meth:`table`.
+            last: no rows follow before the merge (see :meth:`PartWriter.write`).
+        """
+        table = table if table is not None else self.table()
+        if table is None:
+            return
+        self.writer.write(table, last)
+        self._clear()
+
+
 def _dictionary_columns(schema: pa.Schema) -> list[str]:
     """Dictionary-encode integers and strings (few distinct values), never floats."""
     return [f.name for f in schema if not pa.types.is_floating(f.type)]

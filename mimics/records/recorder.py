@@ -79,7 +79,7 @@ def mimics_version() -> str:
     version = getattr(mimics, "__version__", None)
     if version is None:
         try:
-            version = importlib.metadata.version("mimics")
+            version = importlib.metadata.version("mimics-sim")  # the distribution's name
         except importlib.metadata.PackageNotFoundError:
             version = "unknown"
     return str(version)

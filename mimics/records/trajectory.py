@@ -39,7 +39,7 @@ import pyarrow as pa
 
 from mimics.engine.state import WorldState
 from mimics.records.arrow_columns import numeric_array
-from mimics.records.parts import PartWriter
+from mimics.records.parts import PartBuffer, PartWriter
 
 TRAJECTORY_SCHEMA = pa.schema([
     ("time", pa.float64()), ("step", pa.int32()), ("robot", pa.int32()),
@@ -58,11 +58,11 @@ def record_time(time: float) -> float:
     return round(float(time), 9)
 
 
-class TrajectoryBuffer:
+class TrajectoryBuffer(PartBuffer):
     """Buffers robot rows step by step and writes them through a :class:`PartWriter`."""
 
     def __init__(self, writer: PartWriter) -> None:
-        self.writer = writer
+        super().__init__(writer)
         self.rows = 0  # rows buffered, not yet written
         self.steps = 0  # steps with at least one row, over the whole run
         self._last_step = -1
@@ -91,17 +91,7 @@ class TrajectoryBuffer:
         self._blocks.append(block)
         self.rows += ids.size
 
-    def flush(self, table: pa.Table | None = None, last: bool = False) -> None:
-        """Write the buffered rows as one part and empty the buffer.
-
-        Args:
-            table: the buffered rows when the caller already has them from :meth:`table`.
-            last: no rows follow before the merge (see :meth:`PartWriter.write`).
-        """
-        table = table if table is not None else self.table()
-        if table is None:
-            return
-        self.writer.write(table, last)
+    def _clear(self) -> None:
         self._times.clear()
         self._steps.clear()
         self._ids.clear()
