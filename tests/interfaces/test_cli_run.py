@@ -15,8 +15,9 @@ from typer.testing import CliRunner
 
 import mimics
 from mimics.engine.compiling import warm_up
-from mimics.interfaces.cli import first_run, kernel_cache
+from mimics.interfaces.cli import kernel_cache
 from mimics.interfaces.cli import program as cli
+from mimics.interfaces.cli.compiling import first_run
 from tests.processes import alive_with, left_running, marked_environment
 
 runner = CliRunner()
@@ -146,7 +147,7 @@ def test_a_compile_process_ends_at_once_with_its_part_in_the_cache(tmp_path, for
     the part in Numba's cache."""
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
     script = ("from mimics.engine.compiling import warm_up\n"
-              "from mimics.interfaces.cli import compile_processes\n"
+              "from mimics.interfaces.cli.compiling import processes as compile_processes\n"
               "before = warm_up.missing_parts()\n"
               f"process = compile_processes.{form}('motion')\n"
               "print(process.wait(), process.part, ' '.join(before))\n"
