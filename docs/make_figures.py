@@ -15,12 +15,15 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
+import shutil
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 from PIL import Image
+from PIL.PngImagePlugin import PngInfo
 
 import mimics
 from mimics.interfaces.plots import battery_table, plot_outcomes, plot_run
@@ -40,12 +43,42 @@ SCENARIO_RUNS: dict[str, tuple[str, float, int | None]] = {
 }
 
 
-def shrink(path: Path) -> Path:
-    """Quantise a PNG to a small palette (plots use few colours)."""
+def shrink(path: Path, title: str | None = None) -> Path:
+    """Quantise a PNG to a small palette (plots use few colours); ``title``, the plot's
+    title, is kept in the PNG's ``Title`` text so that a test can compare it with a run."""
     with Image.open(path) as image:
         small = image.convert("RGB").quantize(colors=64, method=Image.Quantize.MEDIANCUT)
-    small.save(path, optimize=True)
+    info = PngInfo()
+    if title is not None:
+        info.add_text("Title", title)
+    small.save(path, optimize=True, pnginfo=info)
     return path
+
+
+def plot_title(run: Path) -> str:
+    """The title :func:`plot_run` gives the run's figure."""
+    import matplotlib.pyplot as plt
+
+    figure = plot_run(run, None, width_px=720, height_px=560)
+    title = figure.axes[0].get_title()
+    plt.close(figure)
+    return title
+
+
+def run_snippet_line(snippet: Path, work: Path) -> None:
+    """Run the first line of a tutorial's shell snippet in ``work``, as the reader does."""
+    from mimics.interfaces.cli import main as cli
+
+    line = next(ln for ln in snippet.read_text().splitlines() if ln.strip())
+    words = shlex.split(line)
+    assert words[0] == "mimics", line
+    here = Path.cwd()
+    os.chdir(work)
+    try:
+        if cli(words[1:]) != 0:
+            raise SystemExit(f"{snippet.name}: {line} failed")
+    finally:
+        os.chdir(here)
 
 
 def scenario_figure(name: str, work: Path) -> Path:
@@ -61,11 +94,12 @@ def scenario_figure(name: str, work: Path) -> Path:
 
 def tutorial_figures(work: Path) -> list[Path]:
     """The first tutorial's run of my_algo.py and the second's battery outcomes."""
-    algo = SNIPPETS / "first_algorithm" / "my_algo.py"
-    run = work / "mine"
-    mimics.simulate("circle_swap", algo, robots=6, time=40.0, seed=0, out=run)
+    # the page's own command, on the page's own algorithm: the figure is the reader's run
+    shutil.copy(SNIPPETS / "first_algorithm" / "my_algo.py", work / "my_algo.py")
+    run_snippet_line(SNIPPETS / "first_algorithm" / "run_my_algo.sh", work)
+    run = work / "runs" / "mine"
     written = [shrink(plot_run(run, IMAGES / "tutorial_my_algo.png", width_px=720,
-                               height_px=560))]
+                               height_px=560), plot_title(run))]
     battery = work / "night"
     subprocess.run([sys.executable, "-m", "mimics", "battery", "run",
                     str(SNIPPETS / "first_battery" / "battery.toml"), "--out", str(battery),

@@ -189,13 +189,23 @@ def scenario_seed_changes(name: str) -> str:
     return str(getattr(module, "SEED_CHANGES", "nothing in the layout"))
 
 
+#: Settings of the stall rules that every scenario takes as a parameter (issue 54: the
+#: deadlock rule is set per battery or per run, whatever the scenario).
+STALL_SETTINGS = ("deadlock_distance", "deadlock_window", "deactivate_on_deadlock",
+                  "livelock_window", "livelock_progress")
+
+
 def scenario_parameters(name_or_path: str | Path) -> dict[str, Any]:
     """The keyword parameters a scenario accepts, with their defaults."""
     factory, _ = _scenario_factory(str(name_or_path))
     if factory is None:
         return {}
-    return {**{p.name: p.default for p in inspect.signature(factory).parameters.values()
-               if p.default is not inspect.Parameter.empty}, "noise": "on"}
+    from mimics.world.scenario import Settings
+
+    own = {p.name: p.default for p in inspect.signature(factory).parameters.values()
+           if p.default is not inspect.Parameter.empty}
+    stall = {name: getattr(Settings(), name) for name in STALL_SETTINGS if name not in own}
+    return {**own, **stall, "noise": "on"}
 
 
 def _scenario_factory(text: str) -> tuple[Any, str]:
@@ -257,6 +267,8 @@ def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
     factory, label = _scenario_factory(text)
     accepted = inspect.signature(factory).parameters
     takes_any = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in accepted.values())
+    stall = {key: params.pop(key) for key in STALL_SETTINGS
+             if key in params and key not in accepted}  # a scenario's own parameter wins
     for key in params:
         if key not in accepted and not takes_any:
             raise ScenarioError(f"scenario {label!r} has no parameter {key!r} (expected one of: "
@@ -282,6 +294,9 @@ def load_scenario(name_or_path: str | Path, *, allow_overlap: bool = False,
     if noise is not None:
         built = built.with_settings(noise=noise)
         given["noise"] = noise
+    if stall:
+        built = built.with_settings(**stall)  # Settings checks the values, naming the key
+        given.update(stall)
     named = _named(built, label, {**defaults, **given})
     validate_scenario(named, f"scenario {label!r}",
                       allow_overlap=allow_overlap or named.settings.allow_overlap)

@@ -1,4 +1,4 @@
-"""Learning environments over mimics simulations (needs ``pip install 'mimics[rl]'``).
+"""Learning environments over mimics simulations (needs ``pip install 'mimics-sim[rl]'``).
 
 ``parallel_env`` gives a PettingZoo ``ParallelEnv`` whose agents are the
 robots; ``single_robot_env`` (also ``gym_env``) a Gymnasium ``Env`` driving
@@ -38,7 +38,8 @@ def _module(name: str) -> Any:
         return importlib.import_module(f"mimics.interfaces.env.{name}")
     except ModuleNotFoundError as exc:
         if exc.name in ("pettingzoo", "gymnasium"):
-            raise MimicsError(f"mimics.env needs {exc.name}: pip install 'mimics[rl]'") from None
+            raise MimicsError(f"mimics.env needs {exc.name}: "
+                              "pip install 'mimics-sim[rl]'") from None
         raise
 
 

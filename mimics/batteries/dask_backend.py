@@ -63,7 +63,7 @@ class DaskExecutor:
         try:
             from distributed import Client
         except ImportError:
-            raise MimicsError("--dask needs dask.distributed: pip install 'mimics[cluster]'"
+            raise MimicsError("--dask needs dask.distributed: pip install 'mimics-sim[cluster]'"
                               ) from None
         connect_timeout = CONNECT_TIMEOUT if connect_timeout is None else connect_timeout
         if not ADDRESS.fullmatch(address):

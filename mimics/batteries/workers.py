@@ -100,7 +100,9 @@ def worker_main(conn: Any, parent_pid: int, log_path: str, death_signal: bool,
 
 def _die_with_parent_signal() -> None:
     """Linux: have the kernel kill this process when its parent dies."""
-    if not sys.platform.startswith("linux"):
+    from mimics.process_platform import has_death_signal
+
+    if not has_death_signal():
         return
     with contextlib.suppress(Exception):
         import ctypes
@@ -175,7 +177,9 @@ def warm_up_engine() -> None:
 
 def worker_context(warm_up: bool = True) -> multiprocessing.context.BaseContext:
     """The ``forkserver`` context preloading the engine where available, else ``spawn``."""
-    if "forkserver" not in multiprocessing.get_all_start_methods():
+    from mimics.process_platform import worker_start_method
+
+    if worker_start_method() == "spawn":
         return multiprocessing.get_context("spawn")
     context = multiprocessing.get_context("forkserver")
     if warm_up:

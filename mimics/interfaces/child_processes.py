@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import shutil
-import sys
 
 
 def dying_with_parent(command: list[str]) -> list[str]:
@@ -13,5 +12,7 @@ def dying_with_parent(command: list[str]) -> list[str]:
     runs the command: unlike a ``preexec_fn``, safe in a process with threads
     (rospy's, Numba's).
     """
-    setpriv = shutil.which("setpriv") if sys.platform.startswith("linux") else None
+    from mimics.process_platform import has_death_signal
+
+    setpriv = shutil.which("setpriv") if has_death_signal() else None
     return [setpriv, "--pdeathsig", "KILL", "--", *command] if setpriv else command

@@ -7,6 +7,7 @@ from several sides.
 import re
 import subprocess
 import sys
+from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
@@ -25,10 +26,55 @@ REMOTE_ASSET = re.compile(r"<(?:link|script)\b[^>]*\b(?:href|src)=\"(?:https?:)?
 def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The site, built once in strict mode for the tests of this file."""
     folder = tmp_path_factory.mktemp("site")
+    # from outside the checkout (issue 54: the snippets' folder and the docstrings' warnings
+    # stopped a build run from another folder)
+    elsewhere = tmp_path_factory.mktemp("elsewhere")
     done = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--quiet",
-                           "--site-dir", str(folder)], cwd=ROOT, capture_output=True, text=True)
+                           "--config-file", str(ROOT / "mkdocs.yml"), "--site-dir", str(folder)],
+                          cwd=elsewhere, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     return folder
+
+
+class NavLinks(HTMLParser):
+    """The menu's entries of a built page: (label, target) of every ``md-nav__link`` link
+    to a page (not to a heading of this one)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.links: list[tuple[str, str]] = []
+        self._href: str | None = None
+        self._text: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        found = dict(attrs)
+        if tag == "a" and "md-nav__link" in (found.get("class") or "").split():
+            href = found.get("href") or ""
+            self._href = None if href.startswith("#") else href
+            self._text = []
+
+    def handle_data(self, data: str) -> None:
+        if self._href is not None:
+            self._text.append(data)
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag == "a" and self._href is not None:
+            self.links.append((" ".join("".join(self._text).split()), self._href))
+            self._href = None
+
+
+def test_every_page_of_the_menu_has_a_title_of_its_own(site):
+    """Issue 54: the tutorial's notebook showed in the menu as a second "Your first
+    algorithm in 10 minutes" (mkdocs-jupyter took the notebook's first heading)."""
+    parser = NavLinks()
+    parser.feed((site / "index.html").read_text(encoding="utf-8"))
+    targets: dict[str, set[str]] = {}
+    for label, href in parser.links:
+        targets.setdefault(label, set()).add(href.rstrip("/").removeprefix("./"))
+    assert len(targets) > 30
+    shared = {label: hrefs for label, hrefs in targets.items() if len(hrefs) > 1}
+    assert not shared, f"menu entries with one title and several pages: {shared}"
+    assert targets["Notebook: your first algorithm"] == {"tutorials/first-algorithm-notebook"}
 
 
 def test_site_builds_strict_offline_with_generated_cli_and_api_pages(site):

@@ -18,7 +18,11 @@ import time
 import tomllib
 from pathlib import Path
 
+import matplotlib.pyplot as plt
+from PIL import Image
+
 from mimics.interfaces.cli import main
+from mimics.interfaces.plots import plot_run
 
 ROOT = Path(__file__).resolve().parents[2]
 SNIPPETS = ROOT / "docs" / "snippets"
@@ -85,8 +89,19 @@ def test_first_algorithm_tutorial_runs(tmp_path, monkeypatch, capsys):
     assert "reached their goal" in capsys.readouterr().out
     first = json.loads((tmp_path / "runs/first/summary.json").read_text())
     assert (first["robots"], first["reached_goal"]) == (10, 10)  # what the page says
+    prose = " ".join(page.read_text().split())  # the numbers §2 quotes from the summary
+    assert f"*time to goal* is the robots' mean, {first['time_to_goal']['mean']:.2f} s" in prose
+    assert f"*simulated time* the moment the last one arrived and the run ended, " \
+           f"{first['sim_time']:.2f} s" in prose
+    assert first["sim_time"] == first["time_to_goal"]["max"]  # "the last one arrived"
     mine = json.loads((tmp_path / "runs/mine/summary.json").read_text())
     assert (mine["robots"], mine["robot_collisions"]) == (6, 6)  # the page: all six collide
+    # the page's figure is this run's: docs/make_figures.py stamps the plot's title in it
+    figure = plot_run(tmp_path / "runs/mine", None, width_px=720, height_px=560)
+    with Image.open(ROOT / "docs/images/tutorial_my_algo.png") as image:
+        stamped = image.text.get("Title")
+    assert stamped == figure.axes[0].get_title(), "run python docs/make_figures.py --only tutorial"
+    plt.close(figure)
     two = json.loads((tmp_path / "runs/two/summary.json").read_text())
     assert (two["robots"], two["reached_goal"]) == (2, 2)
     wide = json.loads((tmp_path / "runs/wide/summary.json").read_text())

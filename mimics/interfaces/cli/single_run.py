@@ -107,7 +107,9 @@ def run(
 
         if video is not None:
             from mimics.interfaces.replay import VIDEO_SUFFIXES
+            from mimics.interfaces.replay.export import require_ffmpeg
 
+            require_ffmpeg()  # before the run, not after
             if video.suffix.lower() not in VIDEO_SUFFIXES:  # checked before the run, not after
                 raise fail(f"--video {video}: expected a file ending in "
                            f"{', '.join(VIDEO_SUFFIXES)}")

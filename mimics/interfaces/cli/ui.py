@@ -33,7 +33,8 @@ def ui_command(
 
         from mimics.interfaces.web.app import create_app
     except ImportError as exc:
-        raise fail(f"mimics ui needs the 'ui' extra: pip install 'mimics[ui]' ({exc})") from None
+        raise fail(f"mimics ui needs the 'ui' extra: pip install 'mimics-sim[ui]' "
+                   f"({exc})") from None
     if not 0 < port < 65536:
         raise fail(f"--port: expected 1..65535, got {port}")
     if workspace.exists() and not workspace.is_dir():

@@ -163,6 +163,10 @@ def _encode(replayer: Any, times: Any, path: Path, fps: float) -> None:
     """Draw the frames at ``times`` and encode them into ``path`` (H.264, as the export)."""
     import imageio.v2 as imageio
 
+    from mimics.interfaces.replay.export import require_ffmpeg
+
+    require_ffmpeg()
+
     try:
         writer = imageio.get_writer(str(path), format="FFMPEG", fps=fps, codec="libx264",
                                     quality=8, macro_block_size=16, pixelformat="yuv420p",

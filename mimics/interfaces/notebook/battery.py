@@ -212,7 +212,8 @@ class BatteryView:
                 parameter point), ``"arrivals"`` (the arrival curves, see
                 ``arrivals()``) or ``"wall_time_vs_robots"`` (the paper's Figure 2,
                 from the runs of the ``line`` scenario; ``scenario=`` names another).
-            width_px, height_px: size in pixels (each plot's own default otherwise).
+            width_px: width in pixels (the plot's own default otherwise).
+            height_px: height in pixels (the plot's own default otherwise).
 
         Raises:
             MimicsError: an unknown kind, or a battery with nothing to plot.

@@ -45,7 +45,11 @@ def show(scenario: Any, algorithm: Any, *, robots: int | None = None,
     Args:
         scenario: a built-in name, a ``.py``/``.toml`` file or a Scenario.
         algorithm: a built-in name, a ``.py`` file, or a module/function/class.
-        robots, time, seed, params, policy: as for ``mimics.simulate``.
+        robots: as for ``mimics.simulate``.
+        time: as for ``mimics.simulate``.
+        seed: as for ``mimics.simulate``.
+        params: as for ``mimics.simulate``.
+        policy: as for ``mimics.simulate``.
         speed: simulated seconds per wall second (``math.inf`` or 0: as fast as possible).
         fps: frames sent to the page per second at most.
         width_px: pixels of the longer side of the map.

@@ -33,8 +33,18 @@ class ExportResult:
     wall_time: float
 
 
+def require_ffmpeg() -> None:
+    """Make sure the bundled ffmpeg is installed (the ``video`` extra), else one clear error."""
+    try:
+        import imageio_ffmpeg  # noqa: F401  (its 160 MB are not installed by default)
+    except ImportError:
+        raise MimicsError("videos, GIFs and animations need ffmpeg: pip install "
+                          "'mimics-sim[video]' (or -e '.[video]' in a clone)") from None
+
+
 def _check_output(path: Path, kind: str) -> Path:
     """Make sure ``path`` can be written (creating its folder), else one clear error."""
+    require_ffmpeg()
     suffix = path.suffix.lower()
     if kind == "video" and suffix not in VIDEO_SUFFIXES:
         raise MimicsError(f"--video {path}: expected a file ending in "

@@ -52,8 +52,9 @@ def start_compile(part: str) -> CompileProcess:
 def can_fork() -> bool:
     """Whether a fork of this process may compile: Linux, and no other thread (a fork
     copies the locks other threads hold, such as Numba's compiler lock, held forever)."""
-    return (sys.platform.startswith("linux") and hasattr(os, "fork")
-            and threading.active_count() == 1)
+    from mimics.process_platform import has_death_signal
+
+    return has_death_signal() and hasattr(os, "fork") and threading.active_count() == 1
 
 
 def _spawn(part: str) -> CompileProcess:
