@@ -64,6 +64,19 @@ PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
     # ROS 1's own bag reader (Python), an independent check of `mimics export --bag`
     "rosbag": (_has_file("/usr/lib/python3/dist-packages/rosbag/__init__.py"),
                ["python3-rosbag", "python3-genpy"]),
+    # RViz opened under a virtual X server and screenshotted (tests/interfaces/ros/
+    # test_rviz_window.py): Xvfb, xauth for xvfb-run, ImageMagick's `import`
+    "rviz": (lambda: all(_has_command(name)() for name in ("rviz", "Xvfb", "xauth", "import")),
+             ["rviz", "xvfb", "xauth", "imagemagick"]),
+    # the ROS 2 tests' independent peer (tests/interfaces/ros2/fastdds_peer.py): Fast DDS 2.9,
+    # fastddsgen (its Debian dependencies bring Java and cpp) and a C++17 compiler
+    "fastdds": (
+        lambda: _has_command("fastddsgen")() and _has_command("java")()
+        and _has_command("cpp")() and _has_command("g++")()
+        and _has_file("/usr/include/fastdds/dds/domain/DomainParticipant.hpp")()
+        and _has_file("/usr/include/fastcdr/Cdr.h")(),
+        ["libfastrtps-dev", "libfastcdr-dev", "fastddsgen", "g++"],
+    ),
 }
 
 

@@ -51,6 +51,7 @@ from tests.fuzzing import (
 ONLY_BAD_VALUES: dict[tuple[str, ...], str] = {
     ("ui",): "serves the browser interface until interrupted",
     ("ros",): "runs a ROS node until interrupted",
+    ("ros2",): "joins the ROS 2 DDS graph (the network) until interrupted",
     ("data", "get"): "downloads from the internet",
 }
 GUARD_SECONDS = 60  # far above any example's time (a run of 60 robots takes about 2 s)

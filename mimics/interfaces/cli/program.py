@@ -102,6 +102,7 @@ def _mount_subcommands() -> None:
     from mimics.interfaces.cli.records import logs_app, report_command
     from mimics.interfaces.cli.robots import list_robots_command, robot_app
     from mimics.interfaces.cli.ros import ros_command, ros_files_command
+    from mimics.interfaces.cli.ros2 import ros2_command
     from mimics.interfaces.cli.single_run import run
     from mimics.interfaces.cli.ui import ui_command
     from mimics.interfaces.cli.view import battery_plot_command, plot_command, replay_command
@@ -122,6 +123,7 @@ def _mount_subcommands() -> None:
     app.command("ui")(ui_command)
     app.command("include-dir")(include_dir_command)
     app.command("ros")(ros_command)
+    app.command("ros2")(ros2_command)
     app.command("ros-files")(ros_files_command)
     app.command("export")(export_command)
 

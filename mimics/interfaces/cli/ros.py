@@ -16,6 +16,72 @@ import typer
 from mimics.interfaces.cli.output import fail
 from mimics.world.errors import MimicsError
 
+# The options `mimics ros` shares with `mimics ros2` (cli/ros2.py): one definition each.
+Robots = Annotated[int | None, typer.Option(help="Number of robots (scenario parameter).")]
+Lockstep = Annotated[bool | None, typer.Option(
+    "--lockstep/--realtime",
+    help="Lockstep: each step waits for every active robot's command (deterministic). "
+         "Realtime: wall-clock pace, the last command received, as stage_ros runs. "
+         "[default: lockstep; realtime with --names stage]")]
+StrictLockstep = Annotated[bool, typer.Option(
+    "--strict-lockstep", help="Lockstep with no grace: every step waits for every "
+                              "robot's command, up to --timeout.")]
+Grace = Annotated[float, typer.Option(
+    help="Lockstep: seconds a step waits for a robot whose node skips it (it sent a "
+         "command within --timeout) before the robot holds its last command.")]
+StartupGrace = Annotated[float, typer.Option(
+    help="Seconds from the start to wait for the nodes' further subscriptions (a late "
+         "scan subscriber gets step 0's scan); realtime: the longest wait for the "
+         "nodes before the clock starts.")]
+SimulatedTime = Annotated[float | None, typer.Option(help="Simulated seconds to run.")]
+Seed = Annotated[int, typer.Option(help="Seed of every random draw.")]
+Timeout = Annotated[float, typer.Option(
+    help="Seconds to wait for the controller nodes to connect and, in lockstep, for "
+         "all of each step's commands (one deadline per step).")]
+MapResolution = Annotated[float, typer.Option(help="Metres per cell of /map.")]
+RobotLogs = Annotated[str, typer.Option(help="Per-robot text logs: auto, on or off.")]
+Params = Annotated[list[str] | None, typer.Option(
+    "--param", help="Scenario parameter NAME=VALUE (repeatable), as for mimics run.")]
+RecordScans = Annotated[bool, typer.Option(
+    "--record-scans", help="Also record the laser scans (scans.parquet, 1 mm steps).")]
+Names = Annotated[str, typer.Option(
+    help="Topic and frame names: mimics, or stage for stage_ros' names (odom, "
+         "base_scan, base_pose_ground_truth, cmd_vel; no robot_i/ prefix for one "
+         "robot).")]
+
+
+def check_bridge_arguments(*, lockstep: bool | None, strict_lockstep: bool, names: str,
+                           robots: int | None, time: float | None, timeout: float,
+                           grace: float, startup_grace: float, watchdog: float,
+                           map_resolution: float, robot_logs: str) -> bool:
+    """Check the options both bridges share; returns whether the run is lockstep.
+
+    Raises:
+        typer.Exit: status 2, after one line naming the option and what was expected.
+    """
+    if lockstep is None:  # stage_ros' habit: the clock runs, commands apply when they come
+        lockstep = strict_lockstep or names != "stage"
+    if strict_lockstep and not lockstep:
+        raise fail("--strict-lockstep: a lockstep option; it cannot go with --realtime")
+    if robots is not None and robots < 1:
+        raise fail(f"--robots: expected a whole number >= 1, got {robots}")
+    if time is not None and not time > 0:
+        raise fail(f"--time: expected a positive number of simulated seconds, got {time}")
+    if not timeout > 0:
+        raise fail(f"--timeout: expected a positive number of seconds, got {timeout}")
+    if not grace > 0:
+        raise fail(f"--grace: expected a positive number of seconds, got {grace}")
+    if not startup_grace >= 0:
+        raise fail(f"--startup-grace: expected a number of seconds >= 0, got {startup_grace}")
+    if not watchdog > 0:
+        raise fail(f"--watchdog: expected a positive number of seconds, got {watchdog}")
+    if not map_resolution > 0:
+        raise fail(f"--map-resolution: expected a positive number of metres, "
+                   f"got {map_resolution}")
+    if robot_logs not in ("auto", "on", "off"):
+        raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
+    return lockstep
+
 
 def ros_command(
     scenario: Annotated[str, typer.Argument(help="Built-in scenario name or a .py/.toml file.")],
@@ -24,48 +90,27 @@ def ros_command(
         help="ROS arguments, as roslaunch passes them: remaps (base_scan:=scan), "
              "__name:=NODE, __ns:=NAMESPACE, private parameters (_base_watchdog_timeout:=0.5)."
     )] = None,
-    robots: Annotated[int | None, typer.Option(help="Number of robots (scenario parameter).")]
-    = None,
-    lockstep: Annotated[bool | None, typer.Option(
-        "--lockstep/--realtime",
-        help="Lockstep: each step waits for every active robot's command (deterministic). "
-             "Realtime: wall-clock pace, the last command received, as stage_ros runs. "
-             "[default: lockstep; realtime with --names stage]")] = None,
-    strict_lockstep: Annotated[bool, typer.Option(
-        "--strict-lockstep", help="Lockstep with no grace: every step waits for every "
-                                  "robot's command, up to --timeout.")] = False,
-    grace: Annotated[float, typer.Option(
-        help="Lockstep: seconds a step waits for a robot whose node skips it (it sent a "
-             "command within --timeout) before the robot holds its last command.")] = 1.0,
-    startup_grace: Annotated[float, typer.Option(
-        help="Seconds from the start to wait for the nodes' further subscriptions (a late "
-             "scan subscriber gets step 0's scan); realtime: the longest wait for the "
-             "nodes before the clock starts.")] = 2.0,
-    time: Annotated[float | None, typer.Option(help="Simulated seconds to run.")] = None,
-    seed: Annotated[int, typer.Option(help="Seed of every random draw.")] = 0,
+    robots: Robots = None,
+    lockstep: Lockstep = None,
+    strict_lockstep: StrictLockstep = False,
+    grace: Grace = 1.0,
+    startup_grace: StartupGrace = 2.0,
+    time: SimulatedTime = None,
+    seed: Seed = 0,
     out: Annotated[Path | None, typer.Option(
         help="Run folder [default: runs/SCENARIO-ros-sSEED, or -2, -3... when taken]")] = None,
-    timeout: Annotated[float, typer.Option(
-        help="Seconds to wait for the controller nodes to connect and, in lockstep, for "
-             "all of each step's commands (one deadline per step).")] = 10.0,
+    timeout: Timeout = 10.0,
     watchdog: Annotated[float, typer.Option(
         help="Realtime: stop a robot whose commands stop for this many simulated seconds "
              "(stage_ros' base_watchdog_timeout; the private parameter "
              "_base_watchdog_timeout:=S sets it too).")] = 0.2,
-    map_resolution: Annotated[float, typer.Option(help="Metres per cell of /map.")] = 0.05,
-    robot_logs: Annotated[str, typer.Option(help="Per-robot text logs: auto, on or off.")]
-    = "auto",
-    param: Annotated[list[str] | None, typer.Option(help="Scenario parameter NAME=VALUE "
-                                                         "(repeatable), as for mimics run.")]
-    = None,
+    map_resolution: MapResolution = 0.05,
+    robot_logs: RobotLogs = "auto",
+    param: Params = None,
     view: Annotated[str, typer.Option(help="Live view: step, 1s, 10s or off.")] = "off",
     video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
-    record_scans: Annotated[bool, typer.Option("--record-scans", help="Also record the laser "
-                                               "scans (scans.parquet, 1 mm steps).")] = False,
-    names: Annotated[str, typer.Option(
-        help="Topic and frame names: mimics, or stage for stage_ros' names (odom, "
-             "base_scan, base_pose_ground_truth, cmd_vel; no robot_i/ prefix for one "
-             "robot).")] = "mimics",
+    record_scans: RecordScans = False,
+    names: Names = "mimics",
 ) -> None:
     """Run a simulation as a ROS node: robots are driven by commands received from ROS.
 
@@ -96,27 +141,10 @@ def ros_command(
     if bad is not None:
         raise fail(f"{bad!r}: expected one argument, SCENARIO, then only ROS arguments "
                    "NAME:=VALUE (remaps such as base_scan:=scan, __name:=, __ns:=)")
-    if lockstep is None:  # stage_ros' habit: the clock runs, commands apply when they come
-        lockstep = strict_lockstep or names != "stage"
-    if strict_lockstep and not lockstep:
-        raise fail("--strict-lockstep: a lockstep option; it cannot go with --realtime")
-    if robots is not None and robots < 1:
-        raise fail(f"--robots: expected a whole number >= 1, got {robots}")
-    if time is not None and not time > 0:
-        raise fail(f"--time: expected a positive number of simulated seconds, got {time}")
-    if not timeout > 0:
-        raise fail(f"--timeout: expected a positive number of seconds, got {timeout}")
-    if not grace > 0:
-        raise fail(f"--grace: expected a positive number of seconds, got {grace}")
-    if not startup_grace >= 0:
-        raise fail(f"--startup-grace: expected a number of seconds >= 0, got {startup_grace}")
-    if not watchdog > 0:
-        raise fail(f"--watchdog: expected a positive number of seconds, got {watchdog}")
-    if not map_resolution > 0:
-        raise fail(f"--map-resolution: expected a positive number of metres, "
-                   f"got {map_resolution}")
-    if robot_logs not in ("auto", "on", "off"):
-        raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
+    lockstep = check_bridge_arguments(
+        lockstep=lockstep, strict_lockstep=strict_lockstep, names=names, robots=robots,
+        time=time, timeout=timeout, grace=grace, startup_grace=startup_grace,
+        watchdog=watchdog, map_resolution=map_resolution, robot_logs=robot_logs)
     from mimics.interfaces.ros.names import check_name_set
 
     try:

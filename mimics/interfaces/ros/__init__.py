@@ -15,6 +15,13 @@ tools look for: ``parameters`` (``/use_sim_time``, the ``/mimics`` tree),
 built by the export's marker functions) and ``launch_files`` (``mimics
 ros-files``: the roslaunch package in ``files/``).
 
+The transport-free core is shared with the ROS 2 bridge
+(:mod:`mimics.interfaces.ros2`): ``bridge_core`` (lockstep, pace, the wait for
+the nodes, resets), ``planar`` and ``readings`` (what each message carries),
+``run_control`` (what the services do), ``inbox``, ``references``, ``names``,
+``odometry_frame``, ``occupancy`` and ``stopping``; the modules that import
+``rospy`` are ROS 1's transport.
+
 ROS comes from Debian's packages in the system's dist-packages;
 ``system_ros`` makes them importable (see ``docs/how-to/ros.md``). Import
 ``system_ros`` (or call :func:`system_ros.require_ros`) before the modules

@@ -26,82 +26,35 @@ scan is lost, whatever the timing.
 
 from __future__ import annotations
 
-import time as wall
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mimics.interfaces.ros.names import RosNames, check_name_set
+from mimics.interfaces.ros.bridge_core import (
+    BridgeCore,
+    BridgeOptions,
+    options_record,
+    run_with_resets,
+)
+from mimics.interfaces.ros.names import RosNames
 from mimics.interfaces.ros.node import NODE_NAME, STAGE_NODE_NAME, join_ros, private_parameters
-from mimics.interfaces.ros.stopping import POLL, StopRequest
-from mimics.interfaces.ros.stopping import STATUS as STOPPED_STATUS
+from mimics.interfaces.ros.stopping import StopRequest
 from mimics.interfaces.ros.system_ros import require_master, require_ros
-from mimics.world.errors import MimicsError
 
 if TYPE_CHECKING:
     from mimics.engine.outcome import RunResult
     from mimics.engine.simulation import Simulation
     from mimics.interfaces.ros.inbox import Inbox
-    from mimics.interfaces.ros.services import RunControl
     from mimics.records.recorder import RobotLogs
 
+__all__ = ["BridgeOptions", "RosBridge", "run_ros"]  # BridgeOptions: where callers import it
 
 
-@dataclass(frozen=True)
-class BridgeOptions:
-    """How the bridge runs.
-
-    Attributes:
-        lockstep: wait each step for every active robot's command (else realtime).
-        timeout: seconds to wait for the controller's nodes to connect and,
-            in lockstep, for all of each step's commands (one deadline per step).
-        map_resolution: metres per cell of ``/map``.
-        watchdog: realtime: seconds without a command after which a robot
-            is stopped (stage_ros' ``base_watchdog_timeout``).
-        timeout_option: the option setting ``timeout`` in the running
-            command, cited by time-out messages (None: no such option).
-        names: the name set of topics and frames, ``"mimics"`` or ``"stage"``
-            (see :mod:`~mimics.interfaces.ros.names`).
-        grace: lockstep: seconds after which a robot whose node is alive (it
-            sent a command within ``timeout``) but has not answered the step
-            holds its last reference; None: strict lockstep, every step waits
-            for every command (up to ``timeout``).
-        startup_grace: seconds from the start during which the run waits for
-            the nodes' further subscriptions (a scan subscribed after the
-            odometry) before step 0; realtime: also the longest it waits for
-            the nodes at all before the clock starts, as stage_ros does not wait.
-    """
-
-    lockstep: bool = True
-    timeout: float = 10.0
-    map_resolution: float = 0.05
-    watchdog: float = 0.2
-    timeout_option: str | None = "--timeout"
-    names: str = "mimics"
-    grace: float | None = None
-    startup_grace: float = 0.0
-
-    def __post_init__(self) -> None:
-        check_name_set(self.names)
-        if self.grace is not None and not self.grace > 0:
-            raise MimicsError(f"grace: expected a positive number of seconds, "
-                              f"got {self.grace!r}")
-        if not self.startup_grace >= 0:
-            raise MimicsError(f"startup_grace: expected seconds >= 0, "
-                              f"got {self.startup_grace!r}")
-        if not self.timeout > 0:
-            raise MimicsError(f"timeout: expected a positive number of seconds, "
-                              f"got {self.timeout!r}")
-        if not self.watchdog > 0:
-            raise MimicsError(f"watchdog: expected a positive number of seconds, "
-                              f"got {self.watchdog!r}")
-
-
-class RosBridge:
-    """The observer that publishes a run's steps; created once ``rospy`` is initialised."""
+class RosBridge(BridgeCore):
+    """The observer that publishes a run's steps over ROS 1; created once ``rospy`` is
+    initialised. Lockstep, pace and the wait for the nodes are the shared
+    :class:`~mimics.interfaces.ros.bridge_core.BridgeCore`'s."""
 
     def __init__(self, sim: Simulation, inbox: Inbox, options: BridgeOptions,
                  stop: StopRequest | None = None) -> None:
@@ -115,10 +68,7 @@ class RosBridge:
         from mimics.interfaces.ros.parameters import set_run_parameters
         from mimics.interfaces.ros.scans import ScanPublisher
 
-        self.options = options
-        self.inbox = inbox
-        self.stop = stop  # a signal asked the run to end (SIGINT, SIGTERM)
-        self.control: RunControl | None = None  # pause, step, reset (services.py)
+        super().__init__(inbox, options, sim.scenario.settings.dt, stop)
         self._sim_time_before: object = None  # /use_sim_time before the first run
         self._sim_time_set = False
         n, beams = sim.state.n, sim.types.beam_count
@@ -132,59 +82,6 @@ class RosBridge:
         self.frames = FramePublisher(beams, self.names, self.odometry.frames)
         self.scans = ScanPublisher(beams, self.names)
         self.commands = CommandSubscriber(n, inbox, sim.scenario.settings.dt, self.names)
-        self._dt = sim.scenario.settings.dt
-        self._wall_start = 0.0
-
-    def wait_for_nodes(self, robots: np.ndarray,
-                       check: Callable[[], None] | None = None) -> None:
-        """Wait until each robot's observations have a subscriber and its commands a publisher.
-
-        A node connects to a robot by subscribing to any of its per-step
-        topics (``odom``, ``pose``, the ground truth or the scan). Then, until
-        ``startup_grace`` seconds from the call, the wait goes on for the
-        robots' other per-step topics, so that a node that subscribes to the
-        scan late in its start-up still gets step 0's. Realtime: the run
-        starts after ``startup_grace`` whether the nodes have come or not.
-
-        ``check`` is called while waiting; it raises to give up early (the
-        controller's process has exited, say).
-
-        Raises:
-            MimicsError: naming the first robot still unconnected after the time-out.
-        """
-        start = wall.monotonic()
-        deadline, grace_end = start + self.options.timeout, start + self.options.startup_grace
-        waiting = robots.tolist()
-        while waiting:
-            self._checks(check)
-            waiting = [i for i in waiting
-                       if not self._observed(i) or self.commands.publishers_connected(i) == 0]
-            if not waiting:
-                break
-            if not self.options.lockstep and wall.monotonic() >= grace_end:
-                return  # realtime: the clock runs, commands apply when they come
-            if wall.monotonic() > deadline:
-                i = waiting[0]
-                option = self.options.timeout_option
-                hint = f" ({option} sets it)" if option else ""
-                raise MimicsError(
-                    f"no controller node for robot {i} within "
-                    f"{self.options.timeout:g} s{hint} (nothing subscribes to "
-                    f"{self.names.odom(i)} (or its other topics) or publishes on "
-                    f"{self.names.commands_text(i)}; {len(waiting)} "
-                    f"robot{'s' if len(waiting) > 1 else ''} waiting)")
-            wall.sleep(0.02)
-        listening = robots.tolist()
-        while listening and wall.monotonic() < grace_end:
-            self._checks(check)
-            listening = [i for i in listening if not self._fully_observed(i)]
-            wall.sleep(0.02)
-
-    def _checks(self, check: Callable[[], None] | None) -> None:
-        if check is not None:
-            check()
-        if self.stop is not None:
-            self.stop.check()
 
     def _fully_observed(self, robot: int) -> bool:
         """Whether every per-step topic of the robot has a subscriber."""
@@ -200,7 +97,7 @@ class RosBridge:
         return any(publisher.get_num_connections() > 0
                    for publisher in (*publishers, *([scan] if scan is not None else [])))
 
-    def on_start(self, sim: Simulation) -> None:
+    def _starting(self) -> None:
         from mimics.interfaces.ros.parameters import use_sim_time
 
         # before the first /clock, once the nodes the run waits for have started: a node
@@ -208,46 +105,16 @@ class RosBridge:
         before = use_sim_time()
         if not self._sim_time_set:  # the first run (a reset starts another)
             self._sim_time_before, self._sim_time_set = before, True
-        self._wall_start = wall.monotonic()
-        self._publish(sim)
 
-    def on_step(self, sim: Simulation) -> None:
-        if self.stop is not None and self.stop.requested:
-            # at this step boundary: the engine ends the run and writes its summary
-            sim.status = STOPPED_STATUS
-            return
-        if self.control is not None:
-            publish, held = self.control.gate()  # paused: held here, before publishing
-            self._wall_start += held  # realtime: simulated time stood still meanwhile
-            if not publish:  # a reset ends the run (its stop_when)
-                return
-        self._publish(sim)
+    def _commands_connected(self, robot: int) -> int:
+        return self.commands.publishers_connected(robot)
 
-    def on_end(self, sim: Simulation, result: RunResult) -> None:
-        self.inbox.stop()
-
-    def _publish(self, sim: Simulation) -> None:
-        state = sim.state
-        ids = np.flatnonzero(state.active)
-        self.inbox.now = state.time  # the watchdog counts simulated time, as stage_ros
-        if self.options.lockstep:
-            self.inbox.expect(state.step, ids)  # before publishing: no answer can come earlier
-        self.clock.publish(state.time)
+    def _send(self, sim: Simulation, ids: np.ndarray) -> None:
+        self.clock.publish(sim.state.time)
         self.odometry.publish(sim, ids)
         self.scans.publish(sim, ids)
         self.frames.publish(sim, ids)
         self.markers.publish(sim)
-        if self.control is not None:
-            self.control.published(state.step, state.time)
-        if not self.options.lockstep:  # realtime: the next step happens dt later
-            self._sleep_until(self._wall_start + state.time + self._dt)
-
-    def _sleep_until(self, moment: float) -> None:
-        """Sleep until wall time ``moment``, in short slices: a stop ends the wait."""
-        while (pause := moment - wall.monotonic()) > 0:
-            if self.stop is not None and self.stop.requested:
-                return
-            wall.sleep(min(pause, POLL))
 
     def close(self) -> None:
         """Withdraw every topic and subscription."""
@@ -322,7 +189,7 @@ def _run(built: Any, folder: str | Path, options: BridgeOptions, time: float | N
     from mimics.interfaces.ros.inbox import Inbox
     from mimics.interfaces.ros.references import RosReferences
     from mimics.interfaces.ros.services import RunControl, RunServices
-    from mimics.records.runner import prepare, run_to_folder
+    from mimics.records.runner import prepare
 
     inbox = Inbox(built.robot_count, options.lockstep, options.timeout, stop, options.grace)
     references = RosReferences(inbox, built.stages[:, 2], options.timeout,
@@ -334,33 +201,20 @@ def _run(built: Any, folder: str | Path, options: BridgeOptions, time: float | N
     bridge = RosBridge(sim, inbox, options, stop)
     references.publishers = bridge.commands.publishers_connected
     references.names = bridge.names
-    control = bridge.control = RunControl(options.timeout + 5.0)
-    control.stop_request = stop
+    control = RunControl(options.timeout + 5.0)
     services = RunServices(control, reset_positions=options.names == "stage")
-    extra = {"ros": {"mode": "lockstep" if options.lockstep else "realtime",
-                     "timeout": options.timeout, "watchdog": options.watchdog,
-                     "grace": options.grace, "startup_grace": options.startup_grace,
-                     "names": options.names, "map_resolution": options.map_resolution}}
-    first = folder = Path(folder)
+
+    def restart() -> Simulation:
+        """After a reset: the same scenario and seed from the start."""
+        again = RosReferences(inbox, built.stages[:, 2], options.timeout,
+                              options.timeout_option, options.watchdog,
+                              bridge.commands.publishers_connected, bridge.names)
+        return prepare(built, again.controller(), time=time, seed=seed, observers=observers)
+
     try:
-        bridge.wait_for_nodes(np.flatnonzero(sim.state.active))
-        while True:
-            sim.observers.append(bridge)
-            sim.stop_when = control.reset_asked  # a reset ends the run (status "stopped")
-            control.run_started(folder)
-            if folders is not None:
-                folders.append(folder)
-            result = run_to_folder(sim, folder, robot_logs=robot_logs,
-                                   record_scans=record_scans, extra=extra)
-            if not control.reset_asked() or stop.requested:
-                return result
-            # a reset: the same scenario and seed from the start, in a new folder
-            folder = control.next_reset_folder(first)
-            references = RosReferences(inbox, built.stages[:, 2], options.timeout,
-                                       options.timeout_option, options.watchdog,
-                                       bridge.commands.publishers_connected, bridge.names)
-            sim = prepare(built, references.controller(), time=time, seed=seed,
-                          observers=observers)
+        return run_with_resets(bridge, control, sim, folder, restart, folders, stop,
+                               robot_logs=robot_logs, record_scans=record_scans,
+                               extra={"ros": options_record(options)})
     finally:
         control.run_ended()
         services.close()

@@ -6,6 +6,9 @@ messages, checked and turned into :class:`~mimics.interfaces.ros.inbox.Command`.
 
 Frame and topic names come from :mod:`~mimics.interfaces.ros.names` (the
 ``mimics`` or the ``stage`` name set); the functions here take frame ids.
+What the messages mean (stamps, quaternions, covariances, the ``map -> odom``
+correction, scan values, command checks) is computed in
+:mod:`~mimics.interfaces.ros.planar`, which the ROS 2 bridge shares.
 """
 
 from __future__ import annotations
@@ -20,41 +23,34 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Float64MultiArray, Header
 
+from mimics.interfaces.ros import planar
 from mimics.interfaces.ros.inbox import Command
 from mimics.interfaces.ros.names import MAP_FRAME
 from mimics.interfaces.ros.occupancy import Grid
+from mimics.interfaces.ros.planar import (  # re-exported: the ROS 1 modules import them here
+    PLANAR,
+    BadCommand,
+    quaternion_yaw,
+    step_of,
+    twist_to_references,
+)
 
-
-class BadCommand(ValueError):
-    """A command message that cannot be used (its text says why)."""
+__all__ = ["PLANAR", "BadCommand", "quaternion_yaw", "step_of", "twist_to_references"]
 
 
 def stamp(seconds: float) -> rospy.Time:
     """Simulated seconds as a ROS time, rounded to the nanosecond (no float truncation)."""
-    return rospy.Time(nsecs=round(seconds * 1e9))
-
-
-def step_of(stamp_seconds: float, dt: float) -> int:
-    """The step whose time is ``stamp_seconds`` (the nearest whole number of steps)."""
-    return round(stamp_seconds / dt)
+    return rospy.Time(nsecs=planar.nanoseconds(seconds))
 
 
 def yaw_quaternion(yaw: float) -> Quaternion:
     """A rotation of ``yaw`` radians about z."""
-    return Quaternion(0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
-
-
-def quaternion_yaw(q: Quaternion) -> float:
-    """The rotation about z of a quaternion (the inverse of :func:`yaw_quaternion`)."""
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+    return Quaternion(*planar.yaw_quaternion(yaw))
 
 
 def header(seconds: float, frame_id: str) -> Header:
     """A header stamped with simulated time."""
     return Header(stamp=stamp(seconds), frame_id=frame_id)
-
-
-PLANAR = [0, 1, 5]  # x, y and yaw among a 6x6 covariance's x, y, z, roll, pitch, yaw
 
 
 def odometry_message(seconds: float, frame_id: str, child_frame_id: str, pose: np.ndarray,
@@ -104,11 +100,11 @@ def scan_message(frame_id: str, seconds: float, ranges: np.ndarray, hit: np.ndar
     ``angles`` are the ranger's beam angles (right to left, evenly spread),
     ``ranges`` its distances and ``hit`` which beams hit something.
     """
-    increment = float(angles[1] - angles[0]) if len(angles) > 1 else 0.0
-    values = np.where(hit, ranges, float(max_range) if no_return_at_max else np.inf)
+    angle_min, angle_max, increment, values = planar.scan_values(ranges, hit, angles,
+                                                                 max_range, no_return_at_max)
     return LaserScan(header=header(seconds, frame_id),
-                     angle_min=float(angles[0]), angle_max=float(angles[-1]),
-                     angle_increment=increment, time_increment=0.0, scan_time=dt,
+                     angle_min=angle_min, angle_max=angle_max, angle_increment=increment,
+                     time_increment=0.0, scan_time=dt,
                      range_min=0.0, range_max=float(max_range), ranges=values.tolist(),
                      intensities=[])
 
@@ -152,12 +148,8 @@ def odometry_transforms(seconds: float, odom_frame: str, body_frame: str, pose: 
     ``map -> odom`` is the correction that puts ``body`` at ``pose`` in
     ``map``, ``T(pose) * T(odometry)^-1``, as a localiser would publish it.
     """
-    px, py, ptheta = (float(value) for value in pose)
     ox, oy, otheta = (float(value) for value in odometry)
-    yaw = ptheta - otheta
-    cos, sin = math.cos(yaw), math.sin(yaw)
-    to_odom = transform(seconds, MAP_FRAME, odom_frame,
-                        px - (cos * ox - sin * oy), py - (sin * ox + cos * oy), yaw)
+    to_odom = transform(seconds, MAP_FRAME, odom_frame, *planar.odom_correction(pose, odometry))
     to_body = transform(seconds, odom_frame, body_frame, ox, oy, otheta)
     return [to_odom, to_body]
 
@@ -183,18 +175,7 @@ def command_from_array(message: Float64MultiArray, dt: float) -> Command:
     Raises:
         BadCommand: on a wrong length or a value that is not finite.
     """
-    data = list(message.data)
-    if len(data) not in (2, 3):
-        raise BadCommand(f"cmd: expected data = [speed_ref, heading_ref] or [speed_ref, "
-                         f"heading_ref, stamp], got {len(data)} values")
-    names = ("speed_ref", "heading_ref", "stamp")
-    for name, value in zip(names, data, strict=False):
-        if not math.isfinite(value):
-            raise BadCommand(f"cmd: {name} must be a finite number, got {value}")
-    step = step_of(data[2], dt) if len(data) == 3 else None
-    if step is not None and step < 0:
-        raise BadCommand(f"cmd: stamp must not be negative, got {data[2]}")
-    return Command("reference", float(data[0]), float(data[1]), step)
+    return planar.array_command(list(message.data), dt)
 
 
 def command_from_twist(message: Twist) -> Command:
@@ -203,25 +184,5 @@ def command_from_twist(message: Twist) -> Command:
     Raises:
         BadCommand: when either is not finite.
     """
-    speed, turn = message.linear.x, message.angular.z
-    if not (math.isfinite(speed) and math.isfinite(turn)):
-        raise BadCommand(f"cmd_vel: linear.x and angular.z must be finite numbers, got "
-                         f"{speed} and {turn}")
-    return Command("twist", float(speed), float(turn), None)
+    return planar.twist_command(message.linear.x, message.angular.z)
 
-
-def twist_to_references(speed: float, turn_rate: float, heading: float, kw: float,
-                        heading_kp: float, heading_kd: float) -> tuple[float, float]:
-    """Turn a velocity command into the two references the robot's PID loops follow.
-
-    The speed reference is the commanded speed. The heading reference leads
-    the measured heading by the error at which the heading loop turns at the
-    commanded rate ``w`` in steady state: with ``w' = (-w + kw*u_w)/tau_w`` and
-    ``u_w = kp*error - kd*w`` (the D term acts on the measured rate) that is
-    ``error = w*(1 + kw*kd) / (kw*kp)``, exact for heading loops without an
-    integral term, as the built-in types have. The rate is first limited to
-    the robot's maximum, ``kw``.
-    """
-    rate = max(-kw, min(kw, turn_rate))
-    lead = rate * (1.0 + kw * heading_kd) / (kw * heading_kp) if heading_kp > 0 else 0.0
-    return speed, heading + lead

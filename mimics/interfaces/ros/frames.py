@@ -23,6 +23,7 @@ from tf2_msgs.msg import TFMessage
 
 from mimics.interfaces.ros.conversion import fixed_transform, odometry_transforms
 from mimics.interfaces.ros.names import RosNames
+from mimics.interfaces.ros.readings import fixed_frames
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
@@ -40,13 +41,8 @@ class FramePublisher:
         # and scan subscriptions, not for /tf) still gets the current step's frames
         self._dynamic = rospy.Publisher("/tf", TFMessage, queue_size=100, latch=True)
         self._static = rospy.Publisher("/tf_static", TFMessage, queue_size=1, latch=True)
-        fixed = []
-        for i in range(len(beam_count)):
-            footprint = names.footprint_frame(i)
-            if footprint is not None:
-                fixed.append(fixed_transform(footprint, names.base_frame(i)))
-            if beam_count[i] > 0:
-                fixed.append(fixed_transform(names.base_frame(i), names.laser_frame(i)))
+        fixed = [fixed_transform(parent, child)
+                 for parent, child in fixed_frames(beam_count, names)]
         self._static.publish(TFMessage(transforms=fixed))
 
     def publish(self, sim: Simulation, ids: np.ndarray) -> None:

@@ -7,7 +7,8 @@ Writes ``DIR/mimics_launch/`` (a ROS package, so put ``DIR`` on
     launch/mimics.launch   master (roslaunch's), ``mimics ros SCENARIO ARGS`` and RViz
                            (SCENARIO, ARGS: what it was written for, or roslaunch's
                            ``scenario:=``, ``args:=``)
-    rviz/mimics.rviz       RViz: /map, each robot's /robot_i/scan, tf, /mimics/markers
+    rviz/mimics.rviz       RViz: /map, each robot's /robot_i/scan, tf, /mimics/markers, in
+                           a window with the 3D view (RViz's default dock layout)
     scripts/mimics_ros     the executable roslaunch runs: ``mimics ros`` of this install
 
 The files are package data of mimics (``mimics/interfaces/ros/files``); the

@@ -16,13 +16,11 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
 import rospy
 from visualization_msgs.msg import MarkerArray
 
-from mimics.interfaces.rosexport.markers import footprint_marker, goal_marker, id_marker
+from mimics.interfaces.ros.readings import step_markers
 from mimics.interfaces.rosexport.pieces import MessagePieces
-from mimics.interfaces.rosexport.topics import MAP_FRAME
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
@@ -61,19 +59,7 @@ class MarkerPublisher:
         """The markers of the current step (built only when something subscribes)."""
         if self._publisher.get_num_connections() == 0:
             return
-        state, scenario, build = sim.state, sim.scenario, self._messages
-        stamp = round(state.time * 1e9)
-        markers = []
-        for robot in range(state.n):
-            x, y, theta = (float(value) for value in state.pose[robot])
-            kind = scenario.robot_type(robot)
-            markers.append(footprint_marker(build, stamp, robot, int(state.status[robot]),
-                                            kind.length, kind.width, MAP_FRAME, (x, y, theta)))
-            markers.append(id_marker(build, stamp, robot, x, y))
-            goal = state.goal[robot]
-            if np.all(np.isfinite(goal)):
-                markers.append(goal_marker(build, stamp, robot, goal))
-        self._publisher.publish(MarkerArray(markers=markers))
+        self._publisher.publish(MarkerArray(markers=step_markers(self._messages, sim)))
 
     def close(self) -> None:
         """Withdraw the topic."""

@@ -17,7 +17,7 @@ from mimics.interfaces.ros.system_ros import require_master, require_ros
 from mimics.world.errors import MimicsError
 
 if TYPE_CHECKING:
-    from mimics.interfaces.ros.bridge import BridgeOptions
+    from mimics.interfaces.ros.bridge_core import BridgeOptions
 
 NODE_NAME = "mimics"
 STAGE_NODE_NAME = "stageros"  # --names stage: the node stage_ros runs, as launch files expect

@@ -24,12 +24,10 @@ from nav_msgs.msg import Odometry
 
 from mimics.interfaces.ros.conversion import fill_odometry, odometry_message
 from mimics.interfaces.ros.names import MAP_FRAME, RosNames
-from mimics.interfaces.ros.odometry_frame import OdometerFrames
+from mimics.interfaces.ros.readings import NO_COVARIANCE, OdometryReadings, Reading
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
-
-_NO_COVARIANCE = np.zeros((3, 3))
 
 
 class _Topic:
@@ -39,17 +37,16 @@ class _Topic:
         self.publisher = rospy.Publisher(topic, Odometry, queue_size=10, tcp_nodelay=True,
                                          latch=True)
         self.message = odometry_message(0.0, frame_id, child_frame_id, np.zeros(3),
-                                        np.zeros(2), _NO_COVARIANCE, (0.0, 0.0))
+                                        np.zeros(2), NO_COVARIANCE, (0.0, 0.0))
 
-    def send(self, seconds: float, pose: np.ndarray, velocity: np.ndarray,
-             covariance: np.ndarray, velocity_variance: tuple[float, float]) -> None:
+    def send(self, seconds: float, reading: Reading) -> None:
         """Publish the step. The message is filled under the topic's lock, which rospy
         also takes to send the latched message to a subscriber that connects: never
         half-written."""
         impl = self.publisher.impl
         impl.acquire()
         try:
-            fill_odometry(self.message, seconds, pose, velocity, covariance, velocity_variance)
+            fill_odometry(self.message, seconds, *reading)
             self.publisher.publish(self.message)
         finally:
             impl.release()
@@ -59,20 +56,16 @@ class OdometryPublisher:
     """Publishes every robot's ``odom``, ``pose`` (when the name set has it) and ground truth."""
 
     def __init__(self, sim: Simulation, names: RosNames) -> None:
-        n, types = sim.state.n, sim.types
+        n = sim.state.n
         self.names = names
-        # the odometer starts at the start pose (the engine copies the pose into it)
-        self.frames = OdometerFrames(sim.state.odometry, types.sigma_translation,
-                                     types.sigma_rotation)
+        self.readings = OdometryReadings(sim)  # what each topic carries (shared with ROS 2)
+        self.frames = self.readings.frames
         self.odom = [_Topic(names.odom(i), names.odom_frame(i), names.body_frame(i))
                      for i in range(n)]
         self.pose = [_Topic(topic, MAP_FRAME, names.body_frame(i))
                      for i in range(n) if (topic := names.pose(i)) is not None]
         self.truth = [_Topic(names.ground_truth(i), MAP_FRAME, names.body_frame(i))
                       for i in range(n)]
-        self._velocity_variance = [(float(sigma) ** 2,) * 2 for sigma in types.sigma_velocity]
-        self._position_covariance = [np.diag([float(sigma) ** 2] * 2 + [0.0])
-                                     for sigma in types.sigma_position]
 
     def all_publishers(self, robot: int) -> list[rospy.Publisher]:
         """The robot's publishers (a node listening to any of them is connected)."""
@@ -81,19 +74,13 @@ class OdometryPublisher:
 
     def publish(self, sim: Simulation, ids: np.ndarray) -> None:
         """The odometer, measured pose and true pose of robots ``ids`` at the current step."""
-        state = sim.state
-        if state.step > 0:  # step 0: the odometer is at its start, covariance 0
-            self.frames.update(state.odometry)
-        seconds = state.time
+        readings, seconds = self.readings, sim.state.time
+        readings.update(sim)
         for i in ids.tolist():
-            velocity_variance = self._velocity_variance[i]
-            self.odom[i].send(seconds, self.frames.pose[i], state.measured_velocity[i],
-                              self.frames.covariance[i], velocity_variance)
+            self.odom[i].send(seconds, readings.odom(sim, i))
             if self.pose:
-                self.pose[i].send(seconds, state.measured_pose[i], state.measured_velocity[i],
-                                  self._position_covariance[i], velocity_variance)
-            self.truth[i].send(seconds, state.pose[i], state.velocity[i], _NO_COVARIANCE,
-                               (0.0, 0.0))
+                self.pose[i].send(seconds, readings.pose(sim, i))
+            self.truth[i].send(seconds, readings.truth(sim, i))
 
     def close(self) -> None:
         """Withdraw the topics."""

@@ -85,6 +85,11 @@ class OdometerFrames:
         self.covariance = np.zeros((n, 3, 3))
         self._noisy = bool(np.any(self.sigma_translation > 0) or np.any(self.sigma_rotation > 0))
 
+    def restart(self) -> None:
+        """Back at the start (a run started again by a reset): pose and covariance 0."""
+        self.pose = np.zeros_like(self.pose)
+        self.covariance = np.zeros_like(self.covariance)
+
     def update(self, odometer: np.ndarray) -> None:
         """Take the odometer's current poses (map coordinates) as the next step's."""
         pose = relative_poses(self.start, odometer)

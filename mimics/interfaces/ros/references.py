@@ -28,9 +28,9 @@ from typing import Any
 import numpy as np
 
 from mimics.engine.user_code import PerRobotController
-from mimics.interfaces.ros.conversion import twist_to_references
 from mimics.interfaces.ros.inbox import HOLD, Command, Inbox, LockstepTimeout
 from mimics.interfaces.ros.names import RosNames
+from mimics.interfaces.ros.planar import twist_to_references
 
 ALGORITHM_NAME = "ros"
 
@@ -91,9 +91,9 @@ class RosReferences:
                 f"{len(waiting)} robot{plural}: {robot_ranges(waiting)} (on "
                 f"{self.names.commands_text()}): has the controller node stopped, or does "
                 "it answer only on a timer or after a message that has not come (a "
-                "rospy.Rate loop waits for /clock, which waits for it; teleop sends at its "
-                "own pace)? Lockstep wants one command per robot and step; such nodes run "
-                "in --realtime")
+                "rate loop on ROS time, rospy.Rate or an rclpy timer, waits for /clock, "
+                "which waits for it; teleop sends at its own pace)? Lockstep wants one "
+                "command per robot and step; such nodes run in --realtime")
 
     def _silent(self, robot: Any) -> bool:
         """Realtime: whether the robot's commands have ceased; it is then stopped (once)."""
@@ -145,9 +145,10 @@ class RosReferences:
             last, count = robot.time, 0
         self._clipped[robot.id] = (last, count)
 
-    def controller(self) -> PerRobotController:
-        """The engine's controller calling :meth:`step` for each active robot."""
-        return PerRobotController(ALGORITHM_NAME, step=self.step)
+    def controller(self, name: str = ALGORITHM_NAME) -> PerRobotController:
+        """The engine's controller calling :meth:`step` for each active robot; ``name`` is
+        the run's algorithm (``ros``, ``ros2``)."""
+        return PerRobotController(name, step=self.step)
 
 
 def _clip(value: float, limit: float) -> float:

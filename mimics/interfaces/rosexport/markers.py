@@ -10,7 +10,7 @@ needs no ROS library itself.
   (CUBE) of the robot type's length along x and width along y, coloured by
   status: active blue, reached goal green, collided red, escaped grey,
   deadlock orange, error purple. The export draws it in the robot's own
-  frame ``robot_i/base_link`` (the viewer moves it with ``/tf``); the live
+  frame ``base_link`` (``robot_i/base_link``; the viewer moves it with ``/tf``); the live
   bridge in ``map`` at the robot's pose.
 - A goal (namespace ``goal``) is a thin cylinder of 0.2 m diameter at the
   goal in frame ``map``, in the active colour; robots without a goal have none.
@@ -31,10 +31,11 @@ import numpy as np
 
 from mimics.engine.state import Status
 from mimics.interfaces.rosexport.pieces import MessagePieces, Stamped
-from mimics.interfaces.rosexport.topics import MAP_FRAME, MARKER_ARRAY, MARKERS_TOPIC, base_link
+from mimics.interfaces.rosexport.topics import MAP_FRAME, MARKER_ARRAY, MARKERS_TOPIC
 from mimics.world.scenario import Scenario
 
 if TYPE_CHECKING:
+    from mimics.interfaces.ros.names import RosNames
     from mimics.interfaces.rosexport.source import Trajectory
 
 FOOTPRINT_HEIGHT = 0.1  # m: a flat box, drawn on the floor
@@ -50,9 +51,10 @@ LABEL_COLOUR = (1.0, 1.0, 1.0, 1.0)
 CUBE, CYLINDER, TEXT_VIEW_FACING = 1, 3, 9  # visualization_msgs/Marker types
 
 
-def marker_messages(messages: MessagePieces, trajectory: Trajectory,
-                    scenario: Scenario) -> Iterator[Stamped]:
-    """Footprints and goals at time 0, then the footprints whose status changed."""
+def marker_messages(messages: MessagePieces, trajectory: Trajectory, scenario: Scenario,
+                    names: RosNames) -> Iterator[Stamped]:
+    """Footprints (in each robot's ``base_link`` of ``names``) and goals at time 0, then the
+    footprints whose status changed."""
     last = np.full(scenario.robot_count, -1, dtype=np.int64)
     starts = np.flatnonzero(np.diff(trajectory.step, prepend=-1) != 0)
     ends = np.append(starts[1:], trajectory.rows)
@@ -64,7 +66,7 @@ def marker_messages(messages: MessagePieces, trajectory: Trajectory,
             if status != last[robot]:
                 kind = scenario.robot_type(robot)
                 markers.append(footprint_marker(messages, stamp, robot, status, kind.length,
-                                                kind.width, base_link(robot)))
+                                                kind.width, names.base_frame(robot)))
                 last[robot] = status
         if start == 0:
             markers += [goal_marker(messages, stamp, robot, goal) for robot, goal

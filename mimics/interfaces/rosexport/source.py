@@ -13,7 +13,8 @@ import numpy as np
 from mimics.interfaces.rosexport.conversion import stamps
 from mimics.records.run_folder import Run
 
-COLUMNS = ("time", "step", "robot", "x", "y", "theta", "v", "w", "status")
+COLUMNS = ("time", "step", "robot", "x", "y", "theta", "v", "w", "x_meas", "y_meas", "theta_meas",
+           "status")
 
 
 @dataclass(frozen=True)
@@ -29,6 +30,9 @@ class Trajectory:
     theta: np.ndarray
     v: np.ndarray
     w: np.ndarray
+    x_meas: np.ndarray  # the positioning sensor's pose
+    y_meas: np.ndarray
+    theta_meas: np.ndarray
     status: np.ndarray
 
     @property

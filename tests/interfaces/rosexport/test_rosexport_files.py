@@ -99,13 +99,20 @@ def test_messages_equal_the_runs_parquet_data(exported: dict[str, Any], name: st
     for (time, message), step in zip(topics["/tf"], steps, strict=True):
         rows = trajectory[trajectory["step"] == step]
         assert time == EPOCH + round(rows["time"].iloc[0] * 1e9)
-        children = [t.child_frame_id for t in message.transforms]
-        assert children == [f"robot_{r}/base_link" for r in rows["robot"]]
-        for transform, row in zip(message.transforms, rows.itertuples(), strict=True):
-            assert transform.header.frame_id == "map"
-            assert (transform.transform.translation.x, transform.transform.translation.y) == (
-                row.x, row.y)
-            assert angle_gap(yaw(transform.transform.rotation), row.theta) < 1e-12
+        # the live bridge's tree: map -> robot_r/odom -> robot_r/base_link, per robot
+        pairs = [(t.header.frame_id, t.child_frame_id) for t in message.transforms]
+        assert pairs == [pair for r in rows["robot"] for pair in (
+            ("map", f"robot_{r}/odom"), (f"robot_{r}/odom", f"robot_{r}/base_link"))]
+        for k, row in enumerate(rows.itertuples()):
+            to_odom, to_body = (t.transform for t in message.transforms[2 * k:2 * k + 2])
+            # composed by hand: the body at the positioning sensor's pose (here the true one)
+            a, b = yaw(to_odom.rotation), yaw(to_body.rotation)
+            x = to_odom.translation.x + math.cos(a) * to_body.translation.x - math.sin(
+                a) * to_body.translation.y
+            y = to_odom.translation.y + math.sin(a) * to_body.translation.x + math.cos(
+                a) * to_body.translation.y
+            assert abs(x - row.x) < 1e-9 and abs(y - row.y) < 1e-9
+            assert angle_gap(a + b, row.theta) < 1e-9
 
 
 @pytest.mark.parametrize("name", ["run.mcap", "run.bag"])

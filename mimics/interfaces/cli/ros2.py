@@ -1,0 +1,134 @@
+"""`mimics ros2`: a simulation run on the ROS 2 DDS graph (Cyclone DDS), driven by ROS 2 nodes.
+
+The main CLI registers it with ``app.command("ros2")(ros2_command)``. Bad
+input or no ``cyclonedds``: one line on stderr, status 2. A run that a
+lockstep time-out ended: its summary, then one line on stderr, status 1.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from mimics.interfaces.cli.output import fail
+from mimics.interfaces.cli.ros import (
+    Grace,
+    Lockstep,
+    MapResolution,
+    Names,
+    Params,
+    RecordScans,
+    RobotLogs,
+    Robots,
+    Seed,
+    SimulatedTime,
+    StartupGrace,
+    StrictLockstep,
+    Timeout,
+    check_bridge_arguments,
+)
+from mimics.world.errors import MimicsError
+
+
+def ros2_command(
+    scenario: Annotated[str, typer.Argument(help="Built-in scenario name or a .py/.toml file.")],
+    robots: Robots = None,
+    lockstep: Lockstep = None,
+    strict_lockstep: StrictLockstep = False,
+    grace: Grace = 1.0,
+    startup_grace: StartupGrace = 2.0,
+    time: SimulatedTime = None,
+    seed: Seed = 0,
+    out: Annotated[Path | None, typer.Option(
+        help="Run folder [default: runs/SCENARIO-ros2-sSEED, or -2, -3... when taken]")]
+    = None,
+    timeout: Timeout = 10.0,
+    watchdog: Annotated[float, typer.Option(
+        help="Realtime: stop a robot whose commands stop for this many simulated "
+             "seconds (stage_ros' base_watchdog_timeout).")] = 0.2,
+    map_resolution: MapResolution = 0.05,
+    robot_logs: RobotLogs = "auto",
+    param: Params = None,
+    record_scans: RecordScans = False,
+    names: Names = "mimics",
+) -> None:
+    """Run a simulation on the ROS 2 graph: robots are driven by Twists from ROS 2 nodes.
+
+    Per robot i, under /robot_i/: odom (nav_msgs/Odometry: the odometer, in
+    robot_i/odom, its start pose), pose (the positioning sensor, in map),
+    ground_truth, scan (sensor_msgs/LaserScan), goal (geometry_msgs/PoseStamped,
+    transient local); it listens to cmd_vel (geometry_msgs/Twist). Also /map
+    (transient local nav_msgs/OccupancyGrid), /clock, /tf, /tf_static and
+    /mimics/markers, and std_srvs/Trigger services /mimics/pause, resume, step
+    and reset (framed as rmw_cyclonedds_cpp frames them). DDS domain
+    ROS_DOMAIN_ID; Cyclone DDS's settings from CYCLONEDDS_URI. Nodes run with
+    use_sim_time:=true. SIGINT or SIGTERM ends the run at a step boundary
+    (status interrupted, summary written). Needs the ros2 extra (cyclonedds).
+    See docs/how-to/ros2.md.
+    """
+    from mimics.interfaces.cli.run_summary import check_repeated, parse_params, print_summary
+
+    lockstep = check_bridge_arguments(
+        lockstep=lockstep, strict_lockstep=strict_lockstep, names=names, robots=robots,
+        time=time, timeout=timeout, grace=grace, startup_grace=startup_grace,
+        watchdog=watchdog, map_resolution=map_resolution, robot_logs=robot_logs)
+    from mimics.interfaces.ros.names import check_name_set
+    from mimics.interfaces.ros2 import require_cyclonedds
+
+    try:
+        check_name_set(names, "--names")
+        params = parse_params(param or [])
+        check_repeated(params, robots=robots, time=time)
+        if out is not None:  # an earlier run there is replaced, the scenario file never
+            from mimics.records.layout import check_run_output
+
+            scenario_file = Path(scenario) if scenario.endswith((".py", ".toml")) else None
+            check_run_output("--out", out, {"the scenario file": scenario_file})
+        require_cyclonedds()
+        from mimics.interfaces.ros2.transport import domain_id
+
+        domain = domain_id()
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    if robots is not None:
+        params["robots"] = robots
+    from mimics.interfaces.cli.compiling.first_run import (
+        compiles_started,
+        kernels_compiled_ahead,
+    )
+
+    with compiles_started():  # a fresh install's compiles start before Numba is imported
+        from mimics.interfaces.ros.bridge_core import BridgeOptions
+        from mimics.interfaces.ros.stopping import RunInterrupted, StopRequest, exit_status
+        from mimics.interfaces.ros2.bridge import run_ros2
+        from mimics.records.naming import new_run_folder
+
+    stop = StopRequest()  # SIGINT, SIGTERM: the run ends at a step boundary
+    try:
+        folder = out or new_run_folder("runs", Path(scenario).stem, "ros2", seed).absolute()
+        options = BridgeOptions(lockstep=lockstep, timeout=timeout,
+                                map_resolution=map_resolution, watchdog=watchdog, names=names,
+                                grace=None if strict_lockstep else grace,
+                                startup_grace=startup_grace)
+        folders: list[Path] = []  # more than one after a reset (/mimics/reset)
+        with kernels_compiled_ahead():
+            result = run_ros2(scenario, folder, options=options, params=params, time=time,
+                              seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
+                              record_scans=record_scans, folders=folders, stop=stop,
+                              domain=domain)
+    except RunInterrupted as exc:
+        fail(str(exc))
+        raise typer.Exit(exit_status(exc.signum)) from None
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    for earlier in folders[:-1]:
+        print(f"reset: the run in {earlier} ended (status stopped) and started again")
+    folder = folders[-1] if folders else folder
+    print_summary(result.summary(), folder)
+    if result.status == "error" and "LockstepTimeout" in result.error:
+        fail(result.error)
+        raise typer.Exit(1)
+    if stop.signum is not None:  # the shell's status of a process a signal ended
+        raise typer.Exit(exit_status(stop.signum))
