@@ -10,30 +10,18 @@ heading by up to ``yaw_jitter`` rad; ``fixed = true`` keeps Stage's poses
 exactly (the paper's experiment does).
 """
 
-import numpy as np
-
-from mimics.world.data_folder import find_stage_file
-from mimics.world.errors import ScenarioError
-from mimics.world.map_files import load_map
 from mimics.world.robot_types import PIONEER_2DX
-from mimics.world.scenario import Scenario, Settings
-from mimics.world.stage_worlds import stage_robot_poses
-from mimics.world.start_jitter import jitter_start
+from mimics.world.scenario import Scenario
+from mimics.world.stage_scenarios import StageWorldScenario
 
 SEED_CHANGES = ("start jitter: up to 0.05 m and 0.1 rad per robot from Stage's poses (jitter, "
                 "yaw_jitter; fixed = true: Stage's poses)")
 ROBOTS = 100
+_WORLD = StageWorldScenario("cave", PIONEER_2DX, ROBOTS)
 
 
 def scenario(robots: int = ROBOTS, time_limit: float = 600.0, jitter: float = 0.05,
              yaw_jitter: float = 0.1, seed: int = 0, fixed: bool = False) -> Scenario:
     """The first ``robots`` (at most 100) of cave.world's robots, for ``time_limit`` s, each
     start jittered from ``seed`` (none when ``fixed``)."""
-    if isinstance(robots, bool) or not isinstance(robots, int) or not 1 <= robots <= ROBOTS:
-        raise ScenarioError(f"cave: robots must be a whole number from 1 to {ROBOTS}, "
-                            f"got {robots!r}")
-    poses = stage_robot_poses(find_stage_file("cave.world"))[:robots]
-    rows = np.column_stack([poses, np.zeros(len(poses))])
-    built = Scenario.from_matrix(rows, load_map("stage:cave"), PIONEER_2DX,
-                                 settings=Settings(dt=0.1, time_limit=time_limit), name="cave")
-    return built if fixed else jitter_start(built, seed, "cave.start", jitter, yaw_jitter)
+    return _WORLD.build(robots, time_limit, jitter, yaw_jitter, seed, fixed)

@@ -11,31 +11,18 @@ heading by up to ``yaw_jitter`` rad; ``fixed = true`` keeps Stage's poses
 exactly (the paper's experiment does).
 """
 
-import numpy as np
-
-from mimics.world.data_folder import find_stage_file
-from mimics.world.errors import ScenarioError
-from mimics.world.map_files import load_map
 from mimics.world.robot_types import SWARMBOT
-from mimics.world.scenario import Scenario, Settings
-from mimics.world.stage_worlds import stage_robot_poses
-from mimics.world.start_jitter import jitter_start
+from mimics.world.scenario import Scenario
+from mimics.world.stage_scenarios import StageWorldScenario
 
 SEED_CHANGES = ("start jitter: up to 0.02 m and 0.1 rad per robot from Stage's poses (jitter, "
                 "yaw_jitter; fixed = true: Stage's poses)")
 ROBOTS = 2000
+_WORLD = StageWorldScenario("hospital", SWARMBOT, ROBOTS, include_commented=True)
 
 
 def scenario(robots: int = ROBOTS, time_limit: float = 600.0, jitter: float = 0.02,
              yaw_jitter: float = 0.1, seed: int = 0, fixed: bool = False) -> Scenario:
     """The first ``robots`` (at most 2,000) of hospital.world's robots, for ``time_limit`` s,
     each start jittered from ``seed`` (none when ``fixed``)."""
-    if isinstance(robots, bool) or not isinstance(robots, int) or not 1 <= robots <= ROBOTS:
-        raise ScenarioError(f"hospital: robots must be a whole number from 1 to {ROBOTS}, "
-                            f"got {robots!r}")
-    poses = stage_robot_poses(find_stage_file("hospital.world"), include_commented=True)
-    rows = np.column_stack([poses[:robots], np.zeros(robots)])
-    built = Scenario.from_matrix(rows, load_map("stage:hospital"), SWARMBOT,
-                                 settings=Settings(dt=0.1, time_limit=time_limit),
-                                 name="hospital")
-    return built if fixed else jitter_start(built, seed, "hospital.start", jitter, yaw_jitter)
+    return _WORLD.build(robots, time_limit, jitter, yaw_jitter, seed, fixed)
