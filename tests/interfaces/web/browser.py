@@ -35,3 +35,34 @@ def take_refusals(page: Any, status: int) -> int:
     mine = [e for e in errors if f"the server responded with a status of {status} " in e]
     errors[:] = [e for e in errors if e not in mine]
     return len(mine)
+
+
+def replay_pixels(page: Any, x: float, y: float, size: int = 3) -> list[list[int]]:
+    """RGB of the replay canvas's ``size`` x ``size`` pixels around world point (x, y)."""
+    half = size // 2
+    data = page.evaluate(f"""() => {{
+        const view = window.workbench.runs.view;
+        const [px, py] = view.toScreen({x}, {y});
+        const ratio = window.devicePixelRatio || 1;
+        return Array.from(view.context.getImageData(Math.round(px * ratio) - {half},
+                                                   Math.round(py * ratio) - {half},
+                                                   {size}, {size}).data);
+    }}""")
+    return [data[k:k + 3] for k in range(0, len(data), 4)]
+
+
+def fill_battery_form(page: Any, name: str, robots: str, seeds: int, runs: int) -> None:
+    """On the Batteries page: go_to_goal on the line scenario with ``robots`` (its
+    parameter text), ``seeds`` seeds of 0.5 s; waits until the form counts ``runs``."""
+    from playwright.sync_api import expect
+
+    page.get_by_label("Battery name").fill(name)
+    page.get_by_role("group", name="Algorithms").get_by_label("go_to_goal", exact=True).check()
+    scenarios = page.get_by_role("group", name="Scenarios")
+    scenarios.get_by_label("line", exact=True).check()
+    scenarios.get_by_label("Parameters of line", exact=True).fill(f"robots={robots}")
+    page.get_by_label("Seeds", exact=True).fill(str(seeds))
+    page.get_by_label("Simulated seconds per run").fill("0.5")
+    page.get_by_label("Simulated seconds per run").blur()
+    expect(page.get_by_text(f"{runs} runs", exact=True)).to_be_visible()
+

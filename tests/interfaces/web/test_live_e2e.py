@@ -17,7 +17,7 @@ from playwright import sync_api as playwright_api
 from mimics.records.run_folder import load_run
 from mimics.world.map_files import save_map
 from mimics.world.maps import Map
-from tests.interfaces.web.browser import take_refusals
+from tests.interfaces.web.browser import fill_battery_form, take_refusals
 from tests.interfaces.web.test_web_api import scenario_body
 
 expect = playwright_api.expect
@@ -182,15 +182,7 @@ def test_run_live_from_the_scenarios_page_a_battery_row_and_an_error_shown(
     expect(page.get_by_label("Live state")).to_contain_text("stopped at t = ")
     # a battery's row: the same run again, live
     page.goto(f"{url}/#/batteries")
-    page.get_by_label("Battery name").fill("one")
-    page.get_by_role("group", name="Algorithms").get_by_label("go_to_goal", exact=True).check()
-    scenarios = page.get_by_role("group", name="Scenarios")
-    scenarios.get_by_label("line", exact=True).check()
-    scenarios.get_by_label("Parameters of line", exact=True).fill("robots=2")
-    page.get_by_label("Seeds", exact=True).fill("1")
-    page.get_by_label("Simulated seconds per run").fill("0.5")
-    page.get_by_label("Simulated seconds per run").blur()
-    expect(page.get_by_text("1 runs", exact=True)).to_be_visible()
+    fill_battery_form(page, "one", robots="2", seeds=1, runs=1)
     page.get_by_role("button", name="Start battery").click()
     expect(page.get_by_label("Progress", exact=True)).to_contain_text("1 of 1 runs finished",
                                                                       timeout=90_000)

@@ -19,7 +19,7 @@ from playwright import sync_api as playwright_api
 from mimics.interfaces.cli import main
 from mimics.records.run_folder import load_run
 from mimics.world.map_files import load_map
-from tests.interfaces.web.browser import click_world, message, screenshot
+from tests.interfaces.web.browser import click_world, fill_battery_form, message, screenshot
 
 
 def test_every_page_opens_from_the_navigation(page: Any, site: tuple[str, Path]) -> None:
@@ -142,15 +142,7 @@ def test_start_a_battery_of_four_runs_and_watch_it_finish(
         page: Any, site: tuple[str, Path], tmp_path_factory: pytest.TempPathFactory) -> None:
     url, root = site
     page.goto(f"{url}/#/batteries")
-    page.get_by_label("Battery name").fill("four")
-    page.get_by_role("group", name="Algorithms").get_by_label("go_to_goal", exact=True).check()
-    scenarios = page.get_by_role("group", name="Scenarios")
-    scenarios.get_by_label("line", exact=True).check()
-    scenarios.get_by_label("Parameters of line", exact=True).fill("robots=1,2")
-    page.get_by_label("Seeds", exact=True).fill("2")
-    page.get_by_label("Simulated seconds per run").fill("0.5")
-    page.get_by_label("Simulated seconds per run").blur()
-    playwright_api.expect(page.get_by_text("4 runs", exact=True)).to_be_visible()
+    fill_battery_form(page, "four", robots="1,2", seeds=2, runs=4)
     page.get_by_role("button", name="Start battery").click()
     progress = page.get_by_label("Progress", exact=True)
     playwright_api.expect(progress).to_contain_text("4 of 4 runs finished (stopped",

@@ -16,7 +16,7 @@ from playwright import sync_api as playwright_api
 from mimics.catalog import load_scenario
 from mimics.records.run_folder import load_run
 from mimics.world.scenario_files import load_scenario_toml
-from tests.interfaces.web.browser import message
+from tests.interfaces.web.browser import message, replay_pixels
 
 expect = playwright_api.expect
 RUN = "runs/line-go_to_goal-s1"
@@ -105,14 +105,7 @@ def test_the_beams_toggle_draws_every_robots_beams(page: Any, site: tuple[str, P
     segment = page.evaluate("window.workbench.runs.beams[2 * 270 + 135]")  # robot 2's middle
     x, y = (segment[0] + segment[2]) / 2, (segment[1] + segment[3]) / 2
     page.wait_for_timeout(100)  # drawn at the next animation frame
-    data = page.evaluate(f"""() => {{
-        const view = window.workbench.runs.view;
-        const [px, py] = view.toScreen({x}, {y});
-        const ratio = window.devicePixelRatio || 1;
-        return Array.from(view.context.getImageData(Math.round(px * ratio) - 2,
-                                                   Math.round(py * ratio) - 2, 5, 5).data);
-    }}""")
-    pixels = [data[k:k + 3] for k in range(0, len(data), 4)]
+    pixels = replay_pixels(page, x, y, size=5)
     assert any(r - g > 30 for r, g, _b in pixels), pixels  # the beams' red
     page.get_by_label("Every robot's beams").uncheck()
     page.wait_for_function("window.workbench.runs.beams.length === 270")

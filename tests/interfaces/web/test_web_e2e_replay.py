@@ -11,20 +11,9 @@ import numpy as np
 from playwright import sync_api as playwright_api
 
 from mimics.records.run_folder import load_run
+from tests.interfaces.web.browser import replay_pixels
 
 expect = playwright_api.expect
-
-
-def pixels(page: Any, x: float, y: float) -> list[list[int]]:
-    """RGB of the replay canvas's 3 x 3 pixels around world point (x, y)."""
-    data = page.evaluate(f"""() => {{
-        const view = window.workbench.runs.view;
-        const [px, py] = view.toScreen({x}, {y});
-        const ratio = window.devicePixelRatio || 1;
-        return Array.from(view.context.getImageData(Math.round(px * ratio) - 1,
-                                                   Math.round(py * ratio) - 1, 3, 3).data);
-    }}""")
-    return [data[k:k + 3] for k in range(0, len(data), 4)]
 
 
 def test_the_list_the_drawing_and_the_play_buttons(page: Any, site: tuple[str, Path]) -> None:
@@ -53,9 +42,9 @@ def test_the_list_the_drawing_and_the_play_buttons(page: Any, site: tuple[str, P
     x, y, theta = run.scenario.stages[0, :3]
     half_length = float(run.scenario.robot_type(0).length) / 2
     tip = 0.6 * half_length  # on the heading line, inside the body
-    assert [255, 255, 255] in pixels(page, x + tip * np.cos(theta), y + tip * np.sin(theta))
+    assert [255, 255, 255] in replay_pixels(page, x + tip * np.cos(theta), y + tip * np.sin(theta))
     gx, gy = run.scenario.goals[0]
-    assert [0x7A, 0x7A, 0x7A] in pixels(page, gx, gy)  # the goal's grey cross
+    assert [0x7A, 0x7A, 0x7A] in replay_pixels(page, gx, gy)  # the goal's grey cross
     play.click()
     expect(play).to_have_attribute("aria-pressed", "true")
     expect(pause).to_have_attribute("aria-pressed", "false")
