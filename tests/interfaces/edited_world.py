@@ -16,21 +16,28 @@ import numpy as np
 
 from mimics.records.runner import prepare, run_to_folder
 
-SCENARIO = '''
+
+def line_in_the_walled_room(count: int, spacing: float, time_limit: float) -> str:
+    """The scenario file of ``count`` Pioneer2DX in a line along y from (0, 0), ``spacing``
+    apart, heading for x = 9, in the room with one wall at x = 6, for ``time_limit`` s."""
+    return f'''
 name = "edited"
-map = { segments = [[6.0, -3.0, 6.0, 3.0]], bounds = [-5.0, -5.0, 12.0, 8.0] }
+map = {{ segments = [[6.0, -3.0, 6.0, 3.0]], bounds = [-5.0, -5.0, 12.0, 8.0] }}
 
 [[robots]]
 generator = "line"
 type = "Pioneer2DX"
-count = 2
+count = {count}
 start = [0.0, 0.0]
-step = [0.0, 4.0]
+step = [0.0, {spacing}]
 goal_offset = [9.0, 0.0]
 
 [settings]
-time_limit = 2.0
+time_limit = {time_limit}
+'''
 
+
+SCENARIO = line_in_the_walled_room(2, 4.0, 2.0) + '''
 [[edits]]
 step = 3
 kind = "add_wall"

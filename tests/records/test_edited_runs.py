@@ -18,22 +18,9 @@ from mimics.interfaces.stepper import SimulationStepper
 from mimics.records.memory import MemoryRecorder, MemoryRun, save_run
 from mimics.records.recorder import RunRecorder
 from mimics.records.runner import prepare
+from tests.interfaces.edited_world import line_in_the_walled_room
 
-SCENARIO = '''
-name = "edited"
-map = { segments = [[6.0, -3.0, 6.0, 3.0]], bounds = [-5.0, -5.0, 12.0, 8.0] }
-
-[[robots]]
-generator = "line"
-type = "Pioneer2DX"
-count = 4
-start = [0.0, 0.0]
-step = [0.0, 1.0]
-goal_offset = [9.0, 0.0]
-
-[settings]
-time_limit = 8.0
-'''
+SCENARIO = line_in_the_walled_room(4, 1.0, 8.0)
 
 
 def live_edited_run(tmp_path: Path) -> Path:
