@@ -93,7 +93,48 @@ class Scan:
         return np.column_stack([x + r * np.cos(angles), y + r * np.sin(angles)])
 
 
-class Robot:
+class _WorldView:
+    """What ``robot`` and ``team`` read alike: the clock, the map, the generator and the
+    communication table, asked for one robot (``robot``) or for the team (``team``)."""
+
+    __slots__ = ()
+    _link: Any
+    _mirror: Any
+
+    def _asker(self) -> int | None:
+        """Whose view this is, for the hub: a robot's index, or None for the team."""
+        raise NotImplementedError
+
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+        return self._mirror.time  # type: ignore[no-any-return]
+
+    @property
+    def dt(self) -> float:
+        """The simulation step (s)."""
+        return self._mirror.dt  # type: ignore[no-any-return]
+
+    @property
+    def map(self) -> Map:
+        """The map: its walls as edited so far (``mimics.engine.edits``)."""
+        return self._link.send(("map", self._asker()))  # type: ignore[no-any-return]
+
+    @property
+    def rng(self) -> np.random.Generator:
+        """The generator for user code: the robot's own stream of the run's seed
+        (``robot.rng``), or the team's (``team.rng``)."""
+        return self._link.send(("rng", self._asker()))  # type: ignore[no-any-return]
+
+    @property
+    def comms(self) -> np.ndarray:
+        """Rows ``[id, x, y, theta, v, w]``: of the active robots within communication
+        range of this robot (``robot.comms``, its own row included), or of all active
+        robots (``team.comms``)."""
+        return self._link.send(("comms", self._asker()))  # type: ignore[no-any-return]
+
+
+class Robot(_WorldView):
     """One robot as its algorithm sees it; every sensor is one attribute away.
 
     ``id``: the robot's index in the scenario (0-based), as in ``comms`` rows and
@@ -118,6 +159,9 @@ class Robot:
             "pose": _frozen(mirror.measured_pose[index]),
             "goal": mirror.goal[index]}  # read as Python floats, never handed out
         self._type: RobotType | None = None
+
+    def _asker(self) -> int:
+        return self.id
 
     @property
     def pose(self) -> np.ndarray:
@@ -166,16 +210,6 @@ class Robot:
         return None if math.isnan(gx) else (gx, gy)
 
     @property
-    def time(self) -> float:
-        """Simulated time (s)."""
-        return self._mirror.time
-
-    @property
-    def dt(self) -> float:
-        """The simulation step (s)."""
-        return self._mirror.dt
-
-    @property
     def type(self) -> RobotType:
         """This robot's type (dimensions, dynamics, sensors)."""
         if self._type is None:  # looked up once: a scenario (frozen) never changes it
@@ -183,24 +217,9 @@ class Robot:
         return self._type
 
     @property
-    def map(self) -> Map:
-        """The map: its walls as edited so far (``mimics.engine.edits``)."""
-        return self._link.send(("map", self.id))  # type: ignore[no-any-return]
-
-    @property
     def memory(self) -> dict[str, Any]:
         """A dict that persists between this robot's steps."""
         return self._link.send(("memory", self.id))  # type: ignore[no-any-return]
-
-    @property
-    def rng(self) -> np.random.Generator:
-        """This robot's generator for user code: its own stream of the run's seed."""
-        return self._link.send(("rng", self.id))  # type: ignore[no-any-return]
-
-    @property
-    def comms(self) -> np.ndarray:
-        """Rows ``[id, x, y, theta, v, w]`` of active robots within communication range."""
-        return self._link.send(("comms", self.id))  # type: ignore[no-any-return]
 
     comms_columns = COMMS_COLUMNS
 
@@ -259,7 +278,7 @@ class TeamScan:
         return np.asarray(self._mirror.max_range)[self._rows]
 
 
-class Team:
+class Team(_WorldView):
     """All robots an algorithm drives in one call, as arrays (first axis = robot).
 
     ``ids`` are the robots' indices; ``pose``, ``velocity``, ``goal`` (NaN rows
@@ -279,6 +298,9 @@ class Team:
 
     def __len__(self) -> int:
         return len(self.ids)
+
+    def _asker(self) -> None:
+        return None
 
     @property
     def pose(self) -> np.ndarray:
@@ -324,34 +346,9 @@ class Team:
         return self._mirror.goal[self.ids]
 
     @property
-    def time(self) -> float:
-        """Simulated time (s)."""
-        return self._mirror.time
-
-    @property
-    def dt(self) -> float:
-        """The simulation step (s)."""
-        return self._mirror.dt
-
-    @property
-    def map(self) -> Map:
-        """The map: its walls as edited so far (``mimics.engine.edits``)."""
-        return self._link.send(("map", None))  # type: ignore[no-any-return]
-
-    @property
     def memory(self) -> dict[str, Any]:
         """A dict shared by the team, kept between steps."""
         return self._link.send(("team_memory", None))  # type: ignore[no-any-return]
-
-    @property
-    def rng(self) -> np.random.Generator:
-        """The team's generator for user code: its own stream of the run's seed."""
-        return self._link.send(("rng", None))  # type: ignore[no-any-return]
-
-    @property
-    def comms(self) -> np.ndarray:
-        """Rows ``[id, x, y, theta, v, w]`` of all active robots."""
-        return self._link.send(("comms", None))  # type: ignore[no-any-return]
 
     def log(self, robot_id: int, message: str) -> None:
         """Add a message to robot ``robot_id``'s ``user_msg`` column this step."""
