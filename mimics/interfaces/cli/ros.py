@@ -44,6 +44,11 @@ Params = Annotated[list[str] | None, typer.Option(
     "--param", help="Scenario parameter NAME=VALUE (repeatable), as for mimics run.")]
 RecordScans = Annotated[bool, typer.Option(
     "--record-scans", help="Also record the laser scans (scans.parquet, 1 mm steps).")]
+PublishMapOdom = Annotated[bool | None, typer.Option(
+    "--publish-map-odom/--no-publish-map-odom",
+    help="Publish each robot's map -> odom on /tf (the correction that puts it at its "
+         "measured pose in map). stage_ros publishes none: it would fight a localiser "
+         "such as amcl. [default: on; off with --names stage]")]
 Names = Annotated[str, typer.Option(
     help="Topic and frame names: mimics, or stage for stage_ros' names (odom, "
          "base_scan, base_pose_ground_truth, cmd_vel; no robot_i/ prefix for one "
@@ -111,6 +116,7 @@ def ros_command(
     video: Annotated[Path | None, typer.Option(help="Also export a video of the run.")] = None,
     record_scans: RecordScans = False,
     names: Names = "mimics",
+    publish_map_odom: PublishMapOdom = None,
 ) -> None:
     """Run a simulation as a ROS node: robots are driven by commands received from ROS.
 
@@ -124,7 +130,10 @@ def ros_command(
     run's parameters under /mimics (and /use_sim_time), and std_srvs/Trigger
     services /mimics/pause, resume, step and reset (a reset starts the run
     again in RUN-reset-1, ...). --names stage: stage_ros' names instead, the
-    node /stageros, realtime by default and reset_positions. After SCENARIO,
+    node /stageros, realtime by default, reset_positions, no map -> odom (as
+    stage_ros: --publish-map-odom adds it), robots that stop (goal, collision)
+    going on publishing, still, with is_crashed (std_msgs/Int8), and scans with
+    range_max for no return and intensities. After SCENARIO,
     ROS arguments as roslaunch passes them (base_scan:=scan, __name:=...).
     SIGINT or SIGTERM ends the run at a step boundary (status interrupted,
     summary written, exit 130 or 143). Needs ROS 1 (Debian's python3-rospy and
@@ -185,7 +194,7 @@ def ros_command(
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
                                 map_resolution=map_resolution, watchdog=watchdog, names=names,
                                 grace=None if strict_lockstep else grace,
-                                startup_grace=startup_grace)
+                                startup_grace=startup_grace, publish_map_odom=publish_map_odom)
         folders: list[Path] = []  # more than one after a reset (/mimics/reset)
         stop = StopRequest()  # SIGINT, SIGTERM: the run ends at a step boundary
         with kernels_compiled_ahead():

@@ -19,6 +19,7 @@ from mimics.interfaces.cli.ros import (
     MapResolution,
     Names,
     Params,
+    PublishMapOdom,
     RecordScans,
     RobotLogs,
     Robots,
@@ -53,6 +54,7 @@ def ros2_command(
     param: Params = None,
     record_scans: RecordScans = False,
     names: Names = "mimics",
+    publish_map_odom: PublishMapOdom = None,
 ) -> None:
     """Run a simulation on the ROS 2 graph: robots are driven by Twists from ROS 2 nodes.
 
@@ -62,7 +64,10 @@ def ros2_command(
     transient local); it listens to cmd_vel (geometry_msgs/Twist). Also /map
     (transient local nav_msgs/OccupancyGrid), /clock, /tf, /tf_static and
     /mimics/markers, and std_srvs/Trigger services /mimics/pause, resume, step
-    and reset (framed as rmw_cyclonedds_cpp frames them). DDS domain
+    and reset (framed as rmw_cyclonedds_cpp frames them). --names stage:
+    stage_ros' names and what its nodes see (no map -> odom unless
+    --publish-map-odom, stopped robots publishing with is_crashed, scan
+    intensities), as for mimics ros. DDS domain
     ROS_DOMAIN_ID; Cyclone DDS's settings from CYCLONEDDS_URI. Nodes run with
     use_sim_time:=true. SIGINT or SIGTERM ends the run at a step boundary
     (status interrupted, summary written). Needs the ros2 extra (cyclonedds).
@@ -111,7 +116,7 @@ def ros2_command(
         options = BridgeOptions(lockstep=lockstep, timeout=timeout,
                                 map_resolution=map_resolution, watchdog=watchdog, names=names,
                                 grace=None if strict_lockstep else grace,
-                                startup_grace=startup_grace)
+                                startup_grace=startup_grace, publish_map_odom=publish_map_odom)
         folders: list[Path] = []  # more than one after a reset (/mimics/reset)
         with kernels_compiled_ahead():
             result = run_ros2(scenario, folder, options=options, params=params, time=time,

@@ -9,7 +9,8 @@ criteria are those of ``mimics run``.
 
 Per step ``k`` (time ``t_k``), lockstep: the inbox is told to expect step
 ``k``'s commands, then ``/clock``, every active robot's ``odom``, ``pose``,
-ground truth and ``scan``, and ``/tf`` are published stamped ``t_k``; the
+ground truth and ``scan``, and ``/tf`` are published stamped ``t_k`` (under
+the stage names also those of the robots that stopped, and ``is_crashed``); the
 next step waits for every active robot's command, all within one deadline
 (``timeout`` seconds from the step's publication). Realtime: the same
 publications, then a sleep until wall time ``start + t_k + dt``; the next
@@ -64,7 +65,7 @@ class RosBridge(BridgeCore):
         from mimics.interfaces.ros.goals import GoalPublisher
         from mimics.interfaces.ros.grid_map import MapPublisher
         from mimics.interfaces.ros.markers import MarkerPublisher
-        from mimics.interfaces.ros.odometry import OdometryPublisher
+        from mimics.interfaces.ros.odometry import OdometryPublisher, StallPublisher
         from mimics.interfaces.ros.parameters import set_run_parameters
         from mimics.interfaces.ros.scans import ScanPublisher
 
@@ -79,8 +80,9 @@ class RosBridge(BridgeCore):
         self.goals = GoalPublisher(sim.state.goal, self.names)
         self.clock = ClockPublisher()
         self.odometry = OdometryPublisher(sim, self.names)
-        self.frames = FramePublisher(beams, self.names, self.odometry.frames)
-        self.scans = ScanPublisher(beams, self.names)
+        self.stalls = StallPublisher(n, self.names)
+        self.frames = FramePublisher(beams, self.names, self.odometry.frames, options.map_odom)
+        self.scans = ScanPublisher(sim, self.names)
         self.commands = CommandSubscriber(n, inbox, sim.scenario.settings.dt, self.names)
 
     def _fully_observed(self, robot: int) -> bool:
@@ -112,6 +114,7 @@ class RosBridge(BridgeCore):
     def _send(self, sim: Simulation, ids: np.ndarray) -> None:
         self.clock.publish(sim.state.time)
         self.odometry.publish(sim, ids)
+        self.stalls.publish(sim, ids)
         self.scans.publish(sim, ids)
         self.frames.publish(sim, ids)
         self.markers.publish(sim)
@@ -120,8 +123,8 @@ class RosBridge(BridgeCore):
         """Withdraw every topic and subscription."""
         from mimics.interfaces.ros.parameters import clear_run_parameters, restore_sim_time
 
-        for part in (self.commands, self.odometry, self.scans, self.frames, self.clock,
-                     self.goals, self.map, self.markers):
+        for part in (self.commands, self.odometry, self.stalls, self.scans, self.frames,
+                     self.clock, self.goals, self.map, self.markers):
             part.close()
         clear_run_parameters()
         if self._sim_time_set:

@@ -10,6 +10,13 @@ the run at the step boundary. Before step 0, :meth:`BridgeCore.wait_for_nodes`
 waits for the controller's nodes. A transport supplies only the four hooks:
 ``_send`` (the step's messages), ``_observed``, ``_fully_observed`` and
 ``_commands_connected`` (what its middleware says of the connections).
+
+What the messages say is decided here and in
+:mod:`~mimics.interfaces.ros.readings`, not in the transports: whether
+``/tf`` carries ``map -> odom`` (:attr:`BridgeOptions.map_odom`), and which
+robots publish (:func:`published_robots`: under the ``stage`` names, a robot
+that reached its goal or collided stays and goes on publishing, still, as a
+Stage robot does).
 """
 
 from __future__ import annotations
@@ -23,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mimics.engine.state import Status
 from mimics.interfaces.ros.names import RosNames, check_name_set
 from mimics.interfaces.ros.stopping import POLL, StopRequest
 from mimics.interfaces.ros.stopping import STATUS as STOPPED_STATUS
@@ -58,6 +66,10 @@ class BridgeOptions:
             the nodes' further subscriptions (a scan subscribed after the
             odometry) before step 0; realtime: also the longest it waits for
             the nodes at all before the clock starts, as stage_ros does not wait.
+        publish_map_odom: whether ``/tf`` carries each robot's ``map -> odom``
+            (the correction a localiser publishes); None: yes under the
+            ``mimics`` names (RViz shows the robots in ``map``), no under
+            ``stage`` (stage_ros publishes none: it would fight ``amcl``).
     """
 
     lockstep: bool = True
@@ -68,6 +80,7 @@ class BridgeOptions:
     names: str = "mimics"
     grace: float | None = None
     startup_grace: float = 0.0
+    publish_map_odom: bool | None = None
 
     def __post_init__(self) -> None:
         check_name_set(self.names)
@@ -83,7 +96,22 @@ class BridgeOptions:
         if not self.watchdog > 0:
             raise MimicsError(f"watchdog: expected a positive number of seconds, "
                               f"got {self.watchdog!r}")
+        if self.publish_map_odom is not None and not isinstance(self.publish_map_odom, bool):
+            raise MimicsError(f"publish_map_odom: expected true, false or None (the name "
+                              f"set's default), got {self.publish_map_odom!r}")
 
+    @property
+    def map_odom(self) -> bool:
+        """Whether ``/tf`` carries ``map -> odom`` (:attr:`publish_map_odom` resolved)."""
+        if self.publish_map_odom is not None:
+            return self.publish_map_odom
+        return self.names != "stage"
+
+    @property
+    def stopped_robots_publish(self) -> bool:
+        """Whether robots that stopped (goal, collision...) go on publishing, still, as
+        Stage's robots stay in its world: under the ``stage`` names."""
+        return self.names == "stage"
 
 
 class BridgeCore(ABC):
@@ -102,7 +130,9 @@ class BridgeCore(ABC):
 
     @abstractmethod
     def _send(self, sim: Simulation, ids: np.ndarray) -> None:
-        """Publish the current step's clock, observations, frames and markers."""
+        """Publish the current step's clock, and the observations and frames of robots
+        ``ids`` (:func:`published_robots`: under the ``stage`` names, stopped robots
+        too), and the markers."""
 
     @abstractmethod
     def _observed(self, robot: int) -> bool:
@@ -197,7 +227,7 @@ class BridgeCore(ABC):
         self.inbox.now = state.time  # the watchdog counts simulated time, as stage_ros
         if self.options.lockstep:
             self.inbox.expect(state.step, ids)  # before publishing: no answer can come earlier
-        self._send(sim, ids)
+        self._send(sim, published_robots(state.status, self.options))
         if self.control is not None:
             self.control.published(state.step, state.time)
         if not self.options.lockstep:  # realtime: the next step happens dt later
@@ -211,12 +241,23 @@ class BridgeCore(ABC):
             wall.sleep(min(pause, POLL))
 
 
+def published_robots(status: np.ndarray, options: BridgeOptions) -> np.ndarray:
+    """The robots whose observations a step publishes: the active ones; under the
+    ``stage`` names also those that stopped (goal reached, collided...), which stay in
+    the world as Stage's do, but not those an edit took out of it."""
+    if options.stopped_robots_publish:
+        return np.flatnonzero(status != Status.REMOVED)
+    return np.flatnonzero(status == Status.ACTIVE)
+
+
 def options_record(options: BridgeOptions) -> dict[str, Any]:
     """What the summary records of the bridge's options (its ``ros``/``ros2`` entry)."""
     return {"mode": "lockstep" if options.lockstep else "realtime",
             "timeout": options.timeout, "watchdog": options.watchdog,
             "grace": options.grace, "startup_grace": options.startup_grace,
-            "names": options.names, "map_resolution": options.map_resolution}
+            "names": options.names, "map_resolution": options.map_resolution,
+            "publish_map_odom": options.map_odom,
+            "stopped_robots_publish": options.stopped_robots_publish}
 
 
 def run_with_resets(bridge: BridgeCore, control: RunControl, sim: Simulation,

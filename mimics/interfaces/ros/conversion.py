@@ -93,12 +93,15 @@ def fill_odometry(message: Odometry, seconds: float, pose: np.ndarray, velocity:
 
 def scan_message(frame_id: str, seconds: float, ranges: np.ndarray, hit: np.ndarray,
                  angles: np.ndarray, max_range: float, dt: float,
-                 no_return_at_max: bool = False) -> LaserScan:
+                 no_return_at_max: bool = False, intensities: bool = False) -> LaserScan:
     """One ranger reading; beams that hit nothing read ``+inf`` (REP 117), or
     ``range_max`` with ``no_return_at_max`` (what stage_ros publishes).
 
     ``angles`` are the ranger's beam angles (right to left, evenly spread),
     ``ranges`` its distances and ``hit`` which beams hit something.
+    ``intensities``: filled as stage_ros fills them (1.0 where a beam hit
+    something, 0.0 where not: :func:`~mimics.interfaces.ros.planar.scan_intensities`),
+    else empty.
     """
     angle_min, angle_max, increment, values = planar.scan_values(ranges, hit, angles,
                                                                  max_range, no_return_at_max)
@@ -106,7 +109,7 @@ def scan_message(frame_id: str, seconds: float, ranges: np.ndarray, hit: np.ndar
                      angle_min=angle_min, angle_max=angle_max, angle_increment=increment,
                      time_increment=0.0, scan_time=dt,
                      range_min=0.0, range_max=float(max_range), ranges=values.tolist(),
-                     intensities=[])
+                     intensities=planar.scan_intensities(hit).tolist() if intensities else [])
 
 
 def goal_message(seconds: float, goal: np.ndarray) -> PoseStamped:
@@ -140,8 +143,9 @@ def transform(seconds: float, parent: str, child: str, x: float, y: float,
 
 
 def odometry_transforms(seconds: float, odom_frame: str, body_frame: str, pose: np.ndarray,
-                         odometry: np.ndarray) -> list[TransformStamped]:
-    """``map -> odom -> body`` for one robot (REP 105).
+                         odometry: np.ndarray, map_odom: bool = True) -> list[TransformStamped]:
+    """``map -> odom -> body`` for one robot (REP 105); ``odom -> body`` only without
+    ``map_odom``.
 
     ``odometry`` is the odometer's pose in ``odom_frame``, ``pose`` the
     measured pose in ``map``: ``odom -> body`` is the odometer's estimate;
@@ -149,8 +153,10 @@ def odometry_transforms(seconds: float, odom_frame: str, body_frame: str, pose: 
     ``map``, ``T(pose) * T(odometry)^-1``, as a localiser would publish it.
     """
     ox, oy, otheta = (float(value) for value in odometry)
-    to_odom = transform(seconds, MAP_FRAME, odom_frame, *planar.odom_correction(pose, odometry))
     to_body = transform(seconds, odom_frame, body_frame, ox, oy, otheta)
+    if not map_odom:
+        return [to_body]
+    to_odom = transform(seconds, MAP_FRAME, odom_frame, *planar.odom_correction(pose, odometry))
     return [to_odom, to_body]
 
 

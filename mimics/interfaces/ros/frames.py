@@ -1,8 +1,10 @@
 """tf2 frames (REP 105), names from :mod:`~mimics.interfaces.ros.names`.
 
-Every step on ``/tf``, per active robot: ``map -> odom`` (the correction
-that puts the body at the measured pose in ``map``) and ``odom -> body``
-(the odometer's pose in its ``odom`` frame). Once on the latched
+Every step on ``/tf``, per robot the step publishes: ``map -> odom`` (the
+correction that puts the body at the measured pose in ``map``; only with
+``map_odom``, the bridge's ``--publish-map-odom``: stage_ros publishes none,
+leaving it to a localiser such as ``amcl``) and ``odom -> body`` (the
+odometer's pose in its ``odom`` frame). Once on the latched
 ``/tf_static``: ``base_footprint -> base_link`` (``stage`` names) and
 ``base_link -> laser`` (``base_laser_link``), both the identity: the ranger
 sits at the robot's centre, facing forward.
@@ -34,8 +36,9 @@ class FramePublisher:
     """Broadcasts every robot's frames."""
 
     def __init__(self, beam_count: np.ndarray, names: RosNames,
-                 odometer: OdometerFrames) -> None:
+                 odometer: OdometerFrames, map_odom: bool = True) -> None:
         self.names = names
+        self.map_odom = map_odom  # map -> odom too (else odom -> body only)
         self.odometer = odometer  # the odometry publisher's: updated before this publishes
         # latched: a listener that connects late (the run waits for the nodes' odometry
         # and scan subscriptions, not for /tf) still gets the current step's frames
@@ -52,7 +55,7 @@ class FramePublisher:
         for i in ids.tolist():
             transforms.extend(odometry_transforms(state.time, names.odom_frame(i),
                                                   names.body_frame(i), state.measured_pose[i],
-                                                  self.odometer.pose[i]))
+                                                  self.odometer.pose[i], self.map_odom))
         if transforms:
             self._dynamic.publish(TFMessage(transforms=transforms))
 

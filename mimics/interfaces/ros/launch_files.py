@@ -68,9 +68,13 @@ def rviz_config(robots: int, names: str = "mimics") -> str:
 def launch_file(robots: int, names: str = "mimics", scenario: str = "line") -> str:
     """The launch file, its ``scenario`` and ``args`` defaulting to what it was written for
     (``--robots N --names SET``); the node is ``/stageros`` under the stage names, as
-    stage_ros' launch files have it."""
-    node = "stageros" if check_name_set(names, "--names") == "stage" else "mimics"
-    arguments = f"--robots {robots} --names {names}"
+    stage_ros' launch files have it. Under the stage names the package also asks for
+    ``--publish-map-odom``: its RViz shows the robots in ``map``, and with no localiser
+    running nothing else links ``map`` to their ``odom`` frames (a lab that runs amcl
+    drops it from ``args:=``)."""
+    stage = check_name_set(names, "--names") == "stage"
+    node = "stageros" if stage else "mimics"
+    arguments = f"--robots {robots} --names {names}" + (" --publish-map-odom" if stage else "")
     return (_template("mimics.launch").replace("@SCENARIO@", xml_escape(scenario, _QUOTES))
             .replace("@ARGS@", xml_escape(arguments, _QUOTES)).replace("@NODE@", node))
 

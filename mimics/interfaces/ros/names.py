@@ -23,8 +23,10 @@ for a single robot (``stageros``' ``mapName``)::
     base_scan               sensor_msgs/LaserScan (base_scan_0, base_scan_1... with several
                             rangers), frame base_laser_link (base_laser_link_0...)
     goal                    geometry_msgs/PoseStamped (latched; stage_ros has none)
+    is_crashed              std_msgs/Int8: 1 once stalled (collided), else 0, as the
+                            stage_ros forks that publish Stage's stall flag name it
     cmd_vel (subscribed)
-    tf: map -> odom -> base_footprint -> base_link -> base_laser_link
+    tf: [map ->] odom -> base_footprint -> base_link -> base_laser_link
 
 Frame ids carry no leading slash (``robot_0/odom``, where ``stageros``
 writes ``/robot_0/odom``): tf2 refuses frame ids that start with one.
@@ -113,6 +115,11 @@ class RosNames:
     def goal(self, robot: int) -> str:
         """The latched goal's topic."""
         return self._topic(robot, "goal")
+
+    def stall(self, robot: int) -> str | None:
+        """The stall flag's topic (``std_msgs/Int8``): ``is_crashed`` under ``stage``,
+        the name stage_ros forks give Stage's ``Stalled()``; None under ``mimics``."""
+        return self._topic(robot, "is_crashed") if self.stage else None
 
     def cmd(self, robot: int) -> str | None:
         """The reference command's topic (``[speed_ref, heading_ref]``); None under ``stage``."""

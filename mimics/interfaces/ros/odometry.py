@@ -11,7 +11,10 @@
   and the true velocity, covariance 0.
 
 The child frame is the robot's body (``base_link``, or ``base_footprint``
-under the ``stage`` names). All three are latched (see ``bridge``).
+under the ``stage`` names). All three are latched (see ``bridge``). Under
+the ``stage`` names a robot that stopped (goal reached, collided) goes on
+publishing them, still (zero twist), and :class:`StallPublisher` publishes
+each robot's ``is_crashed`` (``std_msgs/Int8``, Stage's stall flag).
 """
 
 from __future__ import annotations
@@ -21,10 +24,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 import rospy
 from nav_msgs.msg import Odometry
+from std_msgs.msg import Int8
 
 from mimics.interfaces.ros.conversion import fill_odometry, odometry_message
 from mimics.interfaces.ros.names import MAP_FRAME, RosNames
-from mimics.interfaces.ros.readings import NO_COVARIANCE, OdometryReadings, Reading
+from mimics.interfaces.ros.readings import NO_COVARIANCE, OdometryReadings, Reading, stalled
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
@@ -86,3 +90,26 @@ class OdometryPublisher:
         """Withdraw the topics."""
         for topic in (*self.odom, *self.pose, *self.truth):
             topic.publisher.unregister()
+
+
+class StallPublisher:
+    """Publishes each robot's ``is_crashed`` (``std_msgs/Int8``: 1 once it has collided,
+    else 0) every step, latched, when the name set has the topic (``stage``)."""
+
+    def __init__(self, n: int, names: RosNames) -> None:
+        topics = [names.stall(i) for i in range(n)]
+        self.publishers = {i: rospy.Publisher(topic, Int8, queue_size=10, latch=True)
+                           for i, topic in enumerate(topics) if topic is not None}
+
+    def publish(self, sim: Simulation, ids: np.ndarray) -> None:
+        """The stall flags of robots ``ids`` at the current step."""
+        if not self.publishers:
+            return
+        flags = stalled(sim.state.status)
+        for i in ids.tolist():
+            self.publishers[i].publish(Int8(data=int(flags[i])))
+
+    def close(self) -> None:
+        """Withdraw the topics."""
+        for publisher in self.publishers.values():
+            publisher.unregister()

@@ -4,7 +4,7 @@ Both transports (``rospy`` in :mod:`~mimics.interfaces.ros.conversion`, Cyclone
 DDS in :mod:`mimics.interfaces.ros2.conversion`) fill their own message classes
 from what is computed here: stamps in whole nanoseconds, a yaw as a
 quaternion, the planar covariance in a 6x6, the ``map -> odom`` correction,
-a scan's angles and ranges, and a velocity command checked and turned into
+a scan's angles, ranges and intensities, and a velocity command checked and turned into
 the two references a mimics robot follows.
 
 >>> sec_nanosec(1.25)
@@ -90,6 +90,16 @@ def scan_values(ranges: np.ndarray, hit: np.ndarray, angles: np.ndarray, max_ran
     increment = float(angles[1] - angles[0]) if len(angles) > 1 else 0.0
     values = np.where(hit, ranges, float(max_range) if no_return_at_max else np.inf)
     return float(angles[0]), float(angles[-1]), increment, values
+
+
+def scan_intensities(hit: np.ndarray) -> np.ndarray:
+    """stage_ros' intensities: 1.0 where a beam hit something, 0.0 where it did not.
+
+    Stage gives a beam the ``ranger_return`` of the model it hit (1 unless a
+    world file sets it, and every mimics wall and robot is such a model) and
+    0 with no return.
+    """
+    return np.where(hit, 1.0, 0.0)
 
 
 def array_command(data: list[float], dt: float) -> Command:

@@ -6,7 +6,11 @@ bridge) only put these values into their message classes:
 * :class:`OdometryReadings`: per robot, the pose, velocity, covariance and
   velocity variances of ``odom`` (the odometer in its ``odom`` frame, see
   :mod:`~mimics.interfaces.ros.odometry_frame`), ``pose`` (the positioning
-  sensor in ``map``) and the ground truth;
+  sensor in ``map``) and the ground truth (a robot that has stopped: its
+  pose, with a zero twist);
+* :class:`ScanReadings`: per robot, the ranger's ranges and which beams hit
+  something (a stopped robot's last scan);
+* :func:`stalled`: Stage's stall flag of each robot (``is_crashed``);
 * :func:`fixed_frames`: the ``/tf_static`` frames of the run's robots;
 * :func:`step_markers`: the live markers of a step (footprints, ids, goals),
   built by the export's marker functions with any message factory.
@@ -18,6 +22,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from mimics.engine.state import Status
 from mimics.interfaces.ros.names import MAP_FRAME, RosNames
 from mimics.interfaces.ros.odometry_frame import OdometerFrames
 
@@ -26,6 +31,7 @@ if TYPE_CHECKING:
     from mimics.interfaces.rosexport.pieces import MessagePieces
 
 NO_COVARIANCE = np.zeros((3, 3))
+STILL = np.zeros(2)  # (v, w) of a robot that has stopped
 
 
 class Reading(NamedTuple):
@@ -60,18 +66,52 @@ class OdometryReadings:
 
     def odom(self, sim: Simulation, robot: int) -> Reading:
         """The odometer's pose in the robot's ``odom`` frame and the measured velocity."""
-        return Reading(self.frames.pose[robot], sim.state.measured_velocity[robot],
+        return Reading(self.frames.pose[robot], _moving(sim, robot, sim.state.measured_velocity),
                        self.frames.covariance[robot], self._velocity_variance[robot])
 
     def pose(self, sim: Simulation, robot: int) -> Reading:
         """The positioning sensor's pose in ``map`` and the measured velocity."""
-        return Reading(sim.state.measured_pose[robot], sim.state.measured_velocity[robot],
+        return Reading(sim.state.measured_pose[robot],
+                       _moving(sim, robot, sim.state.measured_velocity),
                        self._position_covariance[robot], self._velocity_variance[robot])
 
     def truth(self, sim: Simulation, robot: int) -> Reading:
         """The true pose in ``map`` and the true velocity, covariance 0."""
-        return Reading(sim.state.pose[robot], sim.state.velocity[robot], NO_COVARIANCE,
-                       (0.0, 0.0))
+        return Reading(sim.state.pose[robot], _moving(sim, robot, sim.state.velocity),
+                       NO_COVARIANCE, (0.0, 0.0))
+
+
+def _moving(sim: Simulation, robot: int, velocity: np.ndarray) -> np.ndarray:
+    """``velocity[robot]``, or 0 for a robot that has stopped: it stands where it stopped
+    (its measured velocity would still carry the sensor's noise)."""
+    return velocity[robot] if sim.state.status[robot] == Status.ACTIVE else STILL
+
+
+class ScanReadings:
+    """Each robot's ranger reading as published: an active robot's current scan, a stopped
+    robot's last (the engine scans active robots only; Stage's stalled robots go on
+    scanning, so a held scan misses what moves past afterwards)."""
+
+    def __init__(self, sim: Simulation) -> None:
+        self.beam_count = sim.types.beam_count
+        n, beams = sim.state.n, int(self.beam_count.max(initial=0))
+        self._ranges = np.full((n, beams), np.inf)
+        self._hit = np.zeros((n, beams), dtype=bool)
+
+    def scan(self, sim: Simulation, robot: int) -> tuple[np.ndarray, np.ndarray]:
+        """``(ranges, hit)`` of the robot's beams: distances, and which hit something."""
+        beams = int(self.beam_count[robot])
+        state = sim.state
+        if state.status[robot] == Status.ACTIVE:
+            self._ranges[robot, :beams] = state.scan[robot, :beams]
+            self._hit[robot, :beams] = state.scan_hit[robot, :beams] != -2
+        return self._ranges[robot, :beams], self._hit[robot, :beams]
+
+
+def stalled(status: np.ndarray) -> np.ndarray:
+    """Each robot's stall flag (``int8``), as Stage's ``Stalled()``: 1 once it has
+    collided (it stays stalled against the obstacle), else 0."""
+    return (status == Status.COLLIDED).astype(np.int8)
 
 
 def fixed_frames(beam_count: np.ndarray, names: RosNames) -> list[tuple[str, str]]:

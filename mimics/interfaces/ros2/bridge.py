@@ -11,7 +11,10 @@ the nodes and stopping on SIGINT/SIGTERM are the ROS 1 bridge's
 
 Per step ``k``: ``/clock``, every active robot's ``odom``, ``pose``
 (``mimics`` names), ground truth and scan, ``/tf`` and ``/mimics/markers``,
-stamped ``t_k``; once, transient local: ``/map``, the goals and ``/tf_static``.
+stamped ``t_k`` (under the ``stage`` names also those of the robots that
+stopped, and each robot's ``is_crashed``; what they carry is the shared
+core's, :mod:`~mimics.interfaces.ros.readings`); once, transient local:
+``/map``, the goals and ``/tf_static``.
 Lockstep waits for one command per active robot before stepping: a
 ``geometry_msgs/Twist`` on its ``cmd_vel`` or (``mimics`` names) a
 ``std_msgs/Float64MultiArray`` ``[speed_ref, heading_ref(, stamp)]`` on its
@@ -36,7 +39,13 @@ from mimics.interfaces.ros.bridge_core import (
 from mimics.interfaces.ros.names import MAP_FRAME, RosNames
 from mimics.interfaces.ros.occupancy import rasterise
 from mimics.interfaces.ros.planar import BadCommand
-from mimics.interfaces.ros.readings import OdometryReadings, fixed_frames, step_markers
+from mimics.interfaces.ros.readings import (
+    OdometryReadings,
+    ScanReadings,
+    fixed_frames,
+    stalled,
+    step_markers,
+)
 from mimics.interfaces.ros.stopping import StopRequest
 from mimics.interfaces.ros2 import conversion as convert
 from mimics.interfaces.ros2 import messages as msg
@@ -64,7 +73,7 @@ class Ros2Bridge(BridgeCore):
         self.graph = graph
         self.names = names = RosNames(options.names, n)
         self.readings = OdometryReadings(sim)
-        self._beams = beams
+        self.scan_readings = ScanReadings(sim)
         self._markers = convert.IdlMessages()
         writer = graph.writer
         self.clock = writer("/clock", msg.Clock, qos.CLOCK)
@@ -75,6 +84,8 @@ class Ros2Bridge(BridgeCore):
                       for i in range(n)]
         self.scans = {i: writer(names.scan(i), msg.LaserScan, qos.STREAM)
                       for i in np.flatnonzero(beams > 0).tolist()}
+        self.stalls = {i: writer(topic, msg.Int8, qos.STREAM)
+                       for i in range(n) if (topic := names.stall(i)) is not None}
         self.tf = writer("/tf", msg.TFMessage, qos.STREAM)
         self.markers = writer(MARKERS_TOPIC, msg.MarkerArray, qos.STREAM)
         # once, transient local: a node that starts later still gets them
@@ -133,6 +144,8 @@ class Ros2Bridge(BridgeCore):
         self.clock.write(convert.clock(seconds))
         readings.update(sim)
         transforms = []
+        flags = stalled(state.status) if self.stalls else None
+        map_odom = self.options.map_odom
         for i in ids.tolist():
             body = names.body_frame(i)
             self.odom[i].write(convert.odometry(seconds, names.odom_frame(i), body,
@@ -144,7 +157,9 @@ class Ros2Bridge(BridgeCore):
                                                  readings.truth(sim, i)))
             transforms += convert.odometry_transforms(seconds, names.odom_frame(i), body,
                                                       state.measured_pose[i],
-                                                      readings.frames.pose[i])
+                                                      readings.frames.pose[i], map_odom)
+            if flags is not None:
+                self.stalls[i].write(msg.Int8(int(flags[i])))
             self._send_scan(sim, i)
         if transforms:
             self.tf.write(msg.TFMessage(transforms))
@@ -155,12 +170,13 @@ class Ros2Bridge(BridgeCore):
         writer = self.scans.get(robot)
         if writer is None:
             return
-        state, types, beams = sim.state, sim.types, int(self._beams[robot])
+        types, stage = sim.types, self.names.stage
+        ranges, hit = self.scan_readings.scan(sim, robot)
+        # stage_ros: range_max where a beam hit nothing (not inf), and intensities
         writer.write(convert.scan(
-            self.names.laser_frame(robot), state.time, state.scan[robot, :beams],
-            state.scan_hit[robot, :beams] != -2, types.beam_offsets[robot, :beams],
-            float(types.max_range[robot]), sim.scenario.settings.dt,
-            no_return_at_max=self.names.stage))  # stage_ros: range_max, not inf
+            self.names.laser_frame(robot), sim.state.time, ranges, hit,
+            types.beam_offsets[robot, :len(ranges)], float(types.max_range[robot]),
+            sim.scenario.settings.dt, no_return_at_max=stage, intensities=stage))
 
     def close(self) -> None:
         """Withdraw every topic and leave the domain."""

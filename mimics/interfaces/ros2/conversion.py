@@ -60,12 +60,15 @@ def odometry(seconds: float, frame_id: str, child_frame_id: str,
 
 def scan(frame_id: str, seconds: float, ranges: np.ndarray, hit: np.ndarray,
          angles: np.ndarray, max_range: float, dt: float,
-         no_return_at_max: bool = False) -> msg.LaserScan:
-    """One ranger reading (see :func:`mimics.interfaces.ros.planar.scan_values`)."""
+         no_return_at_max: bool = False, intensities: bool = False) -> msg.LaserScan:
+    """One ranger reading (see :func:`mimics.interfaces.ros.planar.scan_values`);
+    ``intensities``: stage_ros' (:func:`~mimics.interfaces.ros.planar.scan_intensities`),
+    else none."""
     angle_min, angle_max, increment, values = planar.scan_values(ranges, hit, angles,
                                                                  max_range, no_return_at_max)
+    strengths = planar.scan_intensities(hit).tolist() if intensities else []
     return msg.LaserScan(header(seconds, frame_id), angle_min, angle_max, increment, 0.0,
-                         float(dt), 0.0, float(max_range), values.tolist(), [])
+                         float(dt), 0.0, float(max_range), values.tolist(), strengths)
 
 
 def goal(seconds: float, target: np.ndarray) -> msg.PoseStamped:
@@ -89,13 +92,17 @@ def transform(seconds: float, parent: str, child: str, x: float, y: float,
 
 
 def odometry_transforms(seconds: float, odom_frame: str, body_frame: str, measured: np.ndarray,
-                        odometer: np.ndarray) -> list[msg.TransformStamped]:
+                        odometer: np.ndarray,
+                        map_odom: bool = True) -> list[msg.TransformStamped]:
     """``map -> odom -> body`` for one robot (REP 105; see
-    :func:`mimics.interfaces.ros.planar.odom_correction`)."""
+    :func:`mimics.interfaces.ros.planar.odom_correction`); ``odom -> body`` only
+    without ``map_odom``."""
     ox, oy, otheta = (float(value) for value in odometer)
+    to_body = transform(seconds, odom_frame, body_frame, ox, oy, otheta)
+    if not map_odom:
+        return [to_body]
     return [transform(seconds, MAP_FRAME, odom_frame,
-                      *planar.odom_correction(measured, odometer)),
-            transform(seconds, odom_frame, body_frame, ox, oy, otheta)]
+                      *planar.odom_correction(measured, odometer)), to_body]
 
 
 def clock(seconds: float) -> msg.Clock:

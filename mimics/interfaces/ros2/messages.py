@@ -53,6 +53,12 @@ class ColorRGBA(IdlStruct, typename="std_msgs::msg::dds_::ColorRGBA_"):
 
 @final
 @dataclass
+class Int8(IdlStruct, typename="std_msgs::msg::dds_::Int8_"):
+    data: t.int8 = 0
+
+
+@final
+@dataclass
 class MultiArrayDimension(IdlStruct, typename="std_msgs::msg::dds_::MultiArrayDimension_"):
     label: str = ""
     size: t.uint32 = 0
@@ -267,7 +273,7 @@ class MarkerArray(IdlStruct, typename="visualization_msgs::msg::dds_::MarkerArra
 #: ``"geometry_msgs/msg/Point"``-style names (the export's, ``rosbags``') to these classes
 BY_NAME: dict[str, type[IdlStruct]] = {
     f"{cls.__idl_typename__.split('::')[0]}/msg/{cls.__name__}": cls
-    for cls in (Time, Duration, Header, ColorRGBA, MultiArrayDimension, MultiArrayLayout,
+    for cls in (Time, Duration, Header, ColorRGBA, Int8, MultiArrayDimension, MultiArrayLayout,
                 Float64MultiArray, Vector3, Point, Quaternion, Pose,
                 PoseWithCovariance, Twist, TwistWithCovariance, PoseStamped, Transform,
                 TransformStamped, Odometry, MapMetaData, OccupancyGrid, LaserScan,

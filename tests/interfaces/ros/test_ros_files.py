@@ -50,6 +50,9 @@ def test_stage_names_put_stage_ros_scan_topics_in_the_rviz_config(tmp_path, caps
     rviz = tmp_path / "three" / "mimics_launch" / "rviz" / "mimics.rviz"
     assert rviz_topics(rviz) == ["/map", "/mimics/markers", "/robot_0/base_scan",
                                  "/robot_1/base_scan", "/robot_2/base_scan"]
+    # stage names publish no map -> odom unless asked: the package's RViz, in map, asks
+    launch = (tmp_path / "three" / "mimics_launch" / "launch" / "mimics.launch").read_text()
+    assert "--robots 3 --names stage --publish-map-odom" in launch
     assert main(["ros-files", "--out", str(tmp_path / "one"), "--robots", "1",
                  "--names", "stage"]) == 0  # stage_ros: no robot_i/ prefix for one robot
     assert rviz_topics(tmp_path / "one" / "mimics_launch" / "rviz" / "mimics.rviz")[-1] == \

@@ -1,0 +1,247 @@
+"""What a Stage node sees under ``--names stage``, against a real ``rosmaster`` (issue 49,
+item 5): no ``map -> odom`` unless ``--publish-map-odom``; robots that reach their goal
+or collide stay and keep publishing, still, with Stage's stall flag on ``is_crashed``;
+scans carry stage_ros' intensities and ``range_max`` where a beam hit nothing.
+
+Independent truths: the run's own records (the trajectory's statuses and poses, the
+recorded scans' hit masks), and Stage's ranger as stage_ros publishes it (an intensity
+of 1.0 for a beam that hit a model, the default ``ranger_return``, and 0.0 with no
+return, whose range is ``range_max``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mimics.interfaces.ros.bridge_core import BridgeOptions, options_record
+from mimics.records.run_folder import load_run
+from tests.interfaces.ros.helpers import SYSTEM_PYTHON, free_port, with_node
+from tests.system_packages import require
+
+DT = 0.1
+#: robot 0 has its goal 0.5 m ahead, robot 1 drives into the wall at x = 10, robot 2
+#: stands still (no goal): the run goes on (a run whose robots all stop ends)
+SCENARIO = """
+name = "stage_items"
+map = { segments = [[10, 0, 10, 6]], bounds = [0, 0, 20, 20] }
+robots = [
+  { type = "Pioneer2DX", x = 4.0, y = 3.0, goal = [4.5, 3.0] },
+  { type = "Pioneer2DX", x = 9.6, y = 1.0 },
+  { type = "Pioneer2DX", x = 5.0, y = 15.0 },
+]
+[settings]
+time_limit = 60.0
+noise = "off"
+"""
+TWISTS = "0.3,0;0.3,0;0,0"
+
+#: a node as a Stage user writes one: it answers each robot's odom with a fixed cmd_vel
+#: and logs what it receives (run with the system's Python, where rospy is)
+NODE = r'''
+import json, sys, threading
+import rospy
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import Int8
+from tf2_msgs.msg import TFMessage
+
+log_path, robots, twists = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+rospy.init_node("stage_items_node")
+out, lock = open(log_path, "w"), threading.Lock()
+
+def log(entry):
+    with lock:
+        out.write(json.dumps(entry) + "\n")
+        out.flush()
+
+def stamp(message):
+    return message.header.stamp.to_nsec()
+
+def on_odom(message, args):
+    robot, kind = args
+    log({"kind": kind, "robot": robot, "stamp": stamp(message),
+         "xy": [message.pose.pose.position.x, message.pose.pose.position.y],
+         "twist": [message.twist.twist.linear.x, message.twist.twist.angular.z]})
+    if kind == "odom":
+        commands[robot].publish(answers[robot])
+
+def on_scan(message, robot):
+    log({"kind": "scan", "robot": robot, "stamp": stamp(message),
+         "range_max": message.range_max, "ranges": list(message.ranges),
+         "intensities": list(message.intensities)})
+
+def on_stall(message, robot):
+    log({"kind": "stall", "robot": robot, "data": message.data})
+
+def on_tf(message):
+    log({"kind": "tf", "pairs": [[t.header.frame_id, t.child_frame_id]
+                                 for t in message.transforms]})
+
+commands, answers = [], []
+for robot, pair in enumerate(twists.split(";")):
+    twist = Twist()
+    twist.linear.x, twist.angular.z = (float(v) for v in pair.split(","))
+    answers.append(twist)
+    prefix = "robot_%d/" % robot
+    commands.append(rospy.Publisher(prefix + "cmd_vel", Twist, queue_size=10,
+                                    tcp_nodelay=True))
+    rospy.Subscriber(prefix + "odom", Odometry, on_odom, (robot, "odom"), tcp_nodelay=True)
+    rospy.Subscriber(prefix + "base_pose_ground_truth", Odometry, on_odom, (robot, "truth"))
+    rospy.Subscriber(prefix + "base_scan", LaserScan, on_scan, robot)
+    rospy.Subscriber(prefix + "is_crashed", Int8, on_stall, robot)
+rospy.Subscriber("/tf", TFMessage, on_tf)
+rospy.spin()
+'''
+
+
+def run(env: dict[str, str], tmp_path: Path, name: str, *options: str,
+        seconds: float) -> tuple[pd.DataFrame, Path]:
+    """``mimics ros`` on the scenario with the node; the node's log and the run folder."""
+    scenario, node = tmp_path / "stage_items.toml", tmp_path / "stage_items_node.py"
+    scenario.write_text(SCENARIO)
+    node.write_text(NODE)
+    log, folder = tmp_path / f"{name}.jsonl", tmp_path / name
+    bridge, output = with_node(
+        env, [SYSTEM_PYTHON, str(node), str(log), "3", TWISTS], str(scenario), "--names",
+        "stage", "--lockstep", "--time", str(seconds), "--record-scans", "--robot-logs", "off",
+        "--out", str(folder), *options)
+    assert bridge.returncode == 0, bridge.stdout + bridge.stderr + output
+    table = pd.DataFrame([json.loads(line) for line in log.read_text().splitlines()])
+    if "stamp" in table:
+        table["step"] = (table["stamp"] / 1e9 / DT).round().astype("Int64")
+    return table, folder
+
+
+def tf_pairs(messages: pd.DataFrame) -> set[tuple[str, str]]:
+    return {tuple(pair) for pairs in messages[messages.kind == "tf"].pairs for pair in pairs}
+
+
+def test_map_odom_is_on_request_by_default_only_under_mimics_names() -> None:
+    assert BridgeOptions(names="mimics").map_odom
+    assert not BridgeOptions(names="stage").map_odom
+    assert BridgeOptions(names="stage", publish_map_odom=True).map_odom
+    assert not BridgeOptions(names="mimics", publish_map_odom=False).map_odom
+    assert options_record(BridgeOptions(names="stage"))["publish_map_odom"] is False
+
+
+@pytest.fixture(scope="module")
+def ros_env_module(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, str]]:
+    """A fresh ``rosmaster`` for this module's runs (as the conftest's ``ros_env``)."""
+    require("ros")
+    port = free_port()
+    env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{port}", "ROS_IP": "127.0.0.1",
+           "ROS_HOME": str(tmp_path_factory.mktemp("ros_home")), "PYTHONUNBUFFERED": "1"}
+    env.pop("ROS_HOSTNAME", None)
+    master = subprocess.Popen(["rosmaster", "--core", "-p", str(port)], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 15
+        while True:  # until the master accepts connections
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                if time.monotonic() > deadline or master.poll() is not None:
+                    raise RuntimeError(f"rosmaster did not start on port {port}") from None
+                time.sleep(0.05)
+        yield env
+    finally:
+        master.terminate()
+        try:
+            master.wait(10)
+        except subprocess.TimeoutExpired:
+            master.kill()
+            master.wait()
+
+
+@pytest.fixture(scope="module")
+def stage_run(ros_env_module: dict[str, str],
+              tmp_path_factory: pytest.TempPathFactory) -> tuple[pd.DataFrame, Path]:
+    """The default stage run: 4 s; robot 0 reaches its goal, robot 1 hits the wall."""
+    return run(ros_env_module, tmp_path_factory.mktemp("stage_items"), "default", seconds=4.0)
+
+
+def test_no_map_to_odom_under_stage_names_by_default(stage_run) -> None:
+    messages, folder = stage_run
+    pairs = tf_pairs(messages)
+    assert ("robot_0/odom", "robot_0/base_footprint") in pairs  # /tf did come...
+    assert not any(parent == "map" for parent, _ in pairs)  # ...with no map -> odom
+    summary = json.loads((folder / "summary.json").read_text())
+    assert summary["ros"]["publish_map_odom"] is False
+
+
+def test_publish_map_odom_adds_it(ros_env_module, tmp_path) -> None:
+    messages, folder = run(ros_env_module, tmp_path, "with_map_odom", "--publish-map-odom",
+                           seconds=0.5)
+    pairs = tf_pairs(messages)
+    assert {("map", f"robot_{i}/odom") for i in range(3)} <= pairs
+    summary = json.loads((folder / "summary.json").read_text())
+    assert summary["ros"]["publish_map_odom"] is True
+
+
+def _stopped_at(folder: Path, robot: int, status: int) -> int:
+    """The first step at which the trajectory records ``robot`` with ``status``."""
+    trajectory = pd.read_parquet(folder / "trajectory.parquet")
+    mine = trajectory[trajectory.robot == robot].sort_values("step")
+    return int(mine[mine.status == status].step.iloc[0])
+
+
+@pytest.mark.parametrize(("robot", "status", "flag"), [(0, 1, 0), (1, 2, 1)])
+def test_stopped_robots_stay_and_keep_publishing_still(stage_run, robot, status, flag) -> None:
+    """Robot 0 reached its goal (status 1), robot 1 hit the wall (status 2): both go on
+    publishing odom, ground truth and scans, still, 2 s and more after, and their stall
+    flag (Stage's: 1 once collided)."""
+    messages, folder = stage_run
+    stop = _stopped_at(folder, robot, status)
+    last = round(4.0 / DT)
+    assert stop + round(2.0 / DT) <= last  # the run went on 2 s past the stop
+    mine = messages[messages.robot == robot]
+    for kind in ("odom", "truth", "scan"):
+        steps = sorted(mine[mine.kind == kind].step)
+        assert steps == list(range(last + 1)), kind  # every step, to the end
+    trajectory = pd.read_parquet(folder / "trajectory.parquet").set_index(["robot", "step"])
+    still = trajectory.loc[robot].loc[stop, ["x", "y"]].to_numpy(dtype=float)
+    for kind in ("odom", "truth"):
+        after = mine[(mine.kind == kind) & (mine.step >= stop)]
+        assert np.array(after.twist.tolist()) == pytest.approx(np.zeros((len(after), 2)))
+        poses = np.array(after.xy.tolist())
+        np.testing.assert_array_equal(poses, np.repeat(poses[:1], len(poses), axis=0))
+    truth = mine[(mine.kind == "truth") & (mine.step == last)]
+    np.testing.assert_allclose(truth.xy.iloc[0], still, atol=1e-12)
+    # the scan it had before it stopped, held (the engine scans active robots only)
+    scans = mine[mine.kind == "scan"].set_index("step")
+    held = scans.loc[stop - 1, "ranges"]
+    assert all(scans.loc[step, "ranges"] == held for step in range(stop, last + 1))
+    flags = mine[mine.kind == "stall"].data.tolist()
+    assert len(flags) >= last + 1 - stop and flags[-1] == flag
+    assert flags == sorted(flags)  # once stalled, stalled
+
+
+def test_intensities_are_stage_ros_and_no_return_reads_range_max(stage_run) -> None:
+    messages, folder = stage_run
+    scans = messages[messages.kind == "scan"]
+    both = 0
+    for row in scans.itertuples():
+        ranges, intensities = np.array(row.ranges), np.array(row.intensities)
+        assert len(intensities) == len(ranges) == 180
+        hit = ranges < row.range_max
+        np.testing.assert_array_equal(intensities, np.where(hit, 1.0, 0.0))
+        both += bool(hit.any() and not hit.all())
+    assert both > 0  # scans with hits and with beams that hit nothing
+    # the hits are the run's recorded ones, beam by beam
+    recorded = load_run(folder).scans.robot(0)
+    robot_0 = scans[scans.robot == 0].set_index("step")
+    for step, hits in zip(recorded.steps, recorded.hits, strict=True):
+        intensities = np.array(robot_0.loc[step, "intensities"])
+        np.testing.assert_array_equal(intensities, np.where(hits, 1.0, 0.0))

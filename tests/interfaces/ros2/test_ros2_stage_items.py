@@ -1,0 +1,207 @@
+"""What a Stage node sees under ``mimics ros2 --names stage`` (issue 49, item 5), over
+loopback with the test's own ROS 2 types: no ``map -> odom`` on ``/tf`` unless
+``--publish-map-odom``; scans with stage_ros' intensities (1.0 where a beam hit
+something, 0.0 where not, whose range is ``range_max``); robots that reached their goal
+or collided go on publishing, still, with Stage's stall flag on ``is_crashed``.
+
+Independent truths: the run's records (statuses, poses, the recorded scans' hits), and
+Stage's ranger as stage_ros publishes it.
+"""
+
+# no `from __future__ import annotations`: Cyclone reads the field types at run time
+import json
+import subprocess
+import sys
+import time
+from collections import defaultdict
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState, WaitSet
+from cyclonedds.domain import DomainParticipant
+from cyclonedds.idl import IdlStruct
+from cyclonedds.idl import types as t
+from cyclonedds.idl.annotations import final
+from cyclonedds.pub import DataWriter
+from cyclonedds.sub import DataReader
+from cyclonedds.topic import Topic
+from cyclonedds.util import duration
+
+from mimics.records.run_folder import load_run
+from tests.interfaces.ros.test_stage_world_items import SCENARIO
+from tests.interfaces.ros2.loopback import dds_environment, loopback_here, next_domain
+from tests.interfaces.ros2.observer import STREAM, WRITER
+from tests.interfaces.ros2.ros2_types import (
+    Odom,
+    Rotation,
+    Scan,
+    StdHeader,
+    Vec3,
+    Velocity,
+)
+
+DT, SECONDS = 0.1, 4.0
+TWISTS = ((0.3, 0.0), (0.3, 0.0), (0.0, 0.0))  # robot 0 to its goal, 1 into the wall
+
+
+# ROS 2 Humble's tf2_msgs/TFMessage and std_msgs/Int8, written out from their definitions
+@final
+@dataclass
+class Placement(IdlStruct, typename="geometry_msgs::msg::dds_::Transform_"):
+    translation: Vec3 = field(default_factory=Vec3)
+    rotation: Rotation = field(default_factory=Rotation)
+
+
+@final
+@dataclass
+class StampedPlacement(IdlStruct, typename="geometry_msgs::msg::dds_::TransformStamped_"):
+    header: StdHeader = field(default_factory=StdHeader)
+    child_frame_id: str = ""
+    transform: Placement = field(default_factory=Placement)
+
+
+@final
+@dataclass
+class Frames(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
+    transforms: t.sequence[StampedPlacement] = field(default_factory=list)
+
+
+@final
+@dataclass
+class Flag(IdlStruct, typename="std_msgs::msg::dds_::Int8_"):
+    data: t.int8 = 0
+
+
+@dataclass
+class Seen:
+    folder: Path
+    returncode: int = -1
+    stderr: str = ""
+    samples: dict = field(default_factory=lambda: defaultdict(list))
+
+
+def observe(tmp_path: Path, *options: str, seconds: float) -> Seen:
+    """``mimics ros2 SCENARIO --names stage --lockstep`` observed on loopback: every robot's
+    odom (answered with its twist), ground truth, scan and stall flag, and ``/tf``."""
+    scenario = tmp_path / "stage_items.toml"
+    scenario.write_text(SCENARIO)
+    domain = next_domain()
+    seen = Seen(tmp_path / "run")
+    with loopback_here():
+        participant = DomainParticipant(domain)
+        readers = {"tf": DataReader(participant, Topic(participant, "rt/tf", Frames),
+                                    qos=STREAM)}
+        commands = {}
+        for i in range(3):
+            robot = f"rt/robot_{i}/"
+            for kind, name, kind_type in (("odom", "odom", Odom),
+                                          ("truth", "base_pose_ground_truth", Odom),
+                                          ("scan", "base_scan", Scan),
+                                          ("stall", "is_crashed", Flag)):
+                readers[f"{kind} {i}"] = DataReader(
+                    participant, Topic(participant, robot + name, kind_type), qos=STREAM)
+            commands[i] = DataWriter(participant, Topic(participant, robot + "cmd_vel",
+                                                        Velocity), qos=WRITER)
+        waits = WaitSet(participant)
+        for reader in readers.values():
+            waits.attach(ReadCondition(reader, SampleState.NotRead | ViewState.Any
+                                       | InstanceState.Any))
+        process = subprocess.Popen(
+            [sys.executable, "-m", "mimics", "ros2", str(scenario), "--names", "stage",
+             "--lockstep", "--time", str(seconds), "--record-scans", "--robot-logs", "off",
+             "--startup-grace", "1", "--timeout", "20", "--out", str(seen.folder), *options],
+            env=dds_environment(domain), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+            text=True)
+        deadline = time.monotonic() + 90
+        try:
+            while process.poll() is None and time.monotonic() < deadline:
+                waits.wait(duration(milliseconds=100))
+                _take(readers, commands, seen)
+            _take(readers, commands, seen)
+        finally:
+            if process.poll() is None:
+                process.kill()
+            seen.stderr = process.communicate()[1]
+            seen.returncode = process.returncode
+            participant.__del__()
+    return seen
+
+
+def _take(readers: dict, commands: dict, seen: Seen) -> None:
+    for key, reader in readers.items():
+        for sample in reader.take(64):
+            if not isinstance(sample, IdlStruct):  # a writer that has gone: no data
+                continue
+            seen.samples[key].append(sample)
+            if key.startswith("odom "):  # lockstep: answer the step
+                speed, turn = TWISTS[int(key.split()[1])]
+                commands[int(key.split()[1])].write(
+                    Velocity(Vec3(speed, 0.0, 0.0), Vec3(0.0, 0.0, turn)))
+
+
+def _step(header: StdHeader) -> int:
+    return round((header.stamp.sec + header.stamp.nanosec * 1e-9) / DT)
+
+
+def _pairs(seen: Seen) -> set[tuple[str, str]]:
+    return {(frame.header.frame_id, frame.child_frame_id)
+            for message in seen.samples["tf"] for frame in message.transforms}
+
+
+@pytest.fixture(scope="module")
+def stage_run(tmp_path_factory: pytest.TempPathFactory) -> Seen:
+    seen = observe(tmp_path_factory.mktemp("ros2_stage"), seconds=SECONDS)
+    assert seen.returncode == 0, seen.stderr
+    return seen
+
+
+def test_no_map_to_odom_by_default_under_stage_names(stage_run: Seen) -> None:
+    pairs = _pairs(stage_run)
+    assert ("robot_0/odom", "robot_0/base_footprint") in pairs
+    assert not any(parent == "map" for parent, _ in pairs)
+    summary = json.loads((stage_run.folder / "summary.json").read_text())
+    assert summary["ros2"]["publish_map_odom"] is False
+
+
+def test_publish_map_odom_adds_it(tmp_path: Path) -> None:
+    seen = observe(tmp_path, "--publish-map-odom", seconds=0.5)
+    assert seen.returncode == 0, seen.stderr
+    assert {("map", f"robot_{i}/odom") for i in range(3)} <= _pairs(seen)
+
+
+def test_intensities_are_stage_ros(stage_run: Seen) -> None:
+    both = 0
+    for i in range(3):
+        for scan in stage_run.samples[f"scan {i}"]:
+            ranges, intensities = np.array(scan.ranges), np.array(scan.intensities)
+            assert len(intensities) == len(ranges) == 180
+            hit = ranges < scan.range_max
+            np.testing.assert_array_equal(intensities, np.where(hit, 1.0, 0.0))
+            both += bool(hit.any() and not hit.all())
+    assert both > 0
+    recorded = load_run(stage_run.folder).scans.robot(0)
+    published = {_step(scan.header): scan for scan in stage_run.samples["scan 0"]}
+    for step, hits in zip(recorded.steps, recorded.hits, strict=True):
+        np.testing.assert_array_equal(published[step].intensities, np.where(hits, 1.0, 0.0))
+
+
+@pytest.mark.parametrize(("robot", "status", "flag"), [(0, 1, 0), (1, 2, 1)])
+def test_stopped_robots_keep_publishing_still(stage_run: Seen, robot: int, status: int,
+                                              flag: int) -> None:
+    trajectory = pd.read_parquet(stage_run.folder / "trajectory.parquet")
+    mine = trajectory[trajectory.robot == robot]
+    stop = int(mine[mine.status == status].step.min())
+    last = round(SECONDS / DT)
+    assert stop + round(2.0 / DT) <= last
+    for kind in ("odom", "truth", "scan"):
+        steps = sorted(_step(m.header) for m in stage_run.samples[f"{kind} {robot}"])
+        assert steps == list(range(last + 1)), kind
+    for kind in ("odom", "truth"):
+        after = [m for m in stage_run.samples[f"{kind} {robot}"] if _step(m.header) >= stop]
+        assert all(m.twist.twist.linear.x == 0 and m.twist.twist.angular.z == 0 for m in after)
+        assert len({(m.pose.pose.position.x, m.pose.pose.position.y) for m in after}) == 1
+    flags = [m.data for m in stage_run.samples[f"stall {robot}"]]
+    assert len(flags) == last + 1 and flags[-1] == flag and flags == sorted(flags)
