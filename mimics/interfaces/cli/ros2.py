@@ -13,7 +13,7 @@ from typing import Annotated
 import typer
 
 from mimics.interfaces.cli.output import fail
-from mimics.interfaces.cli.ros import (
+from mimics.interfaces.cli.ros_common import (
     Grace,
     Lockstep,
     MapResolution,
@@ -28,7 +28,13 @@ from mimics.interfaces.cli.ros import (
     StartupGrace,
     StrictLockstep,
     Timeout,
+    Video,
+    View,
+    Watchdog,
+    bridge_options,
     check_bridge_arguments,
+    report_end,
+    run_inputs,
 )
 from mimics.world.errors import MimicsError
 
@@ -46,12 +52,12 @@ def ros2_command(
         help="Run folder [default: runs/SCENARIO-ros2-sSEED, or -2, -3... when taken]")]
     = None,
     timeout: Timeout = 10.0,
-    watchdog: Annotated[float, typer.Option(
-        help="Realtime: stop a robot whose commands stop for this many simulated "
-             "seconds (stage_ros' base_watchdog_timeout).")] = 0.2,
+    watchdog: Watchdog = 0.2,
     map_resolution: MapResolution = 0.05,
     robot_logs: RobotLogs = "auto",
     param: Params = None,
+    view: View = "off",
+    video: Video = None,
     record_scans: RecordScans = False,
     names: Names = "mimics",
     publish_map_odom: PublishMapOdom = None,
@@ -73,54 +79,46 @@ def ros2_command(
     (status interrupted, summary written). Needs the ros2 extra (cyclonedds).
     See docs/how-to/ros2.md.
     """
-    from mimics.interfaces.cli.run_summary import check_repeated, parse_params, print_summary
-
     lockstep = check_bridge_arguments(
         lockstep=lockstep, strict_lockstep=strict_lockstep, names=names, robots=robots,
         time=time, timeout=timeout, grace=grace, startup_grace=startup_grace,
         watchdog=watchdog, map_resolution=map_resolution, robot_logs=robot_logs)
-    from mimics.interfaces.ros.names import check_name_set
+    params = run_inputs(scenario, names=names, param=param, robots=robots, time=time,
+                        out=out, view=view)
     from mimics.interfaces.ros2 import require_cyclonedds
 
     try:
-        check_name_set(names, "--names")
-        params = parse_params(param or [])
-        check_repeated(params, robots=robots, time=time)
-        if out is not None:  # an earlier run there is replaced, the scenario file never
-            from mimics.records.layout import check_run_output
-
-            scenario_file = Path(scenario) if scenario.endswith((".py", ".toml")) else None
-            check_run_output("--out", out, {"the scenario file": scenario_file})
         require_cyclonedds()
         from mimics.interfaces.ros2.transport import domain_id
 
         domain = domain_id()
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    if robots is not None:
-        params["robots"] = robots
     from mimics.interfaces.cli.compiling.first_run import (
         compiles_started,
         kernels_compiled_ahead,
     )
 
     with compiles_started():  # a fresh install's compiles start before Numba is imported
-        from mimics.interfaces.ros.bridge_core import BridgeOptions
+        from mimics.interfaces.live_view import make_live_view
         from mimics.interfaces.ros.stopping import RunInterrupted, StopRequest, exit_status
         from mimics.interfaces.ros2.bridge import run_ros2
         from mimics.records.naming import new_run_folder
 
+        live = make_live_view(view)
+
     stop = StopRequest()  # SIGINT, SIGTERM: the run ends at a step boundary
     try:
         folder = out or new_run_folder("runs", Path(scenario).stem, "ros2", seed).absolute()
-        options = BridgeOptions(lockstep=lockstep, timeout=timeout,
-                                map_resolution=map_resolution, watchdog=watchdog, names=names,
-                                grace=None if strict_lockstep else grace,
-                                startup_grace=startup_grace, publish_map_odom=publish_map_odom)
+        options = bridge_options(
+            lockstep=lockstep, strict_lockstep=strict_lockstep, timeout=timeout,
+            map_resolution=map_resolution, watchdog=watchdog, names=names, grace=grace,
+            startup_grace=startup_grace, publish_map_odom=publish_map_odom)
         folders: list[Path] = []  # more than one after a reset (/mimics/reset)
         with kernels_compiled_ahead():
             result = run_ros2(scenario, folder, options=options, params=params, time=time,
                               seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
+                              observers=(live,) if live is not None else (),
                               record_scans=record_scans, folders=folders, stop=stop,
                               domain=domain)
     except RunInterrupted as exc:
@@ -128,12 +126,4 @@ def ros2_command(
         raise typer.Exit(exit_status(exc.signum)) from None
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    for earlier in folders[:-1]:
-        print(f"reset: the run in {earlier} ended (status stopped) and started again")
-    folder = folders[-1] if folders else folder
-    print_summary(result.summary(), folder)
-    if result.status == "error" and "LockstepTimeout" in result.error:
-        fail(result.error)
-        raise typer.Exit(1)
-    if stop.signum is not None:  # the shell's status of a process a signal ended
-        raise typer.Exit(exit_status(stop.signum))
+    report_end(result, folder, folders, video, stop)

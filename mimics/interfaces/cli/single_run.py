@@ -81,7 +81,7 @@ def run(
         raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
     if ros_timeout is not None and not ros_timeout > 0:
         raise fail(f"--ros-timeout: expected a positive number of seconds, got {ros_timeout}")
-    if algorithm.startswith("ros:"):
+    if algorithm.startswith(("ros:", "ros2:")):  # one DEFAULTS for both
         from mimics.interfaces.ros.node_algorithm import DEFAULTS
 
         DEFAULTS.timeout_option = "--ros-timeout"

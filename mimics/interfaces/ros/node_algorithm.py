@@ -27,34 +27,36 @@ battery file that is the way to choose them (``mimics run`` also has
 
 The entry point ``ros`` of the group ``mimics.algorithm_schemes``
 (``pyproject.toml``) is :data:`SCHEME`: the catalog finds it there, so that
-the layers below the interfaces never import ROS.
+the layers below the interfaces never import ROS. What ``ros2:`` algorithms
+share with these (the command, the node's process, the scheme) is in
+:mod:`~mimics.interfaces.ros.node_process`.
 """
 
 from __future__ import annotations
 
-import atexit
-import multiprocessing.util
-import os
-import re
-import shlex
 import shutil
-import signal
-import subprocess
 import sys
-from dataclasses import dataclass
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mimics.engine.user_code import Controller, UserFailure
-from mimics.interfaces.ros.names import NAME_SETS
-from mimics.world.errors import AlgorithmError, MimicsError
+from mimics.interfaces.ros import node_process
+from mimics.interfaces.ros.node_process import (
+    DEFAULTS,
+    NodeController,
+    NodeDefaults,
+    NodeKind,
+    NodeRun,
+    NodeScheme,
+    close_current,
+)
 
 if TYPE_CHECKING:
-    from mimics.engine.outcome import RunResult
     from mimics.engine.simulation import Simulation
-    from mimics.interfaces.ros.bridge import RosBridge
+    from mimics.engine.user_code import UserFailure
+
+__all__ = ["DEFAULTS", "SCHEME", "NodeCommand", "NodeDefaults", "RosNodeCommand",
+           "RosNodeController", "system_python"]
 
 
 def system_python() -> str:
@@ -62,163 +64,20 @@ def system_python() -> str:
     return shutil.which("python3", path="/usr/bin") or sys.executable
 
 
-NAMES_OPTION = "--names="
+ROS1 = NodeKind("ros", "a rospy .py file or an executable ROS node", system_python)
 
 
-@dataclass(frozen=True)
-class NodeCommand:
-    """A controller node's program (absolute) and arguments, and the bridge's name set
-    (None: the process's default, :data:`DEFAULTS`)."""
+class RosNodeCommand(node_process.NodeCommand):
+    """A ROS 1 controller node's command (``ros:[--names=SET] PROGRAM [ARGS...]``)."""
 
-    program: Path
-    args: tuple[str, ...]
-    names: str | None = None
-
-    @classmethod
-    def parse(cls, text: str, base: Path) -> NodeCommand:
-        """``[--names=SET] PROGRAM [ARGS...]``, PROGRAM a file relative to ``base`` or a
-        name on ``PATH``.
-
-        Raises:
-            AlgorithmError: naming the algorithm and what was expected.
-        """
-        where = f"algorithm 'ros:{text}'"
-        try:
-            words = shlex.split(text)
-        except ValueError as exc:
-            raise AlgorithmError(f"{where}: {exc} (expected ros:PROGRAM [ARGS...])") from None
-        names = None
-        while words and words[0].startswith("--"):
-            option = words.pop(0)
-            if not option.startswith(NAMES_OPTION):
-                raise AlgorithmError(f"{where}: unknown option {option!r} before the program "
-                                     f"(expected {NAMES_OPTION}SET, SET one of "
-                                     f"{', '.join(NAME_SETS)})")
-            names = option[len(NAMES_OPTION):]
-            if names not in NAME_SETS:
-                raise AlgorithmError(f"{where}: {NAMES_OPTION}: expected one of "
-                                     f"{', '.join(NAME_SETS)}, got {names!r}")
-        if not words:
-            raise AlgorithmError(f"{where}: expected ros:PROGRAM [ARGS...], PROGRAM a rospy "
-                                 ".py file or an executable ROS node")
-        path = Path(words[0]).expanduser()
-        found = shutil.which(words[0]) if len(path.parts) == 1 else None
-        if not path.is_absolute():
-            path = base / path
-        if path.is_file():
-            program = path.resolve()
-        elif found is not None:
-            program = Path(found)
-        else:
-            raise AlgorithmError(f"{where}: no program {str(path)!r} (expected a rospy .py "
-                                 "file or an executable ROS node)")
-        if program.suffix != ".py" and not os.access(program, os.X_OK):
-            raise AlgorithmError(f"{where}: {str(program)!r} is neither a .py file nor "
-                                 "executable (chmod +x it, or build the node)")
-        return cls(program, tuple(words[1:]), names)
-
-    @property
-    def text(self) -> str:
-        """The command as an algorithm reference takes it (after ``ros:``)."""
-        options = [] if self.names is None else [f"{NAMES_OPTION}{self.names}"]
-        return " ".join(_quoted(word) for word in (*options, str(self.program), *self.args))
-
-    @property
-    def label(self) -> str:
-        """The algorithm's display name: ``ros-`` and the program's stem."""
-        return f"ros-{self.program.stem}"
-
-    def argv(self, robots: int, seed: int) -> list[str]:
-        """The command line of the node for one run."""
-        args = [arg.replace("{robots}", str(robots)).replace("{seed}", str(seed))
-                for arg in self.args]
-        start = [system_python()] if self.program.suffix == ".py" else []
-        return [*start, str(self.program), *args]
+    kind = ROS1
 
 
-def _quoted(word: str) -> str:
-    """``word`` quoted for the shell only if it must be (``{robots}`` stays as it is)."""
-    return word if _PLAIN.fullmatch(word) else shlex.quote(word)
+NodeCommand = RosNodeCommand  # the name it had before ros2: shared it
 
 
-_PLAIN = re.compile(r"[\w@%+=:,./{}-]+")
-
-
-class _NodeRun:
-    """One run's node process and bridge; an observer that publishes and cleans up."""
-
-    current: _NodeRun | None = None  # at most one per process: rospy has one node
-
-    def __init__(self, bridge: RosBridge, argv: list[str], robots: int, seed: int) -> None:
-        from mimics.interfaces.child_processes import dying_with_parent
-
-        self.bridge = bridge
-        self.argv = argv
-        self.node = subprocess.Popen(dying_with_parent(argv), env={
-            **os.environ, "MIMICS_ROBOTS": str(robots), "MIMICS_SEED": str(seed)})
-        _NodeRun.current = self
-
-    def on_start(self, sim: Simulation) -> None:
-        self.bridge.on_start(sim)
-
-    def on_step(self, sim: Simulation) -> None:
-        self.bridge.on_step(sim)
-
-    def on_end(self, sim: Simulation, result: RunResult) -> None:
-        self.bridge.on_end(sim, result)
-        self.close()
-
-    def check_node(self) -> None:
-        """Raise if the node has exited (while mimics waits for it to connect)."""
-        code = self.node.poll()
-        if code is not None:
-            raise MimicsError(f"the controller node {shlex.join(self.argv)!r} "
-                              f"exited with status {code} before it connected")
-
-    def close(self) -> None:
-        from mimics.interfaces.ros.private_master import stop_process
-
-        if _NodeRun.current is self:
-            _NodeRun.current = None
-            stop_process(self.node, signal.SIGINT)
-            self.bridge.close()
-
-
-@atexit.register
-def _close_current() -> None:
-    if _NodeRun.current is not None:
-        _NodeRun.current.close()
-
-
-# a multiprocessing child (a battery worker) ends with os._exit, skipping atexit
-multiprocessing.util.Finalize(None, _close_current, exitpriority=200)
-
-
-@dataclass
-class NodeDefaults:
-    """The bridge settings of ``ros:`` runs in this process.
-
-    ``mimics run --ros-timeout`` sets ``timeout`` and ``timeout_option``, and
-    so does a battery file's ``ros_timeout`` (:meth:`RosScheme.configure`);
-    ``--ros-names`` (or ``ros:--names=stage``) sets ``names``; elsewhere (the
-    Python API) the defaults hold and time-out messages cite no option.
-    """
-
-    timeout: float = 10.0
-    timeout_option: str | None = None
-    names: str = "mimics"
-
-
-DEFAULTS = NodeDefaults()
-
-
-class NodeController(Controller):
+class RosNodeController(NodeController):
     """The engine's controller of a ``ros:`` algorithm: references from a node it starts."""
-
-    def __init__(self, command: NodeCommand) -> None:
-        self.command = command
-        self.name = command.label
-        self._references: Controller | None = None
 
     def reset(self, sim: Simulation) -> list[UserFailure]:
         from mimics.interfaces.ros.bridge import BridgeOptions, RosBridge, join_ros
@@ -227,7 +86,7 @@ class NodeController(Controller):
         # lockstep: a run as deterministic as the node
         options = BridgeOptions(timeout=DEFAULTS.timeout, timeout_option=DEFAULTS.timeout_option,
                                 names=self.command.names or DEFAULTS.names)
-        _close_current()  # a run that ended without on_end (it raised) leaves its node
+        close_current()  # a run that ended without on_end (it raised) leaves its node
         private_master()
         join_ros()  # rospy importable from here on
         from mimics.interfaces.ros.inbox import Inbox
@@ -241,48 +100,11 @@ class NodeController(Controller):
         bridge = RosBridge(sim, inbox, options)
         references.publishers = bridge.commands.publishers_connected
         references.names = bridge.names
-        run = _NodeRun(bridge, self.command.argv(state.n, sim.seed), state.n, sim.seed)
-        try:
-            bridge.wait_for_nodes(np.flatnonzero(state.active), check=run.check_node)
-        except BaseException:
-            run.close()
-            raise
+        run = NodeRun(bridge, self.command.argv(robots=state.n, seed=sim.seed),
+                      {"MIMICS_ROBOTS": str(state.n), "MIMICS_SEED": str(sim.seed)})
+        self._waited(run, bridge, np.flatnonzero(state.active))
         sim.observers.append(run)
         return self._references.reset(sim)
 
-    def compute(self, sim: Simulation, ids: np.ndarray) -> list[UserFailure]:
-        if self._references is None:
-            raise RuntimeError("compute() before reset()")
-        return self._references.compute(sim, ids)
 
-
-class RosScheme:
-    """The ``ros:`` algorithm scheme, as the catalog uses it."""
-
-    name = "ros"
-
-    def resolve(self, command: str, base: Path) -> str:
-        """The command with its program made absolute (relative to ``base``)."""
-        return NodeCommand.parse(command, base).text
-
-    def label(self, command: str) -> str:
-        """The display name, without checking the program (``ros-`` and its stem)."""
-        try:
-            words = shlex.split(command)
-        except ValueError:
-            words = command.split()
-        words = [word for word in words if not word.startswith("--")][:1]  # options first
-        return f"ros-{Path(words[0]).stem}" if words else "ros"
-
-    def configure(self, timeout: float | None, option: str | None) -> None:
-        """A battery's ``ros_timeout`` (None: the default, 10 s), cited as ``option``."""
-        DEFAULTS.timeout = NodeDefaults.timeout if timeout is None else timeout
-        DEFAULTS.timeout_option = option if timeout is not None else None
-
-    def algorithm(self, command: str) -> tuple[str, Any]:
-        """The display name and a fresh controller (a relative program: from the current folder)."""
-        parsed = NodeCommand.parse(command, Path.cwd())
-        return parsed.label, NodeController(parsed)
-
-
-SCHEME = RosScheme()
+SCHEME = NodeScheme(RosNodeCommand, RosNodeController)
