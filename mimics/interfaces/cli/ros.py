@@ -13,30 +13,8 @@ from typing import Annotated
 
 import typer
 
+from mimics.interfaces.cli import ros_common as common
 from mimics.interfaces.cli.output import fail
-from mimics.interfaces.cli.ros_common import (
-    Grace,
-    Lockstep,
-    MapResolution,
-    Names,
-    Params,
-    PublishMapOdom,
-    RecordScans,
-    RobotLogs,
-    Robots,
-    Seed,
-    SimulatedTime,
-    StartupGrace,
-    StrictLockstep,
-    Timeout,
-    Video,
-    View,
-    Watchdog,
-    bridge_options,
-    check_bridge_arguments,
-    report_end,
-    run_inputs,
-)
 from mimics.world.errors import MimicsError
 
 
@@ -47,25 +25,25 @@ def ros_command(
         help="ROS arguments, as roslaunch passes them: remaps (base_scan:=scan), "
              "__name:=NODE, __ns:=NAMESPACE, private parameters (_base_watchdog_timeout:=0.5)."
     )] = None,
-    robots: Robots = None,
-    lockstep: Lockstep = None,
-    strict_lockstep: StrictLockstep = False,
-    grace: Grace = 1.0,
-    startup_grace: StartupGrace = 2.0,
-    time: SimulatedTime = None,
-    seed: Seed = 0,
+    robots: common.Robots = None,
+    lockstep: common.Lockstep = None,
+    strict_lockstep: common.StrictLockstep = False,
+    grace: common.Grace = 1.0,
+    startup_grace: common.StartupGrace = 2.0,
+    time: common.SimulatedTime = None,
+    seed: common.Seed = 0,
     out: Annotated[Path | None, typer.Option(
         help="Run folder [default: runs/SCENARIO-ros-sSEED, or -2, -3... when taken]")] = None,
-    timeout: Timeout = 10.0,
-    watchdog: Watchdog = 0.2,
-    map_resolution: MapResolution = 0.05,
-    robot_logs: RobotLogs = "auto",
-    param: Params = None,
-    view: View = "off",
-    video: Video = None,
-    record_scans: RecordScans = False,
-    names: Names = "mimics",
-    publish_map_odom: PublishMapOdom = None,
+    timeout: common.Timeout = 10.0,
+    watchdog: common.Watchdog = 0.2,
+    map_resolution: common.MapResolution = 0.05,
+    robot_logs: common.RobotLogs = "auto",
+    param: common.Params = None,
+    view: common.View = "off",
+    video: common.Video = None,
+    record_scans: common.RecordScans = False,
+    names: common.Names = "mimics",
+    publish_map_odom: common.PublishMapOdom = None,
 ) -> None:
     """Run a simulation as a ROS node: robots are driven by commands received from ROS.
 
@@ -93,11 +71,11 @@ def ros_command(
     if bad is not None:
         raise fail(f"{bad!r}: expected one argument, SCENARIO, then only ROS arguments "
                    "NAME:=VALUE (remaps such as base_scan:=scan, __name:=, __ns:=)")
-    lockstep = check_bridge_arguments(
+    lockstep = common.check_bridge_arguments(
         lockstep=lockstep, strict_lockstep=strict_lockstep, names=names, robots=robots,
         time=time, timeout=timeout, grace=grace, startup_grace=startup_grace,
         watchdog=watchdog, map_resolution=map_resolution, robot_logs=robot_logs)
-    params = run_inputs(scenario, names=names, param=param, robots=robots, time=time,
+    params = common.run_inputs(scenario, names=names, param=param, robots=robots, time=time,
                         out=out, view=view)
     from mimics.interfaces.ros.system_ros import require_master, require_ros
 
@@ -119,7 +97,7 @@ def ros_command(
         # the default name, never one taken (-2, -3...): a run never replaces another;
         # absolute, so that the message says where it is (roslaunch runs us in $ROS_HOME)
         folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed).absolute()
-        options = bridge_options(
+        options = common.bridge_options(
             lockstep=lockstep, strict_lockstep=strict_lockstep, timeout=timeout,
             map_resolution=map_resolution, watchdog=watchdog, names=names, grace=grace,
             startup_grace=startup_grace, publish_map_odom=publish_map_odom)
@@ -136,7 +114,7 @@ def ros_command(
         raise typer.Exit(exit_status(exc.signum)) from None
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    report_end(result, folder, folders, video, stop)
+    common.report_end(result, folder, folders, video, stop)
 
 
 def ros_files_command(
