@@ -13,7 +13,7 @@ from typing import Annotated
 
 import typer
 
-from mimics.interfaces.cli import ros_common as common
+import mimics.interfaces.cli.ros_common as common
 from mimics.interfaces.cli.output import fail
 from mimics.world.errors import MimicsError
 
