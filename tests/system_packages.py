@@ -38,6 +38,8 @@ PARTS: dict[str, tuple[Callable[[], bool], list[str]]] = {
     # `ps`, for tests that look for processes left running (tests/processes.py)
     "ps": (_has_command("ps"), ["procps"]),
     "chromium": (_has_command("chromium"), ["chromium"]),
+    # the batteries' optional OS sandbox (tests/batteries/test_sandbox.py)
+    "bubblewrap": (_has_command("bwrap"), ["bubblewrap"]),
     "ros": (
         lambda: _has_command("rosmaster")() and _has_file("/usr/include/ros/ros.h")()
         and _has_file("/usr/lib/python3/dist-packages/tf2_ros")()

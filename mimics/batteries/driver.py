@@ -43,6 +43,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
+from mimics.batteries.isolation import containment_of, refuse_dask
 from mimics.batteries.progress import BatteryProgress
 from mimics.batteries.rounds import Rounds, extend_all
 from mimics.batteries.spec import BatterySpec, load_battery
@@ -123,6 +124,7 @@ def run_battery(spec: BatterySpec | str | Path, out: str | Path, *, workers: int
     if dask:  # reach the cluster before anything is written
         from mimics.batteries.dask_backend import DaskExecutor
 
+        refuse_dask(spec)
         cluster = DaskExecutor(dask)
     try:
         store = BatteryStore.create(out, spec)
@@ -275,11 +277,13 @@ def _executor(store: BatteryStore, workers: int | None, dask: str | None, pendin
     if dask:
         from mimics.batteries.dask_backend import DaskExecutor
 
+        refuse_dask(store.spec())
         return DaskExecutor(dask)
     from mimics.batteries.local import LocalExecutor
 
     count = min(workers or os.cpu_count() or 1, pending)
-    return LocalExecutor(count, store.folder / WORKERS_DIR)
+    return LocalExecutor(count, store.folder / WORKERS_DIR,
+                         containment=containment_of(store.spec(), store.folder))
 
 
 def _clear(folder: Path) -> None:

@@ -4,7 +4,9 @@
 alive, gives a task to each idle one, and turns what happens into outcomes:
 the run's own outcome, ``timeout`` (killed past its hard deadline) or
 ``crashed`` (the process died). A killed or dead worker is replaced at once;
-the battery goes on.
+the battery goes on. Under ``isolation = "run"`` every worker runs one run and
+is replaced (a fresh fork of the fork server); under ``sandbox = "bwrap"`` each
+run is a process of its own under bubblewrap (:mod:`mimics.batteries.sandbox`).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import time
 from pathlib import Path
 
 from mimics.batteries.compile_once import compile_missing_parts
+from mimics.batteries.isolation import Containment
 from mimics.batteries.tasks import Outcome, Task
 from mimics.batteries.workers import STARTUP_LIMIT, WorkerProcess
 from mimics.world.errors import MimicsError
@@ -36,14 +39,24 @@ class LocalExecutor:
         warm_up: each worker loads the compiled kernels with a tiny run at start;
             before the workers start, what Numba's cache lacks is compiled once
             (:mod:`mimics.batteries.compile_once`), not once per worker.
+        containment: a process per run, a sandbox (:mod:`mimics.batteries.isolation`).
+
+    Raises:
+        MimicsError: a sandbox is asked and ``bwrap`` is missing or cannot run here;
+            no worker is started.
     """
 
     kind = "local"
 
-    def __init__(self, workers: int, log_dir: Path | None = None, *, warm_up: bool = True
-                 ) -> None:
+    def __init__(self, workers: int, log_dir: Path | None = None, *, warm_up: bool = True,
+                 containment: Containment | None = None) -> None:
         if workers < 1:
             raise MimicsError(f"--workers: expected a whole number >= 1, got {workers}")
+        self.containment = containment or Containment()
+        if self.containment.sandbox:
+            from mimics.batteries.sandbox import check_sandbox
+
+            check_sandbox(self.containment)
         self.log_dir = log_dir
         self.warm_up = warm_up
         self.threads = max(1, (os.cpu_count() or 1) // workers)
@@ -51,7 +64,7 @@ class LocalExecutor:
         self._startup_failures = 0
         if warm_up:
             compile_missing_parts(log_dir)
-        self._slots = [self._spawn() for _ in range(workers)]
+        self._slots = [self._spawn(slot) for slot in range(workers)]
 
     @property
     def capacity(self) -> int:
@@ -80,17 +93,22 @@ class LocalExecutor:
         ready = set(multiprocessing.connection.wait(waitables, timeout=wait))
         outcomes: list[Outcome] = []
         for index, worker in enumerate(self._slots):
-            gone = False
-            if worker.conn in ready:
-                try:
-                    outcome = worker.receive()
+            gone = finished = False
+            if worker.conn in ready or worker.process.sentinel in ready:
+                try:  # every message: a fast run's "ready" and outcome may come at once
+                    while worker.conn.poll():
+                        outcome = worker.receive()
+                        if outcome is not None:
+                            outcomes.append(outcome)
+                            finished = True
                 except (EOFError, OSError):
                     gone = True
-                else:
-                    if outcome is not None:
-                        outcomes.append(outcome)
-                    if worker.ready:
-                        self._startup_failures = 0
+                if worker.ready:
+                    self._startup_failures = 0
+                if finished and self.containment.one_run_per_process:  # it ends: a fresh one
+                    worker.process.join(0.5)
+                    self._replace(index)
+                    continue
             if gone or worker.process.sentinel in ready:
                 worker.process.join(1.0)
                 if not worker.alive():
@@ -112,6 +130,9 @@ class LocalExecutor:
     def close(self) -> None:
         """Stop every worker (idle ones cleanly, busy ones killed)."""
         for worker in self._slots:
+            if not worker.ready:  # still starting: it has run nothing to finish
+                worker.kill()
+                continue
             with contextlib.suppress(OSError, ValueError):
                 if not worker.busy and worker.alive():
                     worker.conn.send(None)
@@ -122,14 +143,22 @@ class LocalExecutor:
             worker.kill()
         self._slots = []
 
-    def _spawn(self) -> WorkerProcess:
+    def _spawn(self, slot: int) -> WorkerProcess:
         self._spawned += 1
-        return WorkerProcess(f"w{self._spawned}", self.log_dir, death_signal=True,
-                             warm_up=self.warm_up, threads=self.threads)
+        # a process per run: one log per slot (workers/w1.log...), not one per run
+        number = slot + 1 if self.containment.one_run_per_process else self._spawned
+        if self.containment.sandbox:
+            from mimics.batteries.sandbox import SandboxedWorker
+
+            return SandboxedWorker(f"s{number}", self.log_dir, self.containment,
+                                   threads=self.threads)
+        return WorkerProcess(f"w{number}", self.log_dir, death_signal=True,
+                             warm_up=self.warm_up, threads=self.threads,
+                             one_task=self.containment.one_run_per_process)
 
     def _replace(self, index: int) -> None:
         self._slots[index].kill()
-        self._slots[index] = self._spawn()
+        self._slots[index] = self._spawn(index)
 
     def _startup_failed(self, worker: WorkerProcess) -> None:
         self._startup_failures += 1

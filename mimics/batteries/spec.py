@@ -13,6 +13,8 @@ combination is one run::
     record_every = 1      # record every n-th step of the trajectory
     record_scans = false  # also record the laser scans (scans.parquet)
     primary = "success"   # the metric the battery answers, marked in comparisons
+    isolation = "worker"  # or "run": a fresh process per run (see batteries.isolation)
+    sandbox = "none"      # or "bwrap": each run under bubblewrap (implies isolation = "run")
 
     [battery.until]       # instead of `seeds`: seeds 1, 2... in rounds until the answer is known
     metric = "time_to_goal"
@@ -46,6 +48,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+from mimics.batteries.isolation import parse_isolation
 from mimics.batteries.metrics import METRICS
 from mimics.batteries.references import check_algorithms, is_path, resolve
 
@@ -64,7 +67,8 @@ from mimics.world.limits import (
 )
 
 BATTERY_KEYS = ("name", "algorithms", "seeds", "time", "timeout", "policy", "robot_logs",
-                "record_every", "record_scans", "until", "ros_timeout", "primary")
+                "record_every", "record_scans", "until", "ros_timeout", "primary", "isolation",
+                "sandbox")
 TOP_KEYS = ("battery", "scenarios")
 POLICIES = ("abort", "deactivate")
 ROBOT_LOGS = ("off", "auto", "on")
@@ -144,13 +148,14 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     ros_timeout = table.get("ros_timeout")
     if ros_timeout is not None:
         _limited(check_wall_seconds, "[battery] ros_timeout", ros_timeout, fail)
-    if ros_timeout is not None and not any(a.startswith("ros:") for a in algorithms):
+    if ros_timeout is not None and not any(a.startswith(("ros:", "ros2:")) for a in algorithms):
         raise fail("[battery] ros_timeout: only for ros: algorithms (ros:PROGRAM [ARGS...]), "
                    "and this battery has none")
     name = table.get("name", "")
     if not isinstance(name, str):
         raise fail(f"[battery] name: expected a string, got {name!r}")
     primary = _primary(table.get("primary", ""), fail)
+    isolation, sandbox = parse_isolation(table, algorithms, fail)
     scenarios = _scenarios(data.get("scenarios"), base, fail)
     if time is not None:
         for k, entry in enumerate(scenarios, start=1):
@@ -170,7 +175,7 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
                        record_scans=scans, name=name,
                        source=str(Path(source).resolve()) if source else "", until=until,
                        ros_timeout=None if ros_timeout is None else float(ros_timeout),
-                       primary=primary)
+                       primary=primary, isolation=isolation, sandbox=sandbox)
 
 
 def _primary(value: Any, fail: Any) -> str:

@@ -85,6 +85,9 @@ class BatterySpec:
         ros_timeout: ``ros:`` algorithms' lockstep time-out in seconds (None: 10 s).
         primary: the metric the battery was run to answer, marked in comparisons (""
             when the file names none: ``success`` where robots have goals).
+        isolation: ``"worker"`` (a worker runs many runs) or ``"run"`` (a fresh process
+            per run; :mod:`mimics.batteries.isolation`).
+        sandbox: ``""`` (none) or ``"bwrap"`` (each run under bubblewrap).
     """
 
     algorithms: tuple[str, ...]
@@ -101,6 +104,8 @@ class BatterySpec:
     until: UntilRule | None = None
     ros_timeout: float | None = None
     primary: str = ""
+    isolation: str = "worker"
+    sandbox: str = ""
 
     def runs(self) -> list[RunSpec]:
         """Every run, in order: algorithm, scenario, parameter point, seed."""

@@ -62,6 +62,8 @@ class Task:
     log_dir: str = ""  # where workers keep their stdout/stderr logs
     record_scans: bool = False  # also record the laser scans (scans.parquet)
     ros_timeout: float | None = None  # ros: algorithms' lockstep time-out (battery key)
+    source: str = ""  # where the worker reads the algorithm file ("": the file itself; a
+    # sandboxed run reads a copy, the submissions' folder being hidden from it)
 
 
 @dataclass
@@ -134,10 +136,11 @@ def execute(task: Task, worker: str) -> Outcome:
     shown = shown_path(task.algorithm)  # as the teacher's working folder shows it
     with private_folder():  # the submission runs where it sees no other file
         original = task.algorithm
-        if original.endswith(".py") and Path(original).is_file():
+        source = task.source or original
+        if original.endswith(".py") and Path(source).is_file():
             # a copy, alone in the folder: its __file__ leads to no classmate's file
             copy = Path.cwd() / Path(original).name
-            shutil.copyfile(original, copy)
+            shutil.copyfile(source, copy)
             task = replace(task, algorithm=str(copy))
         outcome = _execute(task, outcome)
         if task.algorithm != original:  # reasons name the submitted file, not the copy

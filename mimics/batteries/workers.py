@@ -6,13 +6,11 @@ imports the engine once (it preloads :mod:`mimics.batteries.preload`); each
 worker is forked from it with everything imported, loads the compiled Numba
 kernels with a tiny warm-up run, and then runs tasks sent over a pipe until
 told to stop, so that imports and kernels are loaded once per worker, not per
-run, and replacing a dead worker is cheap. On a fresh install a local battery
-compiles the kernels Numba's cache lacks once, before its workers start
-(:mod:`mimics.batteries.compile_once`); the workers of a Dask battery, started on
-each Dask worker's machine, compile at their warm-up as before. Each worker runs Numba's parallel
-kernels on ``threads`` threads (one when there are as many workers as cores:
-the battery's parallelism is across runs). The parent keeps the other end of
-the pipe (:class:`WorkerProcess`):
+run, and replacing a dead worker is cheap (what the cache lacks is compiled once
+before: :mod:`mimics.batteries.compile_once`). Under ``isolation = "run"`` a worker
+runs one task and exits (:mod:`mimics.batteries.isolation`). Each worker runs Numba's
+parallel kernels on ``threads`` threads. The parent keeps the other end of the
+pipe (:class:`WorkerProcess`):
 
 * an exception in user code comes back as an outcome (see
   :func:`mimics.batteries.tasks.execute`) and the worker goes on;
@@ -64,10 +62,11 @@ RUN_MARK = "--- mimics battery:"
 # -- inside the worker -----------------------------------------------------------
 
 def worker_main(conn: Any, parent_pid: int, log_path: str, death_signal: bool,
-                warm_up: bool, threads: int) -> None:
+                warm_up: bool, threads: int, one_task: bool = False, label: str = "") -> None:
     """The worker loop: receive a :class:`Task`, send back its :class:`Outcome`.
 
-    A ``None`` message or a closed pipe ends the loop.
+    A ``None`` message or a closed pipe ends the loop; so does the first outcome
+    when ``one_task`` (``isolation = "run"``: no run sees what another left behind).
     """
     if death_signal:
         _die_with_parent_signal()
@@ -84,8 +83,7 @@ def worker_main(conn: Any, parent_pid: int, log_path: str, death_signal: bool,
     from mimics.engine.user_code import install_guard
 
     install_guard()  # after the warm-up: user code may not walk gc or frames to the world
-    name = multiprocessing.current_process().name
-    label = f"{name} (pid {os.getpid()})"
+    label = label or f"{multiprocessing.current_process().name} (pid {os.getpid()})"
     with contextlib.suppress(BrokenPipeError, EOFError, OSError):
         conn.send(("ready", os.getpid()))
         while True:
@@ -95,6 +93,8 @@ def worker_main(conn: Any, parent_pid: int, log_path: str, death_signal: bool,
             if log_path:
                 print(f"{RUN_MARK} run {task.run_id} attempt {task.attempt} ---", flush=True)
             conn.send(("outcome", execute(task, label)))
+            if one_task:
+                break
     conn.close()
 
 
@@ -217,10 +217,11 @@ class WorkerProcess:
             from the fork server).
         warm_up: load the compiled kernels with a tiny run before the first task.
         threads: threads of Numba's parallel kernels in this worker.
+        one_task: the worker exits after its first run (``isolation = "run"``).
     """
 
     def __init__(self, name: str, log_dir: Path | None, *, death_signal: bool = True,
-                 warm_up: bool = True, threads: int = 1) -> None:
+                 warm_up: bool = True, threads: int = 1, one_task: bool = False) -> None:
         context = worker_context(warm_up)
         forked = context.get_start_method() == "forkserver"
         self.name = name
@@ -231,7 +232,7 @@ class WorkerProcess:
         self.process = context.Process(
             target=worker_main, name=name, daemon=False,
             args=(child_end, os.getpid(), str(self.log_path or ""), death_signal or forked,
-                  warm_up, threads))
+                  warm_up, threads, one_task))
         self.process.start()
         child_end.close()
         self.conn = parent_end
@@ -239,6 +240,7 @@ class WorkerProcess:
         self.started = time.monotonic()
         self.task: Task | None = None
         self.deadline = math.inf
+        self.sent_at = 0.0  # when the current task was sent (monotonic)
         self._log_offset = 0
 
     @property
@@ -259,7 +261,8 @@ class WorkerProcess:
         """Give the worker a task; its hard deadline starts now."""
         self._log_offset = _size(self.log_path)
         self.task = task
-        self.deadline = time.monotonic() + hard_timeout(task.timeout)
+        self.sent_at = time.monotonic()
+        self.deadline = self.sent_at + hard_timeout(task.timeout)
         self.conn.send(task)
 
     def receive(self) -> Outcome | None:
@@ -285,7 +288,7 @@ class WorkerProcess:
         task = self.task
         assert task is not None
         now = time.time()
-        elapsed = time.monotonic() - (self.deadline - hard_timeout(task.timeout))
+        elapsed = time.monotonic() - self.sent_at
         if state == "timeout":
             error = (f"wall-clock timeout: no result after {elapsed:.1f} s (limit "
                      f"{task.timeout:g} s); the worker process was killed")
@@ -349,7 +352,7 @@ class WorkerProcess:
             remaining = self.started + STARTUP_LIMIT - time.monotonic()
             if remaining <= 0 or not self._wait_ready(remaining):
                 self.task = task
-                self.deadline = time.monotonic() + hard_timeout(task.timeout)
+                self.sent_at = time.monotonic()
                 self.kill()
                 outcome = self.failure("crashed")
                 outcome.error = f"the worker process could not start ({outcome.error})"

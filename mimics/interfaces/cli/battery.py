@@ -16,6 +16,7 @@ nothing is started.
     mimics battery report batteries/night1 [--csv out.csv] [--parquet out.parquet]
     mimics battery compare batteries/night1 [--baseline ALGO] [--metric M ...] [--csv out.csv]
     mimics battery run battery.toml --until time_to_goal:0.2   # seeds until the answer is known
+    mimics battery run grading.toml --isolation run --sandbox bwrap   # a process per run, sandboxed
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from __future__ import annotations
 import os
 import time
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.console import Console
@@ -67,6 +68,14 @@ def run(
         help="METRIC:HALF_WIDTH: run seeds 1, 2... in rounds per cell until the 95% interval "
              "of the metric's mean is at most HALF_WIDTH each side (as [battery.until]; "
              "min_seeds and max_seeds from the file's table, else 20 and 500).")] = None,
+    isolation: Annotated[str | None, typer.Option(
+        help="worker: a worker process runs many runs (fast); run: a fresh process per run, "
+             "so no run sees what another left in a library [default: the file's "
+             "[battery] isolation, else worker].")] = None,
+    sandbox: Annotated[str | None, typer.Option(
+        help="bwrap: each run under bubblewrap (read-only files, the submissions' and the "
+             "battery's folders hidden, no network; implies --isolation run); none: no "
+             "sandbox [default: the file's [battery] sandbox, else none].")] = None,
 ) -> None:
     """Run a battery: every run is listed in battery.db, then all run in parallel.
 
@@ -92,6 +101,7 @@ def run(
             from mimics.interfaces.cli.battery_report import with_until
 
             spec = with_until(spec, until)
+        spec = _contained(spec, isolation, sandbox, dask)
         folder = out or Path("batteries") / f"{path.stem}-{time.strftime('%Y%m%d-%H%M%S')}"
         remember_battery(path)
         _announce(folder, len(spec.runs()), workers, dask, spec.until is not None)
@@ -147,6 +157,22 @@ def rerun_failed_command(
     except KeyboardInterrupt:
         raise interrupted(folder) from None
     finished(result)
+
+
+def _contained(spec: Any, isolation: str | None, sandbox: str | None, dask: str | None
+               ) -> Any:
+    """``spec`` with ``--isolation``/``--sandbox``; a sandbox without ``bwrap`` is refused
+    here, before the battery folder is made."""
+    from mimics.batteries.isolation import refuse_dask, with_options
+
+    spec = with_options(spec, isolation, sandbox)
+    if dask:
+        refuse_dask(spec)
+    if spec.sandbox:
+        from mimics.batteries.sandbox import require_bwrap
+
+        require_bwrap("--sandbox bwrap" if sandbox else "sandbox = \"bwrap\" (the battery file)")
+    return spec
 
 
 def _announce(folder: Path, runs: int, workers: int | None, dask: str | None,
