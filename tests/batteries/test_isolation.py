@@ -16,7 +16,6 @@ import os
 import re
 import signal
 import sqlite3
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -27,7 +26,13 @@ import pytest
 from mimics.batteries import resume_battery, run_battery, runs_table
 from mimics.batteries.spec import load_battery
 from mimics.interfaces.cli import main
-from tests.batteries.helpers import OUTCOME_COLUMNS, fault, write_battery
+from tests.batteries.helpers import (
+    OUTCOME_COLUMNS,
+    alive,
+    fault,
+    start_battery_process,
+    write_battery,
+)
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL is POSIX")
 
@@ -97,11 +102,7 @@ def test_a_killed_run_isolated_battery_resumes_to_the_worker_isolated_results(
     path = write_battery(tmp_path / "b.toml", [fault("slow_go"), "go_to_goal"], seeds=4,
                          time=2.0, isolation="run")
     killed = tmp_path / "killed"
-    code = ("import sys; from mimics.interfaces.cli.battery import app; "
-            "app(sys.argv[1:], prog_name='mimics battery')")
-    battery = subprocess.Popen(
-        [sys.executable, "-c", code, "run", str(path), "--out", str(killed), "--workers", "2",
-         "--no-progress"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    battery = start_battery_process(path, killed)
     db = killed / "battery.db"
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:
@@ -119,9 +120,9 @@ def test_a_killed_run_isolated_battery_resumes_to_the_worker_isolated_results(
             "SELECT worker FROM runs WHERE worker IS NOT NULL")
             for pid in re.findall(r"pid (\d+)", label)]
     stop = time.monotonic() + 5  # each run's process died with the battery
-    while any(_alive(pid) for pid in workers) and time.monotonic() < stop:
+    while any(alive(pid) for pid in workers) and time.monotonic() < stop:
         time.sleep(0.05)
-    assert workers and not any(_alive(pid) for pid in workers)
+    assert workers and not any(alive(pid) for pid in workers)
     result = resume_battery(killed, workers=2, progress=False)
     assert result.counts == {"done": 8}
     worker_path = write_battery(tmp_path / "w.toml", [fault("slow_go"), "go_to_goal"], seeds=4,
@@ -130,14 +131,6 @@ def test_a_killed_run_isolated_battery_resumes_to_the_worker_isolated_results(
     pd.testing.assert_frame_equal(runs_table(killed)[[*OUTCOME_COLUMNS, "digest"]],
                                   runs_table(tmp_path / "worker")[[*OUTCOME_COLUMNS, "digest"]])
 
-
-def _alive(pid: int) -> bool:
-    """Whether a process runs (a zombie does not count)."""
-    try:
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except FileNotFoundError:
-        return False
 
 
 def _done(db: Path) -> int:

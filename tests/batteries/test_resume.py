@@ -6,7 +6,6 @@ import os
 import re
 import signal
 import sqlite3
-import subprocess
 import sys
 import time
 from collections import Counter
@@ -18,24 +17,16 @@ import pytest
 from mimics.batteries import resume_battery, run_battery, runs_table
 from mimics.batteries.status import battery_status
 from mimics.world.errors import MimicsError
-from tests.batteries.helpers import OUTCOME_COLUMNS, fault, write_battery
+from tests.batteries.helpers import (
+    OUTCOME_COLUMNS,
+    alive,
+    fault,
+    start_battery_process,
+    write_battery,
+)
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL is POSIX")
 
-
-def alive(pid: int) -> bool:
-    """Whether a process runs (a zombie does not count)."""
-    try:
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except FileNotFoundError:
-        return False
-    except OSError:  # no /proc: ask the kernel
-        try:
-            os.kill(pid, 0)
-        except ProcessLookupError:
-            return False
-        return True
 
 
 def done_rows(db_path: Path) -> dict[int, int]:
@@ -61,12 +52,7 @@ def test_killed_battery_resumes_without_losing_or_repeating_runs(tmp_path: Path)
     path = write_battery(tmp_path / "b.toml", [fault("slow_go"), "go_to_goal"], seeds=8,
                          time=2.0, scenarios=[{"name": "line", "robots": [1, 2]}])
     killed = tmp_path / "killed"
-    code = ("import sys; from mimics.interfaces.cli.battery import app; "
-            "app(sys.argv[1:], prog_name='mimics battery')")
-    battery = subprocess.Popen(
-        [sys.executable, "-c", code, "run", str(path), "--out", str(killed), "--workers", "2",
-         "--no-progress"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-        env={**os.environ})
+    battery = start_battery_process(path, killed)
     deadline = time.monotonic() + 60
     db = killed / "battery.db"
     while time.monotonic() < deadline:

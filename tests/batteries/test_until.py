@@ -8,7 +8,6 @@ import math
 import os
 import signal
 import sqlite3
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -29,7 +28,7 @@ from mimics.batteries.until import (
     next_round,
 )
 from mimics.world.errors import MimicsError
-from tests.batteries.helpers import fault, write_battery
+from tests.batteries.helpers import fault, start_battery_process, write_battery
 from tests.batteries.test_resume import executions
 from tests.batteries.test_skew_corrected_interval import hall_by_root_finding
 
@@ -184,11 +183,7 @@ def test_a_killed_stopping_rule_battery_resumes_to_the_same_seeds(tmp_path: Path
         pytest.skip("SIGKILL is POSIX")
     path = until_battery(tmp_path / "b.toml", [fault("stand_still"), fault("slow_random")])
     killed = tmp_path / "killed"
-    code = ("import sys; from mimics.interfaces.cli.battery import app; "
-            "app(sys.argv[1:], prog_name='mimics battery')")
-    battery = subprocess.Popen(
-        [sys.executable, "-c", code, "run", str(path), "--out", str(killed), "--workers", "2",
-         "--no-progress"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    battery = start_battery_process(path, killed)
     db = killed / "battery.db"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline:  # kill in slow_random's second round (seeds 5..8)
