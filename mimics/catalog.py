@@ -190,9 +190,10 @@ def scenario_seed_changes(name: str) -> str:
 
 
 #: Settings of the stall rules that every scenario takes as a parameter (issue 54: the
-#: deadlock rule is set per battery or per run, whatever the scenario).
+#: deadlock rule is set per battery or per run, whatever the scenario), and of what a
+#: collision does (``on_collision``: deactivate, or stall as Stage's robots do).
 STALL_SETTINGS = ("deadlock_distance", "deadlock_window", "deactivate_on_deadlock",
-                  "livelock_window", "livelock_progress")
+                  "livelock_window", "livelock_progress", "on_collision")
 
 
 def scenario_parameters(name_or_path: str | Path) -> dict[str, Any]:

@@ -1,24 +1,31 @@
-"""How robots leave a run: arrivals, escapes, collisions' marks, stalls and failures.
+"""How robots leave a run: arrivals, escapes, collisions, stalls and failures.
 
 A part of :class:`~mimics.engine.simulation.Simulation` kept on its own: a
 deactivation is recorded during the step (an event, the robot's system
 message) and takes effect at the step's end, so that every robot of a step
-sees the same world.
+sees the same world. Under ``on_collision = "stall"`` a collision deactivates
+no one: the robot is put back (:mod:`~mimics.engine.collision_response`) and
+the contact recorded as a ``collision`` event.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from mimics.engine.outcome import Event
 from mimics.engine.state import Status
+from mimics.engine.step_checks import StepChecks, check_moved
 from mimics.engine.user_code import UserFailure
 
 if TYPE_CHECKING:
+    from mimics.engine.collision_response import StallOnCollision
+    from mimics.engine.robot_index import RobotIndex
+    from mimics.engine.spatial_index import SegmentGrid
     from mimics.engine.stall import StallDetector
-    from mimics.engine.state import WorldState
+    from mimics.engine.state import TypeArrays, WorldState
     from mimics.world.scenario import Scenario
 
 
@@ -26,17 +33,63 @@ class RobotDeactivations:
     """The Simulation's bookkeeping of robots leaving the run (a mixin of its state)."""
 
     state: WorldState
+    types: TypeArrays
     scenario: Scenario
     events: list[Event]
     policy: str
     status: str
     error: str
+    wall_grid: SegmentGrid
+    _robot_index: Callable[[], RobotIndex]
+    _grid_key: tuple[int, bytes] | None
     _pending: dict[int, Status]
     _stalls: StallDetector
+    _stall_on_collision: StallOnCollision | None
     _ever_deadlocked: np.ndarray
     _ever_livelocked: np.ndarray
     #: the exception of the failure that ended the run under "abort" (None: none)
     user_exception: BaseException | None = None
+
+    def _check_moved(self, ids: np.ndarray) -> tuple[np.ndarray, bool]:
+        """Mark (``on_collision = "stall"``: put back) robots ``ids`` that touch a wall or
+        a solid robot; returns every robot's goal distance and whether none of ``ids``
+        left the map or came within the goal tolerance."""
+        stall = self._stall_on_collision
+        if ids.size == 0:
+            if stall is not None:
+                stall.clear(self.state)
+            return self.state.goal_distance(), True
+        checks = self._checks(ids)
+        if stall is not None:
+            checks = stall.respond(self.state, ids, checks,
+                                   lambda again: self._checks(again, rebuild=True))
+            self._record_contacts(stall.contacts)
+        elif checks.touching:
+            for i in (checks.with_whom != -2).nonzero()[0].tolist():
+                other = int(checks.with_whom[i])
+                what = "wall" if other == -1 else f"robot {other}"
+                self.state.collided_with[i] = other
+                self._mark(i, Status.COLLIDED, f"Collision with {what}", "collision", other=other)
+        return checks.distance, checks.quiet
+
+    def _checks(self, ids: np.ndarray, rebuild: bool = False) -> StepChecks:
+        """The collisions, goal distances and screen of robots ``ids`` (``step_checks``);
+        ``rebuild``: robots were put back within the step, the robot index is made again."""
+        if rebuild:
+            self._grid_key = None
+        types, scenario = self.types, self.scenario
+        return check_moved(self._robot_index(), self.state.pose, types.half_length,
+                           types.half_width, ids, self.wall_grid, self.state.goal,
+                           scenario.map.bounds, scenario.settings.goal_tolerance)
+
+    def _record_contacts(self, contacts: list[tuple[int, int]]) -> None:
+        """A ``collision`` event per stall that began (no status change); ``collided_with``
+        keeps the first thing each robot ever touched."""
+        for robot, other in contacts:
+            if self.state.collided_with[robot] == -2:
+                self.state.collided_with[robot] = other
+            what = "wall" if other == -1 else f"robot {other}"
+            self._event(robot, "collision", f"Collision with {what} (stalled)", other=other)
 
     def _mark_departures_and_arrivals(self, ids: np.ndarray, distance: np.ndarray) -> None:
         """Mark robots ``ids`` that left the map or are ``distance`` from their goal."""

@@ -121,6 +121,9 @@ class RunResult:
     compile_time: float = 0.0  # s spent compiling kernels during the run (not in wall_time)
     has_goal: np.ndarray | None = None  # (n,) robots with a goal at the end (None: unknown)
     time_limit: float = float("nan")  # the run's horizon (s): a non-arrival counts as this
+    #: (n,) robots stalled at least once (``on_collision = "stall"``); None: collisions
+    #: deactivate (the default), and no robot stalls
+    ever_stalled: np.ndarray | None = None
 
     def count(self, status: Status) -> int:
         """Robots whose final status is ``status``."""
@@ -132,13 +135,21 @@ class RunResult:
         return self.count(Status.REACHED_GOAL)
 
     @property
+    def collided(self) -> np.ndarray:
+        """``(n,)`` robots that collided: deactivated by a collision, or, under
+        ``on_collision = "stall"``, stalled against a wall or a robot at least once
+        (whatever they did next: one may still reach its goal)."""
+        collided = self.final_status == Status.COLLIDED
+        return collided if self.ever_stalled is None else collided | self.ever_stalled
+
+    @property
     def collisions(self) -> int:
-        """Robots deactivated by a collision."""
-        return self.count(Status.COLLIDED)
+        """Robots that collided (``collided``), each counted once."""
+        return int(np.count_nonzero(self.collided))
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready dict of the outcome."""
-        collided = self.final_status == Status.COLLIDED
+        collided = self.collided
         reached = self.final_status == Status.REACHED_GOAL
         times = self.goal_time[reached]
         efficiency = self.start_goal_distance[reached] / np.maximum(self.path_length[reached],

@@ -23,6 +23,7 @@ from typing import Any, Literal, Protocol
 
 import numpy as np
 
+from mimics.engine.collision_response import StallOnCollision
 from mimics.engine.compiling import compile_seconds, heap_frozen
 from mimics.engine.compiling.warm_up import load_step_kernels
 from mimics.engine.deactivations import RobotDeactivations
@@ -41,7 +42,6 @@ from mimics.engine.sensors import (
 )
 from mimics.engine.stall import StallDetector
 from mimics.engine.state import Status, TypeArrays, WorldState
-from mimics.engine.step_checks import check_moved
 from mimics.engine.user_code import (
     Controller,
     StepTimeout,
@@ -135,6 +135,9 @@ class Simulation(RobotDeactivations, WorldEdits):
         self._ever_deadlocked = np.zeros(self.state.n, dtype=bool)
         self._ever_livelocked = np.zeros(self.state.n, dtype=bool)
         self._stalls = StallDetector(settings, self.state.n)
+        # None: a collision deactivates the robot (the paper's rule, the default)
+        self._stall_on_collision = (StallOnCollision(self.state.n)
+                                    if settings.on_collision == "stall" else None)
         self._start_goal_distance = self.state.goal_distance()
         # the kernels the steps call are loaded (compiled, on a first run) now, and the
         # rangers' walls indexed: the first step is then no slower than the next ones
@@ -242,7 +245,8 @@ class Simulation(RobotDeactivations, WorldEdits):
             user_timing=self.timing.summary(), parameters=dict(self.scenario.parameters),
             error=self.error, trajectory_digest=self.run_digest(),
             compile_time=self.compile_time, has_goal=~np.isnan(self.state.goal[:, 0]),
-            time_limit=self.time_limit,
+            time_limit=self.time_limit, ever_stalled=None if self._stall_on_collision is None
+            else self._stall_on_collision.ever.copy(),
         )
 
     def run_digest(self) -> str:
@@ -299,6 +303,8 @@ class Simulation(RobotDeactivations, WorldEdits):
         state.drop_pending_scan()  # robots move now
         n = state.n
         odometer_exact = odometry_is_exact(state, types)  # checked before the pose moves
+        if self._stall_on_collision is not None:  # a move that ends touching is undone
+            self._stall_on_collision.remember(state)
         distance, turn = np.zeros(n), np.zeros(n)
         move_robots(ids, state.pose, state.velocity, state.acceleration, state.reference,
                     state.pid_integral, state.actuation, state.path_length, types.pid.speed,
@@ -313,25 +319,6 @@ class Simulation(RobotDeactivations, WorldEdits):
                 moved = np.zeros(n, dtype=bool)
                 moved[ids] = True
             update_odometry(state, types, distance, turn, moved, self.noise["odometry"])
-
-    def _check_moved(self, ids: np.ndarray) -> tuple[np.ndarray, bool]:
-        """Mark robots ``ids`` that touch a wall or a solid robot (``step_checks``);
-        returns every robot's goal distance and whether none of ``ids`` left the map or
-        came within the goal tolerance."""
-        state = self.state
-        if ids.size == 0:
-            return state.goal_distance(), True
-        types, scenario = self.types, self.scenario
-        checks = check_moved(self._robot_index(), state.pose, types.half_length,
-                             types.half_width, ids, self.wall_grid, state.goal,
-                             scenario.map.bounds, scenario.settings.goal_tolerance)
-        if checks.touching:
-            for i in (checks.with_whom != -2).nonzero()[0].tolist():
-                other = int(checks.with_whom[i])
-                what = "wall" if other == -1 else f"robot {other}"
-                state.collided_with[i] = other
-                self._mark(i, Status.COLLIDED, f"Collision with {what}", "collision", other=other)
-        return checks.distance, checks.quiet
 
     def _guarded(self, ids: np.ndarray | None) -> list[UserFailure] | None:
         """The controller's ``compute(ids)`` (``reset`` for None) watched for the wall limit.

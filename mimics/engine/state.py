@@ -152,12 +152,15 @@ class WorldState:
     scan_hit_buffer: np.ndarray  # (n, B) what each beam hit, as last traced: ``scan_hit``
     status: np.ndarray  # (n,) int8 Status
     deactivation_time: np.ndarray  # (n,), NaN while active
-    collided_with: np.ndarray  # (n,) -2 none, -1 wall, else robot index
+    collided_with: np.ndarray  # (n,) -2 none, -1 wall, else robot index (stall: the first)
     path_length: np.ndarray  # (n,) distance travelled
     goal_time: np.ndarray  # (n,) time the goal was reached, NaN otherwise
     user_time: np.ndarray  # (n,) seconds spent in user code at the last step
     in_deadlock: np.ndarray  # (n,) bool
     in_livelock: np.ndarray  # (n,) bool
+    #: (n,) bool: the robot's move of the last step was undone, against a wall or a robot
+    #: (``on_collision = "stall"``: ``mimics.engine.collision_response``); it stays active
+    stalled: np.ndarray
     user_message: list[str] = field(default_factory=list)
     system_message: list[str] = field(default_factory=list)
     memory: list[dict] = field(default_factory=list)
@@ -187,6 +190,7 @@ class WorldState:
             collided_with=np.full(n, -2, dtype=np.int64), path_length=np.zeros(n),
             goal_time=np.full(n, np.nan), user_time=np.zeros(n),
             in_deadlock=np.zeros(n, dtype=bool), in_livelock=np.zeros(n, dtype=bool),
+            stalled=np.zeros(n, dtype=bool),
             user_message=MessageColumn([""] * n), system_message=MessageColumn([""] * n),
             memory=[{} for _ in range(n)],
         )

@@ -27,6 +27,12 @@ from mimics.world.maps import Map
 from mimics.world.robot_types import RobotType
 
 NOISE_CHOICES = ("on", "off")
+#: What a collision does to a robot: "deactivate" it (status collided, the paper's rule)
+#: or "stall" it, as Stage does: its move is undone and it stays active.
+ON_COLLISION_CHOICES = ("deactivate", "stall")
+#: What a collision does to a robot: "deactivate" it (status collided, the paper's
+#: rule) or "stall" it, as Stage does: its move is undone and it stays active.
+ON_COLLISION_CHOICES = ("deactivate", "stall")
 
 
 @dataclass(frozen=True)
@@ -45,6 +51,7 @@ class Settings:
     inactive_as_obstacles: bool = True  # deactivated robots stay in place as obstacles
     allow_overlap: bool = False  # keep robots that start touching a wall or each other
     noise: str = "on"  # "off": every sensor exact, whatever the robot types' noise figures
+    on_collision: str = "deactivate"  # or "stall": the move is undone, the robot stays active
 
     def __post_init__(self) -> None:
         positive = ("dt", "time_limit", "goal_tolerance", "deadlock_window", "livelock_window")
@@ -65,6 +72,9 @@ class Settings:
         if self.noise not in NOISE_CHOICES:
             raise ScenarioError(f"settings.noise: expected one of {', '.join(NOISE_CHOICES)}, "
                                 f"got {self.noise!r}")
+        if self.on_collision not in ON_COLLISION_CHOICES:
+            raise ScenarioError(f"settings.on_collision: expected one of "
+                                f"{', '.join(ON_COLLISION_CHOICES)}, got {self.on_collision!r}")
         if self.time_limit / self.dt > MAX_STEPS:
             raise ScenarioError(f"settings.time_limit: {self.time_limit:g} s at dt = {self.dt:g} "
                                 f"s is over the limit of {MAX_STEPS} steps (expected at most "

@@ -140,7 +140,7 @@ class Robot(_WorldView):
     ``id``: the robot's index in the scenario (0-based), as in ``comms`` rows and
     messages. Measured (noisy) values: ``pose``, ``position``, ``velocity``,
     ``acceleration``, ``odometry``, ``scan``, ``comms``. Ground truth:
-    ``true_pose``, ``true_velocity``. Also ``goal``, ``time``, ``dt``, ``map``,
+    ``true_pose``, ``true_velocity``. Also ``goal``, ``stalled``, ``time``, ``dt``, ``map``,
     ``memory`` (a dict kept between steps), ``rng`` (seeded), ``log(msg)``,
     ``send(msg, to=None)`` and ``inbox``. Arrays are read-only copies of the world's
     values at this step's sensing: nothing done to them changes the world.
@@ -202,6 +202,12 @@ class Robot(_WorldView):
     def odometry(self) -> np.ndarray:
         """The odometer's integrated ``(x, y, theta)`` estimate (drifts with motion)."""
         return _row(self._views, "odometry", self._mirror.odometry, self.id)
+
+    @property
+    def stalled(self) -> bool:
+        """True when its last move was undone against a wall or a robot (Stage's stall, under
+        the setting ``on_collision = "stall"``); it stays active and can drive away."""
+        return self._link.send(("stalled", self.id))  # type: ignore[no-any-return]
 
     @property
     def goal(self) -> tuple[float, float] | None:
@@ -339,6 +345,12 @@ class Team(_WorldView):
     def odometry(self) -> np.ndarray:
         """Odometer estimates ``(k, 3)``."""
         return self._mirror.odometry[self.ids]
+
+    @property
+    def stalled(self) -> np.ndarray:
+        """``(k,)`` bool: each robot's last move undone against a wall or a robot
+        (``on_collision = "stall"``, see ``robot.stalled``)."""
+        return self._link.send(("stalled", self.ids))  # type: ignore[no-any-return]
 
     @property
     def goal(self) -> np.ndarray:

@@ -98,6 +98,9 @@ class ViewHub:
             return np.array(sim.types.beam_offsets[robot], copy=True)
         if what == "memory":
             return sim.state.memory[robot]
+        if what == "stalled":  # asked, not mirrored: a copy each step would cost every run
+            flags = sim.state.stalled
+            return bool(flags[robot]) if np.ndim(robot) == 0 else flags[robot]
         if what == "comms":
             table = self._comms_table()
             if robot is None:

@@ -35,6 +35,7 @@ import numpy as np
 from mimics.interfaces.ros.bridge_core import (
     BridgeCore,
     BridgeOptions,
+    load_run_scenario,
     options_record,
     run_with_resets,
 )
@@ -167,15 +168,13 @@ def run_ros(scenario: str | Path, folder: str | Path, *, options: BridgeOptions,
     require_master()
     import numba
 
-    from mimics.catalog import load_scenario
-
     # One engine thread: the ROS round trip dominates each step, and parallel
     # kernels wake worker threads every step, which costs more than it saves
     # here and competes with the controller nodes for the cores (5 robots,
     # lockstep, loaded 2-core machine: 9.2 s of wall time with 2 threads, 1.2 to
     # 2.0 s with one).
     numba.set_num_threads(1)
-    built = load_scenario(scenario, run_seed=seed, **(params or {}))
+    built = load_run_scenario(scenario, options, params, seed)  # stage names: robots stall
     stop = stop or StopRequest()
     with stop.handling_signals():
         return _run(built, folder, options, time, seed, robot_logs, observers, record_scans,

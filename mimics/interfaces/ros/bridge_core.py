@@ -16,7 +16,8 @@ What the messages say is decided here and in
 ``/tf`` carries ``map -> odom`` (:attr:`BridgeOptions.map_odom`), and which
 robots publish (:func:`published_robots`: under the ``stage`` names, a robot
 that reached its goal or collided stays and goes on publishing, still, as a
-Stage robot does).
+Stage robot does), and what a collision does (:func:`load_run_scenario`: under
+the ``stage`` names the robot stalls, as in Stage, unless the scenario says).
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
     from mimics.interfaces.ros.inbox import Inbox
     from mimics.interfaces.ros.run_control import RunControl
+    from mimics.world.scenario import Scenario
 
 
 @dataclass(frozen=True)
@@ -248,6 +250,45 @@ def published_robots(status: np.ndarray, options: BridgeOptions) -> np.ndarray:
     if options.stopped_robots_publish:
         return np.flatnonzero(status != Status.REMOVED)
     return np.flatnonzero(status == Status.ACTIVE)
+
+
+def load_run_scenario(scenario: str | Path, options: BridgeOptions,
+                      params: dict[str, Any] | None, seed: int) -> Scenario:
+    """The run's scenario (``mimics.catalog.load_scenario``). Under the ``stage`` names,
+    :data:`STAGE_SETTINGS`: a robot that bumps into a wall or a robot stalls there and
+    stays, as Stage's do, and no robot is removed for waiting, unless ``params`` or the
+    scenario file's ``[settings]`` say otherwise (a Python scenario:
+    ``--param on_collision=deactivate``, ``--param deactivate_on_deadlock=true``).
+    """
+    from dataclasses import replace
+
+    from mimics.catalog import load_scenario
+
+    params = dict(params or {})
+    built = load_scenario(scenario, run_seed=seed, **params)
+    if options.names != "stage":
+        return built
+    stage = {name: value for name, value in STAGE_SETTINGS.items()
+             if name not in params and not _file_sets(name, scenario)}
+    # recorded among the parameters too: the summary says how the run was made
+    return replace(built.with_settings(**stage), parameters={**built.parameters, **stage})
+
+
+#: What a Stage world does that mimics' defaults do not, set under the stage names unless
+#: the run's parameters or its scenario file's [settings] say otherwise: a robot that
+#: bumps stalls and stays; nothing removes a robot that waits (Stage has no deadlock rule).
+STAGE_SETTINGS: dict[str, Any] = {"on_collision": "stall", "deactivate_on_deadlock": False}
+
+
+def _file_sets(setting: str, scenario: str | Path) -> bool:
+    """Whether ``scenario`` is a TOML file whose ``[settings]`` table gives ``setting``."""
+    if not str(scenario).endswith(".toml"):
+        return False
+    import tomllib
+
+    with open(scenario, "rb") as file:  # load_scenario has read it already: it parses
+        table = tomllib.load(file).get("settings")
+    return isinstance(table, dict) and setting in table
 
 
 def options_record(options: BridgeOptions) -> dict[str, Any]:

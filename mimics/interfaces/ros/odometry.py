@@ -14,7 +14,7 @@ The child frame is the robot's body (``base_link``, or ``base_footprint``
 under the ``stage`` names). All three are latched (see ``bridge``). Under
 the ``stage`` names a robot that stopped (goal reached, collided) goes on
 publishing them, still (zero twist), and :class:`StallPublisher` publishes
-each robot's ``is_crashed`` (``std_msgs/Int8``, Stage's stall flag).
+each robot's ``is_crashed`` (``std_msgs/Int8``, Stage's stall flag of the step).
 """
 
 from __future__ import annotations
@@ -93,8 +93,9 @@ class OdometryPublisher:
 
 
 class StallPublisher:
-    """Publishes each robot's ``is_crashed`` (``std_msgs/Int8``: 1 once it has collided,
-    else 0) every step, latched, when the name set has the topic (``stage``)."""
+    """Publishes each robot's ``is_crashed`` (``std_msgs/Int8``: 1 while stalled against a
+    wall or a robot, see :func:`~mimics.interfaces.ros.readings.stalled`, else 0) every
+    step, latched, when the name set has the topic (``stage``)."""
 
     def __init__(self, n: int, names: RosNames) -> None:
         topics = [names.stall(i) for i in range(n)]
@@ -105,7 +106,7 @@ class StallPublisher:
         """The stall flags of robots ``ids`` at the current step."""
         if not self.publishers:
             return
-        flags = stalled(sim.state.status)
+        flags = stalled(sim.state)
         for i in ids.tolist():
             self.publishers[i].publish(Int8(data=int(flags[i])))
 

@@ -10,7 +10,7 @@ bridge) only put these values into their message classes:
   pose, with a zero twist);
 * :class:`ScanReadings`: per robot, the ranger's ranges and which beams hit
   something (a stopped robot's last scan);
-* :func:`stalled`: Stage's stall flag of each robot (``is_crashed``);
+* :func:`stalled`: Stage's stall flag of each robot (``is_crashed``): the step's;
 * :func:`fixed_frames`: the ``/tf_static`` frames of the run's robots;
 * :func:`step_markers`: the live markers of a step (footprints, ids, goals),
   built by the export's marker functions with any message factory.
@@ -28,6 +28,7 @@ from mimics.interfaces.ros.odometry_frame import OdometerFrames
 
 if TYPE_CHECKING:
     from mimics.engine.simulation import Simulation
+    from mimics.engine.state import WorldState
     from mimics.interfaces.rosexport.pieces import MessagePieces
 
 NO_COVARIANCE = np.zeros((3, 3))
@@ -108,10 +109,12 @@ class ScanReadings:
         return self._ranges[robot, :beams], self._hit[robot, :beams]
 
 
-def stalled(status: np.ndarray) -> np.ndarray:
-    """Each robot's stall flag (``int8``), as Stage's ``Stalled()``: 1 once it has
-    collided (it stays stalled against the obstacle), else 0."""
-    return (status == Status.COLLIDED).astype(np.int8)
+def stalled(state: WorldState) -> np.ndarray:
+    """Each robot's stall flag (``int8``), as Stage's ``Stalled()``: 1 while its move is
+    undone against a wall or a robot (``on_collision = "stall"``, the ``stage`` names'
+    default: 0 again once it drives away), or once a collision deactivated it (it stays
+    against the obstacle); else 0."""
+    return (state.stalled | (state.status == Status.COLLIDED)).astype(np.int8)
 
 
 def fixed_frames(beam_count: np.ndarray, names: RosNames) -> list[tuple[str, str]]:

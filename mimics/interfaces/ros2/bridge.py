@@ -33,6 +33,7 @@ import numpy as np
 from mimics.interfaces.ros.bridge_core import (
     BridgeCore,
     BridgeOptions,
+    load_run_scenario,
     options_record,
     run_with_resets,
 )
@@ -144,7 +145,7 @@ class Ros2Bridge(BridgeCore):
         self.clock.write(convert.clock(seconds))
         readings.update(sim)
         transforms = []
-        flags = stalled(state.status) if self.stalls else None
+        flags = stalled(state) if self.stalls else None
         map_odom = self.options.map_odom
         for i in ids.tolist():
             body = names.body_frame(i)
@@ -215,7 +216,6 @@ def run_ros2(scenario: str | Path, folder: str | Path, *, options: BridgeOptions
     """
     import numba
 
-    from mimics.catalog import load_scenario
     from mimics.interfaces.ros.inbox import Inbox
     from mimics.interfaces.ros.references import RosReferences
     from mimics.interfaces.ros.run_control import RunControl
@@ -224,7 +224,7 @@ def run_ros2(scenario: str | Path, folder: str | Path, *, options: BridgeOptions
 
     domain = domain_id() if domain is None else domain
     numba.set_num_threads(1)  # the DDS round trip dominates a step (see ros.bridge)
-    built = load_scenario(scenario, run_seed=seed, **(params or {}))
+    built = load_run_scenario(scenario, options, params, seed)  # stage names: robots stall
     stop = stop or StopRequest()
     inbox = Inbox(built.robot_count, options.lockstep, options.timeout, stop, options.grace)
 

@@ -73,7 +73,7 @@ def test_ros_files_bakes_in_its_scenario_robots_and_names(ros_env, tmp_path):
         check=True, timeout=60).stdout)
     nodes = {name: rest for name, *rest in loaded["nodes"]}
     assert nodes["stageros"][:3] == ["mimics_launch", "mimics_ros",
-                                     "cave --robots 3 --names stage"]
+                                     "cave --robots 3 --names stage --publish-map-odom"]
 
 
 def test_without_out_the_message_names_the_folder_where_the_run_lands(ros_env, tmp_path):

@@ -1,8 +1,10 @@
 """What a Stage node sees under ``mimics ros2 --names stage`` (issue 49, item 5), over
 loopback with the test's own ROS 2 types: no ``map -> odom`` on ``/tf`` unless
 ``--publish-map-odom``; scans with stage_ros' intensities (1.0 where a beam hit
-something, 0.0 where not, whose range is ``range_max``); robots that reached their goal
-or collided go on publishing, still, with Stage's stall flag on ``is_crashed``.
+something, 0.0 where not, whose range is ``range_max``); a robot driven into a wall
+stalls there, active, ``is_crashed`` 1 while stalled and 0 once it backs away; robots
+that reached their goal (or, with ``on_collision = "deactivate"``, collided) go on
+publishing, still.
 
 Independent truths: the run's records (statuses, poses, the recorded scans' hits), and
 Stage's ranger as stage_ros publishes it.
@@ -31,7 +33,8 @@ from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
 from mimics.records.run_folder import load_run
-from tests.interfaces.ros.test_stage_world_items import SCENARIO
+from mimics.world.robot_types import PIONEER_2DX
+from tests.interfaces.ros.test_stage_world_items import SCENARIO, STALLED_STEPS
 from tests.interfaces.ros2.loopback import dds_environment, loopback_here, next_domain
 from tests.interfaces.ros2.observer import STREAM, WRITER
 from tests.interfaces.ros2.ros2_types import (
@@ -45,6 +48,7 @@ from tests.interfaces.ros2.ros2_types import (
 
 DT, SECONDS = 0.1, 4.0
 TWISTS = ((0.3, 0.0), (0.3, 0.0), (0.0, 0.0))  # robot 0 to its goal, 1 into the wall
+BACKS = {1: (-0.3, 0.0)}  # robot 1 backs away once it has been stalled STALLED_STEPS steps
 
 
 # ROS 2 Humble's tf2_msgs/TFMessage and std_msgs/Int8, written out from their definitions
@@ -137,8 +141,11 @@ def _take(readers: dict, commands: dict, seen: Seen) -> None:
                 continue
             seen.samples[key].append(sample)
             if key.startswith("odom "):  # lockstep: answer the step
-                speed, turn = TWISTS[int(key.split()[1])]
-                commands[int(key.split()[1])].write(
+                robot = int(key.split()[1])
+                stalled = sum(flag.data for flag in seen.samples[f"stall {robot}"])
+                speed, turn = (BACKS[robot] if robot in BACKS and stalled >= STALLED_STEPS
+                               else TWISTS[robot])
+                commands[robot].write(
                     Velocity(Vec3(speed, 0.0, 0.0), Vec3(0.0, 0.0, turn)))
 
 
@@ -154,6 +161,14 @@ def _pairs(seen: Seen) -> set[tuple[str, str]]:
 @pytest.fixture(scope="module")
 def stage_run(tmp_path_factory: pytest.TempPathFactory) -> Seen:
     seen = observe(tmp_path_factory.mktemp("ros2_stage"), seconds=SECONDS)
+    assert seen.returncode == 0, seen.stderr
+    return seen
+
+
+@pytest.fixture(scope="module")
+def deactivating_run(tmp_path_factory: pytest.TempPathFactory) -> Seen:
+    seen = observe(tmp_path_factory.mktemp("ros2_stage"), "--param", "on_collision=deactivate",
+                   seconds=SECONDS)
     assert seen.returncode == 0, seen.stderr
     return seen
 
@@ -188,9 +203,29 @@ def test_intensities_are_stage_ros(stage_run: Seen) -> None:
         np.testing.assert_array_equal(published[step].intensities, np.where(hits, 1.0, 0.0))
 
 
-@pytest.mark.parametrize(("robot", "status", "flag"), [(0, 1, 0), (1, 2, 1)])
-def test_stopped_robots_keep_publishing_still(stage_run: Seen, robot: int, status: int,
-                                              flag: int) -> None:
+def test_a_robot_driven_into_a_wall_stalls_active_and_backs_away(stage_run: Seen) -> None:
+    trajectory = pd.read_parquet(stage_run.folder / "trajectory.parquet")
+    mine = trajectory[trajectory.robot == 1].sort_values("step")
+    last = round(SECONDS / DT)
+    assert mine.step.tolist() == list(range(last + 1)) and (mine.status == 0).all()
+    assert (mine.x + PIONEER_2DX.length / 2 < 10.0).all()  # the wall at x = 10: not crossed
+    flags = [m.data for m in stage_run.samples["stall 1"]]  # in order: one writer, reliable
+    assert len(flags) == last + 1
+    raised = [k for k, flag in enumerate(flags) if flag == 1]
+    assert len(raised) >= STALLED_STEPS and raised[0] > 0  # free, then stalled...
+    after = flags[raised[-1] + 1:]
+    assert len(after) >= 10 and not any(after)  # ...then 0 again, backing away
+    assert float(mine.x.iloc[-1]) < float(mine[mine.step == raised[-1]].x.iloc[0]) - 0.2
+    summary = json.loads((stage_run.folder / "summary.json").read_text())
+    assert summary["collisions"] == summary["wall_collisions"] == 1
+    assert summary["parameters"]["on_collision"] == "stall"
+
+
+@pytest.mark.parametrize(("robot", "status", "flag", "which"),
+                         [(0, 1, 0, "stage_run"), (1, 2, 1, "deactivating_run")])
+def test_stopped_robots_keep_publishing_still(request: pytest.FixtureRequest, robot: int,
+                                              status: int, flag: int, which: str) -> None:
+    stage_run: Seen = request.getfixturevalue(which)
     trajectory = pd.read_parquet(stage_run.folder / "trajectory.parquet")
     mine = trajectory[trajectory.robot == robot]
     stop = int(mine[mine.status == status].step.min())
