@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mimics.engine.ranger_noise import add_ranger_noise
+from mimics.engine.ranging.ranger_noise import add_ranger_noise
 from mimics.world.streams import stream, stream_seed
 
 NOISE_PURPOSES = ("ranger", "position", "velocity", "acceleration", "odometry")
@@ -54,7 +54,7 @@ class StepStreams:
 
 class RangerNoise:
     """The rangers' noise of a run: beam ``b`` of robot ``i`` at step ``k`` is a pure function
-    of ``(seed, "ranger", k, i, b)`` (counter-based, :mod:`mimics.engine.ranger_noise`), so
+    of ``(seed, "ranger", k, i, b)`` (counter-based, :mod:`mimics.engine.ranging.ranger_noise`), so
     it depends on no other robot, beam, step or sensor; beams with no return get none."""
 
     def __init__(self, seed: int) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 from scipy import stats
 
 from mimics.engine.noise_streams import RangerNoise
-from mimics.engine.ranger_noise import LAYER_AREA, NO_RETURN, TAIL, ziggurat_tables
+from mimics.engine.ranging.ranger_noise import LAYER_AREA, NO_RETURN, TAIL, ziggurat_tables
 from mimics.engine.simulation import Simulation
 from mimics.world.maps import Map
 from mimics.world.robot_types import PIONEER_2DX, PositioningNoise, RangerSpec, RobotType

@@ -30,10 +30,10 @@ from numba import njit
 from mimics.engine.dynamics import advance_pose, move_robots
 from mimics.engine.helper_threads.chunks import LEAD
 from mimics.engine.helper_threads.threads import _finish_and_wait, _join, solo_arrays
-from mimics.engine.ranger_noise import _add_noise
 from mimics.engine.ranging.beam_fan import FAN_COLUMNS, beam_fans
 from mimics.engine.ranging.beam_sweep import PLAN
 from mimics.engine.ranging.point_cull import no_sight_lists
+from mimics.engine.ranging.ranger_noise import _add_noise
 from mimics.engine.ranging.ray_kernel import RangerQuery, _cast_rows
 
 # the hook by which the first scan waits for a process compiling the ray part (it lives

@@ -46,7 +46,7 @@ WITNESSES: dict[str, tuple[tuple[str, str], ...]] = {
             ("mimics.engine.ranging.wall_index", "_near_lists"),
             ("mimics.engine.ranging.wall_occlusion", "cull_hidden"),
             ("mimics.engine.ranging.beam_fan", "beam_fans"),
-            ("mimics.engine.ranger_noise", "_add_noise")),
+            ("mimics.engine.ranging.ranger_noise", "_add_noise")),
     "still": (("mimics.engine.ranging.still_scans", "_settle"),
               ("mimics.engine.ranging.still_scans", "_pin")),
 }
