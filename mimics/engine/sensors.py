@@ -1,6 +1,5 @@
 """Noisy sensors: positioning, odometry and communication (the ranger's noise: ranging/).
 
-
 Every draw comes from the sensor's own stream of the run's seed, step by step
 and row by row by robot index (:mod:`mimics.engine.noise_streams`), so the same
 seed gives the same noise whatever the algorithm, whatever it reads.
