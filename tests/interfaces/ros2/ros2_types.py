@@ -129,3 +129,31 @@ class TriggerAnswer(IdlStruct, typename="std_srvs::srv::dds_::Trigger_Response_"
     seq: t.int64 = 0
     success: bool = False
     message: str = ""
+
+
+# tf2_msgs/TFMessage (with geometry_msgs/Transform and TransformStamped) and std_msgs/Int8
+@final
+@dataclass
+class Placement(IdlStruct, typename="geometry_msgs::msg::dds_::Transform_"):
+    translation: Vec3 = field(default_factory=Vec3)
+    rotation: Rotation = field(default_factory=Rotation)
+
+
+@final
+@dataclass
+class StampedPlacement(IdlStruct, typename="geometry_msgs::msg::dds_::TransformStamped_"):
+    header: StdHeader = field(default_factory=StdHeader)
+    child_frame_id: str = ""
+    transform: Placement = field(default_factory=Placement)
+
+
+@final
+@dataclass
+class Frames(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
+    transforms: t.sequence[StampedPlacement] = field(default_factory=list)
+
+
+@final
+@dataclass
+class Flag(IdlStruct, typename="std_msgs::msg::dds_::Int8_"):
+    data: t.int8 = 0

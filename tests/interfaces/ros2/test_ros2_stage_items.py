@@ -25,8 +25,6 @@ import pytest
 from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState, WaitSet
 from cyclonedds.domain import DomainParticipant
 from cyclonedds.idl import IdlStruct
-from cyclonedds.idl import types as t
-from cyclonedds.idl.annotations import final
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
@@ -37,46 +35,11 @@ from mimics.world.robot_types import PIONEER_2DX
 from tests.interfaces.ros.test_stage_world_items import SCENARIO, STALLED_STEPS
 from tests.interfaces.ros2.loopback import dds_environment, loopback_here, next_domain
 from tests.interfaces.ros2.observer import STREAM, WRITER
-from tests.interfaces.ros2.ros2_types import (
-    Odom,
-    Rotation,
-    Scan,
-    StdHeader,
-    Vec3,
-    Velocity,
-)
+from tests.interfaces.ros2.ros2_types import Flag, Frames, Odom, Scan, StdHeader, Vec3, Velocity
 
 DT, SECONDS = 0.1, 4.0
 TWISTS = ((0.3, 0.0), (0.3, 0.0), (0.0, 0.0))  # robot 0 to its goal, 1 into the wall
 BACKS = {1: (-0.3, 0.0)}  # robot 1 backs away once it has been stalled STALLED_STEPS steps
-
-
-# ROS 2 Humble's tf2_msgs/TFMessage and std_msgs/Int8, written out from their definitions
-@final
-@dataclass
-class Placement(IdlStruct, typename="geometry_msgs::msg::dds_::Transform_"):
-    translation: Vec3 = field(default_factory=Vec3)
-    rotation: Rotation = field(default_factory=Rotation)
-
-
-@final
-@dataclass
-class StampedPlacement(IdlStruct, typename="geometry_msgs::msg::dds_::TransformStamped_"):
-    header: StdHeader = field(default_factory=StdHeader)
-    child_frame_id: str = ""
-    transform: Placement = field(default_factory=Placement)
-
-
-@final
-@dataclass
-class Frames(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
-    transforms: t.sequence[StampedPlacement] = field(default_factory=list)
-
-
-@final
-@dataclass
-class Flag(IdlStruct, typename="std_msgs::msg::dds_::Int8_"):
-    data: t.int8 = 0
 
 
 @dataclass
