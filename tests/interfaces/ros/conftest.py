@@ -2,16 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import socket
-import subprocess
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
-from tests.interfaces.ros.helpers import free_port
+from tests.interfaces.ros.helpers import running_master
 from tests.system_packages import require
 
 
@@ -19,28 +15,5 @@ from tests.system_packages import require
 def ros_env(tmp_path: Path) -> Iterator[dict[str, str]]:
     """The environment of a fresh ``rosmaster`` on a free port (stopped afterwards)."""
     require("ros")
-    port = free_port()
-    env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{port}", "ROS_IP": "127.0.0.1",
-           "ROS_HOME": str(tmp_path / "ros_home"), "PYTHONUNBUFFERED": "1"}
-    env.pop("ROS_HOSTNAME", None)
-    master = subprocess.Popen(["rosmaster", "--core", "-p", str(port)], env=env,
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        deadline = time.monotonic() + 15
-        while True:  # until the master accepts connections
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=1).close()
-                break
-            except OSError:
-                if time.monotonic() > deadline or master.poll() is not None:
-                    raise RuntimeError(f"rosmaster did not start on port {port}") from None
-                time.sleep(0.05)
+    with running_master(tmp_path / "ros_home") as env:
         yield env
-    finally:
-        master.terminate()
-        try:
-            master.wait(10)
-        except subprocess.TimeoutExpired:
-            master.kill()
-            master.wait()
-

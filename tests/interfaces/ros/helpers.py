@@ -7,9 +7,14 @@ venv's Python and finds ROS itself.
 
 from __future__ import annotations
 
+import contextlib
+import os
 import signal
+import socket
 import subprocess
 import sys
+import time
+from collections.abc import Iterator
 from pathlib import Path
 
 from mimics.interfaces.ros.private_master import free_port as free_port
@@ -42,3 +47,33 @@ def with_node(env: dict[str, str], node: list[str], *args: str,
             controller.kill()
             output, _ = controller.communicate()
     return bridge, output
+
+
+@contextlib.contextmanager
+def running_master(ros_home: Path) -> Iterator[dict[str, str]]:
+    """A fresh ``rosmaster`` on a free loopback port, stopped at the end: the environment
+    that reaches it (``ROS_HOME`` at ``ros_home``)."""
+    port = free_port()
+    env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{port}", "ROS_IP": "127.0.0.1",
+           "ROS_HOME": str(ros_home), "PYTHONUNBUFFERED": "1"}
+    env.pop("ROS_HOSTNAME", None)
+    master = subprocess.Popen(["rosmaster", "--core", "-p", str(port)], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 15
+        while True:  # until the master accepts connections
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                if time.monotonic() > deadline or master.poll() is not None:
+                    raise RuntimeError(f"rosmaster did not start on port {port}") from None
+                time.sleep(0.05)
+        yield env
+    finally:
+        master.terminate()
+        try:
+            master.wait(10)
+        except subprocess.TimeoutExpired:
+            master.kill()
+            master.wait()

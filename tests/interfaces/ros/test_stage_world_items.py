@@ -14,10 +14,6 @@ return, whose range is ``range_max``).
 from __future__ import annotations
 
 import json
-import os
-import socket
-import subprocess
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -28,7 +24,7 @@ import pytest
 from mimics.interfaces.ros.bridge_core import BridgeOptions, load_run_scenario, options_record
 from mimics.records.run_folder import load_run
 from mimics.world.robot_types import PIONEER_2DX
-from tests.interfaces.ros.helpers import SYSTEM_PYTHON, free_port, with_node
+from tests.interfaces.ros.helpers import SYSTEM_PYTHON, running_master, with_node
 from tests.system_packages import require
 
 DT = 0.1
@@ -175,30 +171,8 @@ def test_stage_names_stall_robots_unless_the_scenario_or_a_parameter_says(tmp_pa
 def ros_env_module(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, str]]:
     """A fresh ``rosmaster`` for this module's runs (as the conftest's ``ros_env``)."""
     require("ros")
-    port = free_port()
-    env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{port}", "ROS_IP": "127.0.0.1",
-           "ROS_HOME": str(tmp_path_factory.mktemp("ros_home")), "PYTHONUNBUFFERED": "1"}
-    env.pop("ROS_HOSTNAME", None)
-    master = subprocess.Popen(["rosmaster", "--core", "-p", str(port)], env=env,
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        deadline = time.monotonic() + 15
-        while True:  # until the master accepts connections
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=1).close()
-                break
-            except OSError:
-                if time.monotonic() > deadline or master.poll() is not None:
-                    raise RuntimeError(f"rosmaster did not start on port {port}") from None
-                time.sleep(0.05)
+    with running_master(tmp_path_factory.mktemp("ros_home")) as env:
         yield env
-    finally:
-        master.terminate()
-        try:
-            master.wait(10)
-        except subprocess.TimeoutExpired:
-            master.kill()
-            master.wait()
 
 
 @pytest.fixture(scope="module")
