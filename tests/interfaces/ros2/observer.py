@@ -13,6 +13,7 @@ from __future__ import annotations
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -87,21 +88,34 @@ def _observe(folder: Path, domain: int, robots: int, arguments: list[str],
         env=dds_environment(domain), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
         text=True)
     seen = Observed(folder, -1, "", raw={topic: [] for topic in readers})
+
+    def take() -> None:
+        _take_all(readers, seen, commands)
+        _publications(publications, seen)
+
+    try:
+        seen.returncode, seen.stderr = watch_until_done(process, waits, take, limit)
+    finally:
+        participant.__del__()
+    return seen
+
+
+def watch_until_done(process: subprocess.Popen[str], waits: WaitSet,
+                     take: Callable[[], None], limit: float) -> tuple[int, str]:
+    """Call ``take`` whenever ``waits`` wakes (at least every 0.1 s) until ``process`` ends
+    or ``limit`` seconds pass, once more after; kill it if it still runs. Its return code
+    and standard error."""
     deadline = time.monotonic() + limit
     try:
         while process.poll() is None and time.monotonic() < deadline:
             waits.wait(duration(milliseconds=100))
-            _take_all(readers, seen, commands)
-            _publications(publications, seen)
-        _take_all(readers, seen, commands)
-        _publications(publications, seen)
+            take()
+        take()
     finally:
         if process.poll() is None:
             process.kill()
-        seen.stderr = process.communicate()[1]
-        seen.returncode = process.returncode
-        participant.__del__()
-    return seen
+        stderr = process.communicate()[1]
+    return process.returncode, stderr
 
 
 def _take_all(readers: dict[str, DataReader], seen: Observed,

@@ -14,7 +14,6 @@ Stage's ranger as stage_ros publishes it.
 import json
 import subprocess
 import sys
-import time
 from collections import defaultdict
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,13 +27,12 @@ from cyclonedds.idl import IdlStruct
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
-from cyclonedds.util import duration
 
 from mimics.records.run_folder import load_run
 from mimics.world.robot_types import PIONEER_2DX
 from tests.interfaces.ros.test_stage_world_items import SCENARIO, STALLED_STEPS
 from tests.interfaces.ros2.loopback import dds_environment, loopback_here, next_domain
-from tests.interfaces.ros2.observer import STREAM, WRITER
+from tests.interfaces.ros2.observer import STREAM, WRITER, watch_until_done
 from tests.interfaces.ros2.ros2_types import Flag, Frames, Odom, Scan, StdHeader, Vec3, Velocity
 
 DT, SECONDS = 0.1, 4.0
@@ -82,17 +80,10 @@ def observe(tmp_path: Path, *options: str, seconds: float) -> Seen:
              "--startup-grace", "1", "--timeout", "20", "--out", str(seen.folder), *options],
             env=dds_environment(domain), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
             text=True)
-        deadline = time.monotonic() + 90
         try:
-            while process.poll() is None and time.monotonic() < deadline:
-                waits.wait(duration(milliseconds=100))
-                _take(readers, commands, seen)
-            _take(readers, commands, seen)
+            seen.returncode, seen.stderr = watch_until_done(
+                process, waits, lambda: _take(readers, commands, seen), 90)
         finally:
-            if process.poll() is None:
-                process.kill()
-            seen.stderr = process.communicate()[1]
-            seen.returncode = process.returncode
             participant.__del__()
     return seen
 
