@@ -149,8 +149,8 @@ def spec_from_dict(data: dict[str, Any], base: str | Path = ".", source: str = "
     if ros_timeout is not None:
         _limited(check_wall_seconds, "[battery] ros_timeout", ros_timeout, fail)
     if ros_timeout is not None and not any(a.startswith(("ros:", "ros2:")) for a in algorithms):
-        raise fail("[battery] ros_timeout: only for ros: algorithms (ros:PROGRAM [ARGS...]), "
-                   "and this battery has none")
+        raise fail("[battery] ros_timeout: only for ros: and ros2: algorithms (ros:PROGRAM "
+                   "or ros2:PROGRAM [ARGS...]), and this battery has none")
     name = table.get("name", "")
     if not isinstance(name, str):
         raise fail(f"[battery] name: expected a string, got {name!r}")

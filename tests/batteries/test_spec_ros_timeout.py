@@ -34,6 +34,7 @@ def test_a_bad_ros_timeout_is_named(tmp_path, value):
 
 
 def test_ros_timeout_without_a_ros_algorithm_is_refused(tmp_path):
-    with pytest.raises(MimicsError, match=r"\[battery\] ros_timeout: only for ros: algorithms"):
+    with pytest.raises(MimicsError,
+                       match=r"\[battery\] ros_timeout: only for ros: and ros2: algorithms"):
         spec_from_dict({"battery": {"algorithms": ["go_to_goal"], "ros_timeout": 3},
                         "scenarios": SCENARIOS})

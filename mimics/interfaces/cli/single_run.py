@@ -51,10 +51,10 @@ def run(
         help="Keep robots that start touching a wall or each other, or outside the map "
              "(reported, then run).")] = False,
     ros_timeout: Annotated[float | None, typer.Option(
-        help="ros: algorithms: seconds to wait for the node to connect and, each step, for "
-             "all its commands [default: 10]")] = None,
+        help="ros: and ros2: algorithms: seconds to wait for the node to connect and, each "
+             "step, for all its commands [default: 10]")] = None,
     ros_names: Annotated[str | None, typer.Option(
-        help="ros: algorithms: topic and frame names, mimics or stage (stage_ros' names) "
+        help="ros: and ros2: algorithms: topic and frame names, mimics or stage (stage_ros' names) "
              "[default: mimics]")] = None,
 ) -> None:
     """Run one simulation, print its summary and write its run folder.
@@ -96,7 +96,8 @@ def run(
                 raise fail(str(exc)) from None
     elif ros_timeout is not None or ros_names is not None:
         option = "--ros-timeout" if ros_timeout is not None else "--ros-names"
-        raise fail(f"{option}: only for ros: algorithms (ros:PROGRAM [ARGS...])")
+        raise fail(f"{option}: only for ros: and ros2: algorithms "
+                   "(ros:PROGRAM or ros2:PROGRAM [ARGS...])")
     from mimics.interfaces.cli.compiling.first_run import compiles_started, kernels_compiled_ahead
 
     with compiles_started():  # a fresh install's compiles start before Numba is imported

@@ -215,7 +215,8 @@ def test_ros_names_option_is_checked(tmp_path):
     assert "--ros-names: expected one of mimics, stage, got 'gazebo'" in bad.stderr
     not_ros = subprocess_mimics("run", "line", "go_to_goal", "--ros-names", "stage",
                                 "--out", str(tmp_path / "b"))
-    assert not_ros.returncode == 2 and "--ros-names: only for ros: algorithms" in not_ros.stderr
+    assert not_ros.returncode == 2
+    assert "--ros-names: only for ros: and ros2: algorithms" in not_ros.stderr
     names = subprocess_mimics("ros", "line", "--names", "gazebo")
     assert names.returncode == 2
     assert "--names: expected one of mimics, stage, got 'gazebo'" in names.stderr

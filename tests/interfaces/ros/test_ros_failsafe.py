@@ -137,8 +137,8 @@ def test_mimics_run_ros_timeout_is_one_deadline_and_its_message_cites_it(tmp_pat
                             "--ros-timeout", "1", "--out", str(tmp_path / "other")],
                            capture_output=True, text=True, timeout=120, check=False)
     assert other.returncode == 2
-    assert other.stderr.strip() == ("mimics: error: --ros-timeout: only for ros: algorithms "
-                                    "(ros:PROGRAM [ARGS...])")
+    assert other.stderr.strip() == ("mimics: error: --ros-timeout: only for ros: and ros2: "
+                                    "algorithms (ros:PROGRAM or ros2:PROGRAM [ARGS...])")
     assert not (tmp_path / "other").exists()
 
 
