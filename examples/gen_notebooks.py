@@ -17,10 +17,20 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from gallery import EXAMPLES  # noqa: E402
+from gallery import EXAMPLES, Example  # noqa: E402
 
 NOTEBOOK = "notebook.ipynb"
 LINK = f"[Open it as a notebook]({NOTEBOOK}): run it, replay it and change it in a cell."
+
+
+def _call(scenario: str, options: str, example: Example) -> str:
+    """The ``simulate`` line, broken before ``time=`` when it would pass 100 characters."""
+    line = (f"run = mimics.simulate({scenario!r}, 'algorithm.py'{options}, "
+            f"time={example.time!r}, seed={example.seed!r})")
+    if len(line) <= 100:
+        return line
+    return (f"run = mimics.simulate({scenario!r}, 'algorithm.py'{options},\n"
+            f"                      time={example.time!r}, seed={example.seed!r})")
 
 
 def _cell(kind: str, source: str) -> dict[str, object]:
@@ -50,8 +60,7 @@ def notebook_of(name: str) -> str:
         _cell("markdown", "Run it (the notebook's folder is the example's: `algorithm.py` "
                           "is the algorithm; edit it and run the cells again). The cell "
                           "shows the summary and the trajectories:"),
-        _cell("code", f"import mimics\n\nrun = mimics.simulate({scenario!r}, 'algorithm.py'"
-                      f"{options}, time={example.time!r}, seed={example.seed!r})\nrun"),
+        _cell("code", f"import mimics\n\n{_call(scenario, options, example)}\nrun"),
         _cell("markdown", "The replay, playing in the cell:"),
         _cell("code", "run.animate()"),
         _cell("markdown", "What happened, by kind of event (`run.events` has one row per "
