@@ -166,7 +166,8 @@ def test_one_robot_has_no_prefix_and_its_odometry_is_the_unicycles(ros_env, tmp_
 def test_mimics_names_carry_odom_pose_and_ground_truth(ros_env, tmp_path):
     messages, folder = run_with_node(
         ros_env, tmp_path, ["--robots", "2", "--names", "mimics", "--twist", "0.4,0.3"],
-        "line", "--robots", "2", "--time", "2")
+        "line", "--robots", "2", "--time", "4")  # 3 s past --tf-after: the node's tf2
+    # polls in wall time, and a loaded machine once let a 1 s window pass unseen
     recorded = trajectory(folder)
     for robot in range(2):
         mine = messages[messages.robot == robot]
