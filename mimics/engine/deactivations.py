@@ -67,9 +67,9 @@ class RobotDeactivations:
         elif checks.touching:
             for i in (checks.with_whom != -2).nonzero()[0].tolist():
                 other = int(checks.with_whom[i])
-                what = "wall" if other == -1 else f"robot {other}"
                 self.state.collided_with[i] = other
-                self._mark(i, Status.COLLIDED, f"Collision with {what}", "collision", other=other)
+                self._mark(i, Status.COLLIDED, f"Collision with {_touched(other)}", "collision",
+                           other=other)
         return checks.distance, checks.quiet
 
     def _checks(self, ids: np.ndarray, rebuild: bool = False) -> StepChecks:
@@ -88,8 +88,8 @@ class RobotDeactivations:
         for robot, other in contacts:
             if self.state.collided_with[robot] == -2:
                 self.state.collided_with[robot] = other
-            what = "wall" if other == -1 else f"robot {other}"
-            self._event(robot, "collision", f"Collision with {what} (stalled)", other=other)
+            self._event(robot, "collision", f"Collision with {_touched(other)} (stalled)",
+                        other=other)
 
     def _mark_departures_and_arrivals(self, ids: np.ndarray, distance: np.ndarray) -> None:
         """Mark robots ``ids`` that left the map or are ``distance`` from their goal."""
@@ -166,3 +166,9 @@ class RobotDeactivations:
             self.user_exception = failures[0].exception
             self.status = "error"
         return np.array(failed, dtype=np.int64)
+
+
+def _touched(other: int) -> str:
+    """What a robot touched, as events name it: ``wall`` (-1) or ``robot J``."""
+    return "wall" if other == -1 else f"robot {other}"
+

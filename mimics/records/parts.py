@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import os
 import shutil
+from abc import ABC, abstractmethod
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -134,20 +135,20 @@ class PartWriter:
         return {"compression": self.compression, "use_dictionary": _dictionary_columns(self.schema)}
 
 
-class PartBuffer:
+class PartBuffer(ABC):
     """Rows held in memory and written through a :class:`PartWriter` as one part at a
     time: a subclass holds its rows its own way (:meth:`table`, :meth:`_clear`)."""
 
     def __init__(self, writer: PartWriter) -> None:
         self.writer = writer
 
+    @abstractmethod
     def table(self) -> pa.Table | None:
         """The buffered rows as a table (None when there are none)."""
-        raise NotImplementedError
 
+    @abstractmethod
     def _clear(self) -> None:
         """Forget the buffered rows (they have been written)."""
-        raise NotImplementedError
 
     def flush(self, table: pa.Table | None = None, last: bool = False) -> None:
         """Write the buffered rows as one part and empty the buffer.

@@ -11,6 +11,7 @@ and ask for the rest through a link, both kept by :mod:`mimics.engine.user_code.
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -93,7 +94,7 @@ class Scan:
         return np.column_stack([x + r * np.cos(angles), y + r * np.sin(angles)])
 
 
-class _WorldView:
+class _WorldView(ABC):
     """What ``robot`` and ``team`` read alike: the clock, the map, the generator and the
     communication table, asked for one robot (``robot``) or for the team (``team``)."""
 
@@ -101,9 +102,9 @@ class _WorldView:
     _link: Any
     _mirror: Any
 
+    @abstractmethod
     def _asker(self) -> int | None:
         """Whose view this is, for the hub: a robot's index, or None for the team."""
-        raise NotImplementedError
 
     @property
     def time(self) -> float:
