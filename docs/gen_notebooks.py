@@ -23,12 +23,16 @@ Notebooks are written without outputs (the docs site and the tests run them).
 from __future__ import annotations
 
 import argparse
-import json
 import re
 import sys
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parent
+sys.path.insert(0, str(DOCS))
+
+from notebook_files import cell as _cell  # noqa: E402
+from notebook_files import notebook_text, write_or_check  # noqa: E402
+
 SNIPPETS = DOCS / "snippets"
 FENCE = re.compile(r"^```([^\n]*)\n(.*?)^```[ \t]*$", re.S | re.M)
 INCLUDE = re.compile(r'^--8<-- "([^"]+)"$')
@@ -97,14 +101,6 @@ def notebook_path(page: str) -> Path:
     """Where the notebook of ``page`` goes (beside it; its own name, so that its docs
     page does not take the Markdown page's address)."""
     return DOCS / page.replace(".md", "-notebook.ipynb")
-
-
-def _cell(kind: str, source: str) -> dict[str, object]:
-    source = source.strip("\n")
-    cell: dict[str, object] = {"cell_type": kind, "metadata": {}, "source": source}
-    if kind == "code":
-        cell.update(execution_count=None, outputs=[])
-    return cell
 
 
 def _code_block(info: str, body: str) -> tuple[str, str]:
@@ -177,19 +173,8 @@ def notebook_of(page: str) -> str:
     """``page``'s notebook as the text written (nbformat 4, no outputs)."""
     note = (f"*This notebook is made from the page `docs/{page}` by "
             "`docs/gen_notebooks.py`: edit the page, then run the script.*")
-    notebook = {
-        "cells": [_cell("markdown", note), *cells_of(page)],
-        "metadata": {
-            "kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"},
-            "language_info": {"name": "python"},
-            "mimics": {"source": f"docs/{page}", "generator": "docs/gen_notebooks.py"},
-        },
-        "nbformat": 4,
-        "nbformat_minor": 5,
-    }
-    for number, cell in enumerate(notebook["cells"]):  # type: ignore[arg-type]
-        cell["id"] = f"cell-{number}"
-    return json.dumps(notebook, indent=1, ensure_ascii=False) + "\n"
+    return notebook_text([_cell("markdown", note), *cells_of(page)], f"docs/{page}",
+                         "docs/gen_notebooks.py")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -197,18 +182,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="write nothing; fail if stale")
     args = parser.parse_args(argv)
-    stale = []
-    for page in PAGES:
-        path, text = notebook_path(page), notebook_of(page)
-        if args.check:
-            if not path.is_file() or path.read_text() != text:
-                stale.append(str(path.relative_to(DOCS.parent)))
-        else:
-            path.write_text(text)
-    if stale:
-        print("out of date (run python docs/gen_notebooks.py):", *stale, sep="\n  ")
-        return 1
-    return 0
+    return write_or_check(((notebook_path(page), notebook_of(page)) for page in PAGES),
+                          args.check, "docs/gen_notebooks.py")
 
 
 if __name__ == "__main__":

@@ -10,14 +10,15 @@ nothing and fails (status 1) when a notebook is not what this script makes now
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
+sys.path[:0] = [str(HERE), str(HERE.parent / "docs")]
 
 from gallery import EXAMPLES, Example  # noqa: E402
+from notebook_files import cell as _cell  # noqa: E402
+from notebook_files import notebook_text, write_or_check  # noqa: E402
 
 NOTEBOOK = "notebook.ipynb"
 LINK = f"[Open it as a notebook]({NOTEBOOK}): run it, replay it and change it in a cell."
@@ -31,13 +32,6 @@ def _call(scenario: str, options: str, example: Example) -> str:
         return line
     return (f"run = mimics.simulate({scenario!r}, 'algorithm.py'{options},\n"
             f"                      time={example.time!r}, seed={example.seed!r})")
-
-
-def _cell(kind: str, source: str) -> dict[str, object]:
-    cell: dict[str, object] = {"cell_type": kind, "metadata": {}, "source": source.strip("\n")}
-    if kind == "code":
-        cell.update(execution_count=None, outputs=[])
-    return cell
 
 
 def introduction(name: str) -> str:
@@ -71,39 +65,20 @@ def notebook_of(name: str) -> str:
                           f"time={example.time!r})`; keep the run with `run.save(\"runs/"
                           f"{name}\")` (then `mimics report runs/{name}`)."),
     ]
-    for number, cell in enumerate(cells):
-        cell["id"] = f"cell-{number}"
-    notebook = {
-        "cells": cells,
-        "metadata": {
-            "kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"},
-            "language_info": {"name": "python"},
-            "mimics": {"source": "examples/gallery.py", "generator": "examples/gen_notebooks.py"},
-        },
-        "nbformat": 4,
-        "nbformat_minor": 5,
-    }
-    return json.dumps(notebook, indent=1, ensure_ascii=False) + "\n"
+    return notebook_text(cells, "examples/gallery.py", "examples/gen_notebooks.py")
 
 
 def main(argv: list[str] | None = None) -> int:
     """Write every example's notebook, or with ``--check`` list the stale ones (status 1)."""
     check = "--check" in (sys.argv[1:] if argv is None else argv)
-    stale = []
-    for name in EXAMPLES:
-        path, text = HERE / name / NOTEBOOK, notebook_of(name)
-        readme = (HERE / name / "README.md").read_text()
-        if check:
-            if not path.is_file() or path.read_text() != text or LINK not in readme:
-                stale.append(str(path.relative_to(HERE.parent)))
-        else:
-            path.write_text(text)
+    if not check:
+        for name in EXAMPLES:  # the README's last line links the notebook
+            readme = (HERE / name / "README.md").read_text()
             if LINK not in readme:
                 (HERE / name / "README.md").write_text(readme.rstrip("\n") + f"\n\n{LINK}\n")
-    if stale:
-        print("out of date (run python examples/gen_notebooks.py):", *stale, sep="\n  ")
-        return 1
-    return 0
+    return write_or_check(((HERE / name / NOTEBOOK, notebook_of(name)) for name in EXAMPLES),
+                          check, "examples/gen_notebooks.py",
+                          lambda path: LINK not in (path.parent / "README.md").read_text())
 
 
 if __name__ == "__main__":
