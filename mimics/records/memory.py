@@ -149,9 +149,7 @@ class MemoryRun(Run):
         self._scenario_info = (recorder.scenario, dict(recorder.run_info))
 
     def __repr__(self) -> str:
-        s = self.summary
-        return (f"MemoryRun({s.get('scenario')} / {s.get('algorithm')} / seed {s.get('seed')}, "
-                f"{s.get('robots')} robots, {s.get('status')})")
+        return f"MemoryRun({self._described()})"
 
     @property
     def complete(self) -> bool:

@@ -72,9 +72,13 @@ class Run:
         self.path = Path(path)
 
     def __repr__(self) -> str:
+        return f"Run({str(self.path)!r}: {self._described()})"
+
+    def _described(self) -> str:
+        """Scenario, algorithm, seed, robots and status, as the reprs show them."""
         s = self.summary
-        return (f"Run({str(self.path)!r}: {s.get('scenario')} / {s.get('algorithm')} / seed "
-                f"{s.get('seed')}, {s.get('robots')} robots, {s.get('status')})")
+        return (f"{s.get('scenario')} / {s.get('algorithm')} / seed {s.get('seed')}, "
+                f"{s.get('robots')} robots, {s.get('status')}")
 
     @property
     def complete(self) -> bool:
