@@ -181,8 +181,31 @@ export class WorldView {
   }
 }
 
-// Robots as filled rectangles, one path per colour: fast for thousands of robots
-// (no allocation per robot: the corners are computed in screen units in place).
+// Shapes in the robot's frame, in units of its half-length (x, ahead) and half-width (y,
+// left): its body, and the heading's arrowhead from behind its centre to near its front.
+const RECTANGLE = [[1, 1], [-1, 1], [-1, -1], [1, -1]];
+const ARROW = [[0.9, 0], [-0.25, 0.6], [-0.25, -0.6]];
+
+// Robot i's shape as a closed sub-path of the current path, in screen units (y down): no
+// allocation per robot, so that thousands of robots draw fast.
+function traceShape(c, view, poses, i, halfLength, halfWidth, shape) {
+  const { scale, offsetX, offsetY } = view;
+  const sx = offsetX + poses[3 * i] * scale;
+  const sy = offsetY - poses[3 * i + 1] * scale;
+  const t = poses[3 * i + 2];
+  const cos = Math.cos(t) * scale;
+  const sin = Math.sin(t) * scale;
+  for (let k = 0; k < shape.length; k++) {
+    const dx = shape[k][0] * halfLength[i];
+    const dy = shape[k][1] * halfWidth[i];
+    const px = sx + dx * cos - dy * sin;
+    const py = sy - (dx * sin + dy * cos);
+    if (k === 0) c.moveTo(px, py); else c.lineTo(px, py);
+  }
+  c.closePath();
+}
+
+// Robots as filled rectangles, one path per colour.
 export function drawRobots(c, view, poses, halfLength, halfWidth, colorOf, count) {
   const groups = new Map();
   for (let i = 0; i < count; i++) {
@@ -191,25 +214,10 @@ export function drawRobots(c, view, poses, halfLength, halfWidth, colorOf, count
     if (!group) { group = []; groups.set(color, group); }
     group.push(i);
   }
-  const { scale, offsetX, offsetY } = view;
   for (const [color, robots] of groups) {
     c.fillStyle = color;
     c.beginPath();
-    for (const i of robots) {
-      const sx = offsetX + poses[3 * i] * scale;
-      const sy = offsetY - poses[3 * i + 1] * scale;
-      const t = poses[3 * i + 2];
-      const cos = Math.cos(t) * scale;
-      const sin = Math.sin(t) * scale;
-      const l = halfLength[i];
-      const w = halfWidth[i];
-      // corner (dx, dy) in the robot's frame -> screen (y down)
-      c.moveTo(sx + l * cos - w * sin, sy - (l * sin + w * cos));
-      c.lineTo(sx - l * cos - w * sin, sy - (-l * sin + w * cos));
-      c.lineTo(sx - l * cos + w * sin, sy - (-l * sin - w * cos));
-      c.lineTo(sx + l * cos + w * sin, sy - (l * sin - w * cos));
-      c.closePath();
-    }
+    for (const i of robots) traceShape(c, view, poses, i, halfLength, halfWidth, RECTANGLE);
     c.fill();
   }
 }
@@ -244,23 +252,9 @@ export function drawGoals(c, view, goals) {
 // Each robot's heading: a white arrowhead from behind its centre to near its front, filled
 // (readable at the zoom that fits a whole map, where a line of a pixel or two read as a "U").
 export function drawHeadings(c, view, frame, robots, halfLength, halfWidth) {
-  const { scale, offsetX, offsetY } = view;
   c.fillStyle = HEADING_COLOR;
   c.beginPath();
-  for (let i = 0; i < robots; i++) {
-    const x = offsetX + frame[3 * i] * scale;
-    const y = offsetY - frame[3 * i + 1] * scale;
-    const t = frame[3 * i + 2];
-    const cos = Math.cos(t) * scale;
-    const sin = Math.sin(t) * scale;
-    const l = halfLength[i];
-    const w = halfWidth[i] * 0.6;
-    // (dx, dy) in the robot's frame -> screen (y down): tip ahead, base behind the centre
-    c.moveTo(x + 0.9 * l * cos, y - 0.9 * l * sin);
-    c.lineTo(x - 0.25 * l * cos - w * sin, y - (-0.25 * l * sin + w * cos));
-    c.lineTo(x - 0.25 * l * cos + w * sin, y - (-0.25 * l * sin - w * cos));
-    c.closePath();
-  }
+  for (let i = 0; i < robots; i++) traceShape(c, view, frame, i, halfLength, halfWidth, ARROW);
   c.fill();
 }
 
