@@ -56,7 +56,26 @@ CASES = {
     "lognormal sigma 1": Case("time_to_goal", lambda rng, k: rng.lognormal(0.0, 1.0, k),
                               LOGNORMAL_MEAN, math.sqrt((math.e - 1) * math.e)),
 }
-KEPT = ["normal", "success at rate 0.1", "0/1 count at rate 0.1", "lognormal sigma 0.5"]
+
+
+def restricted_lognormal(horizon: float) -> tuple[float, float]:
+    """Mean and sd of min(X, horizon) for X lognormal(0, 1): a time to goal whose
+    non-arrivals count at the run's horizon, as mimics' ``time_to_goal`` does."""
+    from scipy.stats import norm
+
+    cut = math.log(horizon)
+    beyond = norm.sf(cut)  # P(X > horizon)
+    mean = math.exp(0.5) * norm.cdf(cut - 1.0) + horizon * beyond
+    square = math.exp(2.0) * norm.cdf(cut - 2.0) + horizon ** 2 * beyond
+    return mean, math.sqrt(square - mean ** 2)
+
+
+HORIZON = 5.0  # five times the median time: 5.4% of runs reach it
+CASES["lognormal sigma 1, horizon 5 medians"] = Case(
+    "time_to_goal", lambda rng, k: np.minimum(rng.lognormal(0.0, 1.0, k), HORIZON),
+    *restricted_lognormal(HORIZON))
+KEPT = ["normal", "success at rate 0.1", "0/1 count at rate 0.1", "lognormal sigma 0.5",
+        "lognormal sigma 1, horizon 5 medians"]
 
 
 @dataclass(frozen=True)
@@ -211,3 +230,15 @@ def test_the_rule_handed_every_value_stops_where_a_running_battery_would(
     rule = rule_for(name, fixed_sample)
     for row in draws(name, BATTERIES, STREAM, DEFAULT_MAX_SEEDS)[:100]:
         assert stop(row, rule) == stop_round_by_round(row, rule)
+
+
+def test_the_restricted_lognormal_moments_are_those_of_numerical_integration() -> None:
+    from scipy import integrate
+    from scipy.stats import lognorm
+
+    law = lognorm(1.0)
+    below = integrate.quad(lambda x: x * law.pdf(x), 0, HORIZON)[0]
+    below_square = integrate.quad(lambda x: x * x * law.pdf(x), 0, HORIZON)[0]
+    mean = below + HORIZON * law.sf(HORIZON)
+    sd = math.sqrt(below_square + HORIZON ** 2 * law.sf(HORIZON) - mean ** 2)
+    assert restricted_lognormal(HORIZON) == pytest.approx((mean, sd), rel=1e-7)
