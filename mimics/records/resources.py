@@ -144,20 +144,18 @@ def check_memory(scenario: Scenario, *, flush_rows: int = FLUSH_ROWS, every: int
         largest = estimate.largest()
         beams = max((t.ranger.beams for t in scenario.types), default=0)
         raise MimicsError(
-            f"scenario {scenario.name!r}: this run needs about {_size(estimate.total)} "
-            f"({largest}: {_size(estimate.parts[largest])} for {scenario.robot_count} robots "
-            f"with {beams} beams), more than the {_size(available)} available: use "
+            f"scenario {scenario.name!r}: this run needs about {size_text(estimate.total)} "
+            f"({largest}: {size_text(estimate.parts[largest])} for {scenario.robot_count} robots "
+            f"with {beams} beams), more than the {size_text(available)} available: use "
             f"{ADVICE[largest]}")
     return estimate
 
 
 def size_text(count: int) -> str:
     """A byte count for a person: ``"1.5 GB"``."""
-    return _size(count)
-
-
-def _size(count: int) -> str:
     for unit, scale in (("TB", 2**40), ("GB", 2**30), ("MB", 2**20)):
         if count >= scale:
-            return f"{count / scale:.1f} {unit}"
+            amount = count / scale
+            # a setting such as deadlock_window = 1e300 asks for a 290-digit number of TB
+            return f"{amount:.3g} {unit}" if amount >= 1e6 else f"{amount:.1f} {unit}"
     return f"{count / 2**10:.1f} kB"

@@ -94,3 +94,12 @@ def test_prepare_and_the_command_line_refuse_before_allocating(
         status = main(["run", "line", "go_to_goal", "--robots", "2000"])
     assert status == 2
     assert err.getvalue().startswith("mimics: error: scenario 'line': this run needs about")
+
+
+@pytest.mark.parametrize(("count", "shown"), [
+    (3 * 2**10, "3.0 kB"), (int(1.5 * 2**20), "1.5 MB"), (7 * 2**40, "7.0 TB"),
+    (999_999 * 2**40, "999999.0 TB"), (2 * 10**6 * 2**40, "2e+06 TB"),
+    (10**300, "9.09e+287 TB"),  # what deadlock_window = 1e300 once printed as 288 digits
+])
+def test_sizes_are_written_short_however_large(count: int, shown: str) -> None:
+    assert resources.size_text(count) == shown
