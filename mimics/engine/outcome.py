@@ -176,6 +176,9 @@ class RunResult:
             "livelocks": int(self.ever_livelocked.sum()),
             "exceptions": sum(1 for e in self.events if e.kind == "exception"),
             "active_at_end": self.count(Status.ACTIVE),
+            # robots a collision deactivated: with reached_goal, escaped... a partition of
+            # the robots, which collisions is not under "stall" (a stalled robot drives on)
+            "collided_at_end": self.count(Status.COLLIDED),
             "error": self.error,
             "user_code_time": self.user_timing,
             "time_to_goal": _stats(times),

@@ -216,8 +216,8 @@ class Run:
 #: Keys of summary.json read as numbers (None allowed: a run with no speed, no wall limit).
 NUMBER_KEYS = ("robots", "sim_time", "wall_time", "steps", "sim_speed", "reached_goal",
                "collisions", "robot_collisions", "wall_collisions", "escaped", "deadlocks",
-               "livelocks", "exceptions", "active_at_end", "time_limit", "wall_limit",
-               "deadlock_episodes", "livelock_episodes", "user_messages")
+               "livelocks", "exceptions", "active_at_end", "collided_at_end", "time_limit",
+               "wall_limit", "deadlock_episodes", "livelock_episodes", "user_messages")
 NULLABLE_KEYS = ("sim_speed", "wall_limit", "active_at_end")
 #: Keys of summary.json read as tables of numbers (mean, min, max...; None allowed).
 TABLE_KEYS = ("user_code_time", "time_to_goal", "path_length", "path_efficiency")

@@ -349,3 +349,33 @@ def test_the_database_gives_the_points_and_arrivals(tmp_path: Path, monkeypatch)
     assert list(panels(fig)) == ["robots=100"]
     expected = sorted(by_hand(100, [0, 1, 2]) * 2)
     assert points(panels(fig)["robots=100"])[0] == pytest.approx(expected)
+
+
+def test_outcome_bars_partition_the_robots_when_collisions_stall(tmp_path: Path) -> None:
+    # under on_collision = "stall" a robot that collided drives on (collisions 2, both
+    # active at the end): the outcome bars stack final states, which add up to the robots
+    import math
+
+    from mimics.world.maps import Map
+    from mimics.world.robot_types import RobotType
+    from mimics.world.scenario import Scenario, Settings
+
+    body = RobotType("blind", width=0.5, length=0.7, kv=1.0, kw=1.0, tau_v=0.5, tau_w=0.2)
+    world = Map(np.zeros((0, 4)), (-10, -10, 10, 10))
+    for rule in ("stall", "deactivate"):
+        scene = Scenario.from_matrix([[-1.0, 0.0, 0.0, 0.0], [1.0, 0.0, math.pi, 0.0]], world,
+                                     body, settings=Settings(noise="off", on_collision=rule))
+        sim = prepare(scene, lambda robot: (0.6, 0.0 if robot.id == 0 else math.pi), time=4.0,
+                      seed=3)
+        run_to_folder(sim, tmp_path / rule / "run-0001", robot_logs="off")
+    table = battery_table(tmp_path)
+    by_rule = {Path(folder).parent.name: row for folder, row in
+               zip(table["folder"], table.to_dict("records"), strict=True)}
+    stalled, deactivated = by_rule["stall"], by_rule["deactivate"]
+    assert (stalled["collisions"], stalled["collided_at_end"],
+            stalled["active_at_end"]) == (2, 0, 2)
+    assert (deactivated["collisions"], deactivated["collided_at_end"]) == (2, 2)
+    for row in (stalled, deactivated):
+        bars = (row["reached_goal"] + row["collided_at_end"] + row["escaped"]
+                + row["stopped_other"] + row["active_at_end"])
+        assert bars == row["robots"] == 2

@@ -21,7 +21,7 @@ from mimics.world.errors import MimicsError
 
 #: Robot outcomes stacked in the battery outcome plot: (summary column, label, colour).
 OUTCOMES = (("reached_goal", "reached goal", STATUS_COLORS["reached_goal"]),
-            ("collisions", "collided", STATUS_COLORS["collided"]),
+            ("collided_at_end", "collided", STATUS_COLORS["collided"]),
             ("escaped", "escaped", STATUS_COLORS["escaped"]),
             ("stopped_other", "deadlock or error", STATUS_COLORS["deadlock"]),
             ("active_at_end", "active at end", STATUS_COLORS["active"]))

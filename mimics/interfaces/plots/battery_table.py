@@ -14,7 +14,7 @@ from mimics.batteries.tasks import STATE_OF_STATUS
 from mimics.world.errors import MimicsError
 
 _NUMERIC = ("robots", "wall_time", "sim_time", "reached_goal", "collisions", "escaped",
-            "deadlocks", "livelocks", "exceptions", "active_at_end")
+            "deadlocks", "livelocks", "exceptions", "active_at_end", "collided_at_end")
 
 
 def battery_table(directory: str | Path) -> pd.DataFrame:
@@ -55,7 +55,9 @@ def battery_table(directory: str | Path) -> pd.DataFrame:
                           "or no run has finished")
     table = pd.DataFrame(rows)
     table["point"] = _points(table)
-    stopped = (table["robots"] - table["reached_goal"] - table["collisions"]
+    # runs recorded before collided_at_end: collisions deactivated, so they are the same
+    table["collided_at_end"] = table["collided_at_end"].fillna(table["collisions"])
+    stopped = (table["robots"] - table["reached_goal"] - table["collided_at_end"]
                - table["escaped"] - table["active_at_end"])
     table["stopped_other"] = stopped.clip(lower=0)
     return table
