@@ -14,8 +14,11 @@ from __future__ import annotations
 
 import math
 import os
+import subprocess
 import sys
 import time
+from pathlib import Path
+from typing import Any
 
 from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState, WaitSet
 from cyclonedds.domain import DomainParticipant
@@ -26,7 +29,7 @@ from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
-from tests.interfaces.ros2.ros2_types import Goal, Odom, Vec3, Velocity
+from tests.interfaces.ros2.ros2_types import Odometry, PoseStamped, Twist, Vector3
 
 RELIABLE = Policy.Reliability.Reliable(max_blocking_time=duration(milliseconds=100))
 STREAM = Qos(RELIABLE, Policy.History.KeepLast(10))
@@ -35,14 +38,14 @@ WRITER = Qos(RELIABLE, Policy.History.KeepLast(10),
              Policy.DataRepresentation(use_cdrv0_representation=True))
 
 
-def twist_towards(truth: Odom, goal: tuple[float, float]) -> Velocity:
+def twist_towards(truth: Odometry, goal: tuple[float, float]) -> Twist:
     """Turn towards the goal, drive when facing it, slow down near it."""
     position, q = truth.pose.pose.position, truth.pose.pose.orientation
     heading = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
     dx, dy = goal[0] - position.x, goal[1] - position.y
     error = math.remainder(math.atan2(dy, dx) - heading, math.tau)
     speed = min(2.0, math.hypot(dx, dy)) * max(0.0, math.cos(error))
-    return Velocity(Vec3(speed, 0.0, 0.0), Vec3(0.0, 0.0, 2.0 * error))
+    return Twist(Vector3(speed, 0.0, 0.0), Vector3(0.0, 0.0, 2.0 * error))
 
 
 def main(robots: int, mark: str | None) -> None:
@@ -50,11 +53,11 @@ def main(robots: int, mark: str | None) -> None:
     truths, goals, commands = [], [], []
     for i in range(robots):
         truths.append(DataReader(participant, Topic(
-            participant, f"rt/robot_{i}/ground_truth", Odom), qos=STREAM))
+            participant, f"rt/robot_{i}/ground_truth", Odometry), qos=STREAM))
         goals.append(DataReader(participant, Topic(
-            participant, f"rt/robot_{i}/goal", Goal), qos=LATCHED))
+            participant, f"rt/robot_{i}/goal", PoseStamped), qos=LATCHED))
         commands.append(DataWriter(participant, Topic(
-            participant, f"rt/robot_{i}/cmd_vel", Velocity), qos=WRITER))
+            participant, f"rt/robot_{i}/cmd_vel", Twist), qos=WRITER))
     waits = WaitSet(participant)
     mask = SampleState.NotRead | ViewState.Any | InstanceState.Any
     for reader in truths:
@@ -76,6 +79,26 @@ def main(robots: int, mark: str | None) -> None:
                 answers += 1
                 if mark is not None and answers == 30:
                     open(mark, "w").close()
+
+
+# -- for the tests that run it beside ``mimics ros2`` -------------------------------------
+
+
+def wait_until_under_way(mark: Path, run: subprocess.Popen[Any], limit: float) -> None:
+    """Until the controller has created ``mark`` (30 answers), ``run`` still going."""
+    deadline = time.monotonic() + limit
+    while not mark.exists():
+        assert run.poll() is None, run.communicate()
+        assert time.monotonic() < deadline, "the run did not start"
+        time.sleep(0.02)
+
+
+def end_all(*processes: subprocess.Popen[Any]) -> None:
+    """Kill and reap whichever of ``processes`` is still running (the test has ended)."""
+    for process in processes:
+        if process.poll() is None:
+            process.kill()
+            process.communicate()
 
 
 if __name__ == "__main__":

@@ -28,7 +28,7 @@ from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
 from tests.interfaces.ros2.loopback import dds_environment, loopback_here
-from tests.interfaces.ros2.ros2_types import Odom, Scan, SimClock, Vec3, Velocity
+from tests.interfaces.ros2.ros2_types import Clock, LaserScan, Odometry, Twist, Vector3
 
 RELIABLE = Policy.Reliability.Reliable(max_blocking_time=duration(milliseconds=100))
 STREAM = Qos(RELIABLE, Policy.History.KeepLast(10))
@@ -68,16 +68,16 @@ def _observe(folder: Path, domain: int, robots: int, arguments: list[str],
     participant = DomainParticipant(domain)
     publications = BuiltinDataReader(participant, BuiltinTopicDcpsPublication)
     readers: dict[str, DataReader] = {
-        "rt/clock": DataReader(participant, Topic(participant, "rt/clock", SimClock), qos=STREAM)}
+        "rt/clock": DataReader(participant, Topic(participant, "rt/clock", Clock), qos=STREAM)}
     commands: dict[str, DataWriter] = {}  # odometry topic: its robot's cmd_vel
     prefix, *topics = names
     for i in range(robots):
         robot = f"rt/{prefix.format(i=i)}"
-        for name, kind in zip(topics, (Odom, Odom, Scan), strict=True):
+        for name, kind in zip(topics, (Odometry, Odometry, LaserScan), strict=True):
             readers[robot + name] = DataReader(participant, Topic(
                 participant, robot + name, kind), qos=STREAM)
         commands[robot + topics[0]] = DataWriter(participant, Topic(
-            participant, f"{robot}cmd_vel", Velocity), qos=WRITER)
+            participant, f"{robot}cmd_vel", Twist), qos=WRITER)
     waits = WaitSet(participant)
     for reader in readers.values():
         waits.attach(ReadCondition(reader, SampleState.NotRead | ViewState.Any
@@ -128,7 +128,7 @@ def _take_all(readers: dict[str, DataReader], seen: Observed,
             seen.raw[topic].append(bytes(data))
             if topic in commands:  # an odometry: lockstep, answer the step
                 speed, turn = TWISTS[list(commands).index(topic)]
-                commands[topic].write(Velocity(Vec3(speed, 0.0, 0.0), Vec3(0.0, 0.0, turn)))
+                commands[topic].write(Twist(Vector3(speed, 0.0, 0.0), Vector3(0.0, 0.0, turn)))
 
 
 def _publications(reader: BuiltinDataReader, seen: Observed) -> None:

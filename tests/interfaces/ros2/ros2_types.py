@@ -1,159 +1,118 @@
-"""The test's own ROS 2 message types, written from ROS 2 Humble's definitions (rosidl's
-IDL mapping: ``pkg::msg::dds_::Type_``), independently of mimics' ``ros2.messages``."""
+"""The tests' ROS 2 Humble message types for Cyclone DDS, generated from rosbags' typestore.
 
-# no `from __future__ import annotations`: Cyclone reads the field types at run time
-from dataclasses import dataclass, field
+rosbags' ``Stores.ROS2_HUMBLE`` (an independent source: neither mimics' ``ros2.messages``
+nor typed by hand) gives each message's fields, kinds and order; each becomes the DDS type
+rosidl generates for it (``pkg/msg/T`` is ``pkg::msg::dds_::T_``), final, as ROS 2's
+middlewares send it (XCDR1). The one hand-written part is rmw_cyclonedds_cpp's service
+framing: its request header ``{guid, seq}`` before the request or the response.
+"""
 
-from cyclonedds.idl import IdlStruct
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from typing import Any
+
+from cyclonedds.idl import IdlStruct, make_idl_struct
 from cyclonedds.idl import types as t
 from cyclonedds.idl.annotations import final
+from rosbags.interfaces import Nodetype
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+STORE = get_typestore(Stores.ROS2_HUMBLE)
+
+# rosidl's IDL type of each ROS 2 base type (ROS 2's char is an unsigned byte)
+_BASE: dict[str, Any] = {
+    "bool": bool, "byte": t.byte, "char": t.uint8, "int8": t.int8, "uint8": t.uint8,
+    "int16": t.int16, "uint16": t.uint16, "int32": t.int32, "uint32": t.uint32,
+    "int64": t.int64, "uint64": t.uint64, "float32": t.float32, "float64": t.float64,
+}
+# the constants the .msg files set that rosbags' field definitions leave out
+# (geometry_msgs/msg/Quaternion.msg: ``float64 w 1``, the identity rotation)
+_ROS_DEFAULTS: dict[str, dict[str, object]] = {"geometry_msgs/msg/Quaternion": {"w": 1.0}}
+_GENERATED: dict[str, type[IdlStruct]] = {}
+
+FieldDesc = tuple[Any, Any]  # rosbags' (Nodetype, details) of one field
 
 
-@final
-@dataclass
-class Stamp(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
-    sec: t.int32 = 0
-    nanosec: t.uint32 = 0
+def _element(desc: FieldDesc) -> tuple[Any, Callable[[], object]]:
+    """A base or named field's Cyclone type and a maker of its ROS 2 default value."""
+    kind, details = desc
+    if kind == Nodetype.NAME:
+        message = generate(details)
+        return message, message
+    name, bound = details
+    if name == "string":
+        return (t.bounded_str[bound] if bound else str), str
+    if name not in _BASE:
+        raise ValueError(f"{name}: a ROS 2 base type these tests do not map to Cyclone DDS")
+    return _BASE[name], (float if name.startswith("float") else bool if name == "bool" else int)
 
 
-@final
-@dataclass
-class StdHeader(IdlStruct, typename="std_msgs::msg::dds_::Header_"):
-    stamp: Stamp = field(default_factory=Stamp)
-    frame_id: str = ""
+def _field(desc: FieldDesc) -> tuple[Any, Any]:
+    """A field's Cyclone type and its dataclass default (zero, empty, or a default message)."""
+    kind, details = desc
+    if kind in (Nodetype.BASE, Nodetype.NAME):
+        idl_type, make = _element(desc)
+        return idl_type, dataclasses.field(default_factory=make)
+    (element, make), size = _element(details[0]), details[1]
+    if kind == Nodetype.ARRAY:
+        return t.array[element, size], dataclasses.field(
+            default_factory=lambda: [make() for _ in range(size)])
+    return (t.sequence[element, size] if size else t.sequence[element]), dataclasses.field(
+        default_factory=list)
 
 
-@final
-@dataclass
-class Vec3(IdlStruct, typename="geometry_msgs::msg::dds_::Vector3_"):
-    x: t.float64 = 0.0
-    y: t.float64 = 0.0
-    z: t.float64 = 0.0
+def _struct(ros_name: str, fielddefs: list[tuple[str, FieldDesc]],
+            header: dict[str, Any] | None = None) -> type[IdlStruct]:
+    """The final Cyclone type rosidl names ``pkg::kind::dds_::T_`` for ``pkg/kind/T``,
+    with ``header``'s fields (zero by default) before the message's."""
+    package, kind, short = ros_name.split("/")
+    types = dict(header or {})
+    defaults = {name: dataclasses.field(default=0) for name in types}
+    for name, desc in fielddefs:
+        types[name], defaults[name] = _field(desc)
+    for name, value in _ROS_DEFAULTS.get(ros_name, {}).items():
+        defaults[name] = dataclasses.field(default=value)
+    made = make_idl_struct(short, f"{package}::{kind}::dds_::{short}_", types,
+                           dataclassify=False)
+    for name, default in defaults.items():
+        setattr(made, name, default)  # read by dataclass() as the field's default
+    return final(dataclasses.dataclass(made))
 
 
-@final
-@dataclass
-class Position(IdlStruct, typename="geometry_msgs::msg::dds_::Point_"):
-    x: t.float64 = 0.0
-    y: t.float64 = 0.0
-    z: t.float64 = 0.0
+def generate(ros_name: str) -> type[IdlStruct]:
+    """ROS 2 Humble's ``ros_name`` (``pkg/msg/T``) as a Cyclone type, made once."""
+    if ros_name not in _GENERATED:
+        _GENERATED[ros_name] = _struct(ros_name, STORE.fielddefs[ros_name][1])
+    return _GENERATED[ros_name]
 
 
-@final
-@dataclass
-class Rotation(IdlStruct, typename="geometry_msgs::msg::dds_::Quaternion_"):
-    x: t.float64 = 0.0
-    y: t.float64 = 0.0
-    z: t.float64 = 0.0
-    w: t.float64 = 1.0
+Time = generate("builtin_interfaces/msg/Time")
+Header = generate("std_msgs/msg/Header")
+Int8 = generate("std_msgs/msg/Int8")
+Vector3 = generate("geometry_msgs/msg/Vector3")
+Point = generate("geometry_msgs/msg/Point")
+Quaternion = generate("geometry_msgs/msg/Quaternion")
+Pose = generate("geometry_msgs/msg/Pose")
+PoseWithCovariance = generate("geometry_msgs/msg/PoseWithCovariance")
+PoseStamped = generate("geometry_msgs/msg/PoseStamped")
+Twist = generate("geometry_msgs/msg/Twist")
+TwistWithCovariance = generate("geometry_msgs/msg/TwistWithCovariance")
+Transform = generate("geometry_msgs/msg/Transform")
+TransformStamped = generate("geometry_msgs/msg/TransformStamped")
+Odometry = generate("nav_msgs/msg/Odometry")
+LaserScan = generate("sensor_msgs/msg/LaserScan")
+TFMessage = generate("tf2_msgs/msg/TFMessage")
+Clock = generate("rosgraph_msgs/msg/Clock")
 
-
-@final
-@dataclass
-class PlanarPose(IdlStruct, typename="geometry_msgs::msg::dds_::Pose_"):
-    position: Position = field(default_factory=Position)
-    orientation: Rotation = field(default_factory=Rotation)
-
-
-@final
-@dataclass
-class PoseCov(IdlStruct, typename="geometry_msgs::msg::dds_::PoseWithCovariance_"):
-    pose: PlanarPose = field(default_factory=PlanarPose)
-    covariance: t.array[t.float64, 36] = field(default_factory=lambda: [0.0] * 36)
-
-
-@final
-@dataclass
-class Velocity(IdlStruct, typename="geometry_msgs::msg::dds_::Twist_"):
-    linear: Vec3 = field(default_factory=Vec3)
-    angular: Vec3 = field(default_factory=Vec3)
-
-
-@final
-@dataclass
-class VelocityCov(IdlStruct, typename="geometry_msgs::msg::dds_::TwistWithCovariance_"):
-    twist: Velocity = field(default_factory=Velocity)
-    covariance: t.array[t.float64, 36] = field(default_factory=lambda: [0.0] * 36)
-
-
-@final
-@dataclass
-class Odom(IdlStruct, typename="nav_msgs::msg::dds_::Odometry_"):
-    header: StdHeader = field(default_factory=StdHeader)
-    child_frame_id: str = ""
-    pose: PoseCov = field(default_factory=PoseCov)
-    twist: VelocityCov = field(default_factory=VelocityCov)
-
-
-@final
-@dataclass
-class Goal(IdlStruct, typename="geometry_msgs::msg::dds_::PoseStamped_"):
-    header: StdHeader = field(default_factory=StdHeader)
-    pose: PlanarPose = field(default_factory=PlanarPose)
-
-
-@final
-@dataclass
-class Scan(IdlStruct, typename="sensor_msgs::msg::dds_::LaserScan_"):
-    header: StdHeader = field(default_factory=StdHeader)
-    angle_min: t.float32 = 0.0
-    angle_max: t.float32 = 0.0
-    angle_increment: t.float32 = 0.0
-    time_increment: t.float32 = 0.0
-    scan_time: t.float32 = 0.0
-    range_min: t.float32 = 0.0
-    range_max: t.float32 = 0.0
-    ranges: t.sequence[t.float32] = field(default_factory=list)
-    intensities: t.sequence[t.float32] = field(default_factory=list)
-
-
-@final
-@dataclass
-class SimClock(IdlStruct, typename="rosgraph_msgs::msg::dds_::Clock_"):
-    clock: Stamp = field(default_factory=Stamp)
-
-
-# std_srvs/srv/Trigger as rmw_cyclonedds_cpp frames it: its request header first
-@final
-@dataclass
-class TriggerCall(IdlStruct, typename="std_srvs::srv::dds_::Trigger_Request_"):
-    guid: t.uint64 = 0
-    seq: t.int64 = 0
-    structure_needs_at_least_one_member: t.uint8 = 0
-
-
-@final
-@dataclass
-class TriggerAnswer(IdlStruct, typename="std_srvs::srv::dds_::Trigger_Response_"):
-    guid: t.uint64 = 0
-    seq: t.int64 = 0
-    success: bool = False
-    message: str = ""
-
-
-# tf2_msgs/TFMessage (with geometry_msgs/Transform and TransformStamped) and std_msgs/Int8
-@final
-@dataclass
-class Placement(IdlStruct, typename="geometry_msgs::msg::dds_::Transform_"):
-    translation: Vec3 = field(default_factory=Vec3)
-    rotation: Rotation = field(default_factory=Rotation)
-
-
-@final
-@dataclass
-class StampedPlacement(IdlStruct, typename="geometry_msgs::msg::dds_::TransformStamped_"):
-    header: StdHeader = field(default_factory=StdHeader)
-    child_frame_id: str = ""
-    transform: Placement = field(default_factory=Placement)
-
-
-@final
-@dataclass
-class Frames(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
-    transforms: t.sequence[StampedPlacement] = field(default_factory=list)
-
-
-@final
-@dataclass
-class Flag(IdlStruct, typename="std_msgs::msg::dds_::Int8_"):
-    data: t.int8 = 0
+# std_srvs/srv/Trigger ("---\nbool success\nstring message") as rmw_cyclonedds_cpp frames
+# it: its request header, then the request (empty, so rosidl's placeholder byte, as in
+# std_msgs/msg/Empty) or the response
+REQUEST_HEADER: dict[str, Any] = {"guid": t.uint64, "seq": t.int64}
+TriggerCall = _struct("std_srvs/srv/Trigger_Request", STORE.fielddefs["std_msgs/msg/Empty"][1],
+                      REQUEST_HEADER)
+TriggerAnswer = _struct(
+    "std_srvs/srv/Trigger_Response",
+    get_types_from_msg("bool success\nstring message", "std_srvs/msg/Trigger_Response")[
+        "std_srvs/msg/Trigger_Response"][1], REQUEST_HEADER)

@@ -2,9 +2,10 @@
 
 The Cyclone DDS side of the first two tests is written here from ROS 2's conventions
 alone (topic ``/a/b`` is ``rt/a/b``, type ``pkg/msg/T`` is ``pkg::msg::dds_::T_``, the
-field layouts of ROS 2 Humble, XCDR1), not from mimics' code: a fake simulator that steps
-two unicycles in lockstep with the peer's Twists. The peer is built from ``peer/`` with
-Debian's Fast DDS (see ``fastdds_peer``), so neither side shares code with mimics.
+field layouts of ROS 2 Humble from rosbags' typestore, XCDR1: ``ros2_types``), not from
+mimics' code: a fake simulator that steps two unicycles in lockstep with the peer's
+Twists. The peer is built from ``peer/`` with Debian's Fast DDS (see ``fastdds_peer``), so
+neither side shares code with mimics.
 """
 
 from __future__ import annotations
@@ -30,7 +31,18 @@ from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
-from tests.interfaces.ros2.fastdds_messages import (
+from tests.interfaces.ros2.fastdds_peer import (
+    CYCLONE_LOOPBACK,
+    answered,
+    build_peer,
+    final_poses,
+    finish_peer,
+    next_domain,
+    peer_environment,
+    start_peer,
+    stop_peer,
+)
+from tests.interfaces.ros2.ros2_types import (
     Clock,
     Header,
     LaserScan,
@@ -47,17 +59,6 @@ from tests.interfaces.ros2.fastdds_messages import (
     Twist,
     TwistWithCovariance,
     Vector3,
-)
-from tests.interfaces.ros2.fastdds_peer import (
-    CYCLONE_LOOPBACK,
-    answered,
-    build_peer,
-    final_poses,
-    finish_peer,
-    next_domain,
-    peer_environment,
-    start_peer,
-    stop_peer,
 )
 
 XCDR1 = Policy.DataRepresentation(use_cdrv0_representation=True)  # what ROS 2 sends

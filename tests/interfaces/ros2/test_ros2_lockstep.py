@@ -8,10 +8,10 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 from mimics.records.run_folder import load_run
+from tests.interfaces.ros2.controller import end_all, wait_until_under_way
 from tests.interfaces.ros2.loopback import dds_environment, next_domain
 
 ROBOTS = 2
@@ -61,18 +61,12 @@ def test_a_killed_controller_ends_the_run_at_its_timeout(tmp_path: Path) -> None
     run = _mimics(domain, folder, "--timeout", "2", "--time", "60")
     try:
         # mid-run: the controller has answered 30 commands (15 steps)
-        deadline = time.monotonic() + LIMIT
-        while not mark.exists() and time.monotonic() < deadline:
-            assert run.poll() is None, run.communicate()[1]
-            time.sleep(0.05)
+        wait_until_under_way(mark, run, LIMIT)
         os.kill(controller.pid, signal.SIGKILL)
         controller.communicate()
         _, errors = run.communicate(timeout=LIMIT)
     finally:
-        for process in (controller, run):
-            if process.poll() is None:
-                process.kill()
-                process.communicate()
+        end_all(controller, run)
     assert run.returncode == 1, errors
     assert "LockstepTimeout" in errors and "within 2 s (--timeout)" in errors
     record = load_run(folder)

@@ -20,7 +20,7 @@ import pytest
 from mimics.records.run_folder import load_run
 from tests.interfaces.ros2.loopback import next_domain
 from tests.interfaces.ros2.observer import STAGE_NAMES, TWISTS, Observed, observe_run
-from tests.interfaces.ros2.ros2_types import Odom, Scan, SimClock
+from tests.interfaces.ros2.ros2_types import Clock, LaserScan, Odometry
 
 ROBOTS, DT, SECONDS = 2, 0.1, 1.5
 
@@ -60,7 +60,7 @@ def test_every_sample_is_plain_little_endian_cdr(observed: Observed) -> None:
 
 
 def test_clock_advances_step_by_step(observed: Observed) -> None:
-    clock = [_stamp_of(SimClock.deserialize(raw).clock) for raw in observed.raw["rt/clock"]]
+    clock = [_stamp_of(Clock.deserialize(raw).clock) for raw in observed.raw["rt/clock"]]
     steps = round(SECONDS / DT)
     assert clock == pytest.approx([k * DT for k in range(steps + 1)], abs=1e-9)
 
@@ -72,7 +72,7 @@ def _stamp_of(time: object) -> float:
 def test_ground_truth_and_odometry_match_the_records(observed: Observed) -> None:
     trajectory = load_run(observed.folder).trajectory
     for i in range(ROBOTS):
-        truths = [Odom.deserialize(raw) for raw in observed.raw[f"rt/robot_{i}/ground_truth"]]
+        truths = [Odometry.deserialize(raw) for raw in observed.raw[f"rt/robot_{i}/ground_truth"]]
         rows = trajectory[trajectory.robot == i].set_index("step")
         assert len(truths) == len(rows)
         for truth in truths:
@@ -84,7 +84,7 @@ def test_ground_truth_and_odometry_match_the_records(observed: Observed) -> None
             assert truth.pose.pose.position.x == row.x and truth.pose.pose.position.y == row.y
             assert math.remainder(yaw - row.theta, math.tau) == pytest.approx(0.0, abs=1e-12)
             assert truth.twist.twist.linear.x == row.v and truth.twist.twist.angular.z == row.w
-        odometry = [Odom.deserialize(raw) for raw in observed.raw[f"rt/robot_{i}/odom"]]
+        odometry = [Odometry.deserialize(raw) for raw in observed.raw[f"rt/robot_{i}/odom"]]
         first = odometry[0]
         assert _stamp(first.header) == 0.0 and first.header.frame_id == f"robot_{i}/odom"
         assert (first.pose.pose.position.x, first.pose.pose.position.y) == (0.0, 0.0)
@@ -96,7 +96,7 @@ def test_scans_match_the_recorded_scans(observed: Observed) -> None:
     scans = load_run(observed.folder).scans
     for i in range(ROBOTS):
         recorded = scans.robot(i)
-        seen = [Scan.deserialize(raw) for raw in observed.raw[f"rt/robot_{i}/scan"]]
+        seen = [LaserScan.deserialize(raw) for raw in observed.raw[f"rt/robot_{i}/scan"]]
         assert [round(_stamp(scan.header) / DT) for scan in seen] == recorded.steps.tolist()
         for scan, ranges, hits in zip(seen, recorded.ranges, recorded.hits, strict=True):
             live = np.array(scan.ranges)
@@ -162,12 +162,12 @@ def test_stage_names_for_a_single_robot(tmp_path: Path) -> None:
             ("rt/base_scan", "sensor_msgs::msg::dds_::LaserScan_"),
             ("rt/goal", "geometry_msgs::msg::dds_::PoseStamped_")} <= seen.publications
     assert not any(topic.startswith("rt/robot_") for topic, _ in seen.publications)
-    odometry = [Odom.deserialize(raw) for raw in seen.raw["rt/odom"]]
+    odometry = [Odometry.deserialize(raw) for raw in seen.raw["rt/odom"]]
     assert len(odometry) == 6
     assert {(o.header.frame_id, o.child_frame_id) for o in odometry} == {("odom",
                                                                           "base_footprint")}
     recorded = load_run(seen.folder).scans.robot(0)
     for raw, hits in zip(seen.raw["rt/base_scan"], recorded.hits, strict=True):
-        scan = Scan.deserialize(raw)
+        scan = LaserScan.deserialize(raw)
         assert scan.header.frame_id == "base_laser_link"
         assert np.array(scan.ranges)[~hits].tolist() == [scan.range_max] * int((~hits).sum())

@@ -18,6 +18,7 @@ from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
 from mimics.records.run_folder import load_run
+from tests.interfaces.ros2.controller import end_all, wait_until_under_way
 from tests.interfaces.ros2.loopback import dds_environment, loopback_here, next_domain
 from tests.interfaces.ros2.ros2_types import TriggerAnswer, TriggerCall
 
@@ -69,10 +70,7 @@ def test_pause_step_reset_and_resume(tmp_path: Path) -> None:
             participant = DomainParticipant(domain)
             pause, step, reset, resume = (Client(participant, name)
                                           for name in ("pause", "step", "reset", "resume"))
-            deadline = time.monotonic() + LIMIT
-            while not mark.exists():
-                assert time.monotonic() < deadline and run.poll() is None
-                time.sleep(0.02)
+            wait_until_under_way(mark, run, LIMIT)
             paused = pause.call()
             assert paused.success, paused.message
             held = re.fullmatch(r"paused at step (\d+) \(t=([\d.]+) s published last\)",
@@ -89,11 +87,7 @@ def test_pause_step_reset_and_resume(tmp_path: Path) -> None:
             participant.__del__()
         out, errors = run.communicate(timeout=LIMIT * 2)
     finally:
-        controller.kill()
-        controller.communicate()
-        if run.poll() is None:
-            run.kill()
-            run.communicate()
+        end_all(controller, run)
     assert run.returncode == 0, errors
     assert f"reset: the run in {folder} ended (status stopped)" in out
     first, second = load_run(folder), load_run(folder.with_name("run-reset-1"))

@@ -9,12 +9,12 @@ import json
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
+from tests.interfaces.ros2.controller import end_all, wait_until_under_way
 from tests.interfaces.ros2.loopback import dds_environment, next_domain
 
 LIMIT = 120.0  # s: a run that has not ended by then has hung
@@ -36,18 +36,11 @@ def test_a_signal_ends_the_run_at_a_step_boundary_with_its_summary(
                             "--startup-grace", "0.5", mode], env=env, stdout=subprocess.PIPE,
                            stderr=subprocess.PIPE, text=True)
     try:
-        deadline = time.monotonic() + LIMIT
-        while not mark.exists():
-            assert run.poll() is None, run.communicate()
-            assert time.monotonic() < deadline, "the run did not start"
-            time.sleep(0.02)
+        wait_until_under_way(mark, run, LIMIT)
         run.send_signal(signum)
         out, err = run.communicate(timeout=LIMIT)
     finally:
-        for process in (node, run):
-            if process.poll() is None:
-                process.kill()
-                process.communicate()
+        end_all(node, run)
     assert run.returncode == 128 + signum, out + err
     summary = json.loads((folder / "summary.json").read_text())
     assert (summary["status"], summary["reached_goal"]) == ("interrupted", 0), summary

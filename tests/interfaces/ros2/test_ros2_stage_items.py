@@ -33,7 +33,15 @@ from mimics.world.robot_types import PIONEER_2DX
 from tests.interfaces.ros.test_stage_world_items import SCENARIO, STALLED_STEPS
 from tests.interfaces.ros2.loopback import dds_environment, loopback_here, next_domain
 from tests.interfaces.ros2.observer import STREAM, WRITER, watch_until_done
-from tests.interfaces.ros2.ros2_types import Flag, Frames, Odom, Scan, StdHeader, Vec3, Velocity
+from tests.interfaces.ros2.ros2_types import (
+    Header,
+    Int8,
+    LaserScan,
+    Odometry,
+    TFMessage,
+    Twist,
+    Vector3,
+)
 
 DT, SECONDS = 0.1, 4.0
 TWISTS = ((0.3, 0.0), (0.3, 0.0), (0.0, 0.0))  # robot 0 to its goal, 1 into the wall
@@ -57,19 +65,19 @@ def observe(tmp_path: Path, *options: str, seconds: float) -> Seen:
     seen = Seen(tmp_path / "run")
     with loopback_here():
         participant = DomainParticipant(domain)
-        readers = {"tf": DataReader(participant, Topic(participant, "rt/tf", Frames),
+        readers = {"tf": DataReader(participant, Topic(participant, "rt/tf", TFMessage),
                                     qos=STREAM)}
         commands = {}
         for i in range(3):
             robot = f"rt/robot_{i}/"
-            for kind, name, kind_type in (("odom", "odom", Odom),
-                                          ("truth", "base_pose_ground_truth", Odom),
-                                          ("scan", "base_scan", Scan),
-                                          ("stall", "is_crashed", Flag)):
+            for kind, name, kind_type in (("odom", "odom", Odometry),
+                                          ("truth", "base_pose_ground_truth", Odometry),
+                                          ("scan", "base_scan", LaserScan),
+                                          ("stall", "is_crashed", Int8)):
                 readers[f"{kind} {i}"] = DataReader(
                     participant, Topic(participant, robot + name, kind_type), qos=STREAM)
             commands[i] = DataWriter(participant, Topic(participant, robot + "cmd_vel",
-                                                        Velocity), qos=WRITER)
+                                                        Twist), qos=WRITER)
         waits = WaitSet(participant)
         for reader in readers.values():
             waits.attach(ReadCondition(reader, SampleState.NotRead | ViewState.Any
@@ -100,10 +108,10 @@ def _take(readers: dict, commands: dict, seen: Seen) -> None:
                 speed, turn = (BACKS[robot] if robot in BACKS and stalled >= STALLED_STEPS
                                else TWISTS[robot])
                 commands[robot].write(
-                    Velocity(Vec3(speed, 0.0, 0.0), Vec3(0.0, 0.0, turn)))
+                    Twist(Vector3(speed, 0.0, 0.0), Vector3(0.0, 0.0, turn)))
 
 
-def _step(header: StdHeader) -> int:
+def _step(header: Header) -> int:
     return round((header.stamp.sec + header.stamp.nanosec * 1e-9) / DT)
 
 
