@@ -19,31 +19,16 @@ from typing import Any
 import numpy as np
 from hypothesis import strategies as st
 
-SCENARIO_TOML = """\
-name = "fuzz"
-map = { segments = [[0.0, 0.0, 10.0, 0.0], [0.0, 6.0, 10.0, 6.0]], bounds = [-1, -1, 11, 7] }
+from tests.toml_text import toml_text
 
-[[robots]]
-type = "Pioneer2DX"
-x = 2.0
-y = 2.0
-goal = [8.0, 2.0]
-
-[[robots]]
-generator = "line"
-type = "Small"
-count = 2
-start = [1.0, 4.0]
-step = [1.0, 0.0]
-goal_offset = [6.0, 0.0]
-
-[types.Small]
-base = "Pioneer2DX"
-width = 0.2
-
-[settings]
-time_limit = 0.5
-"""
+SCENARIO_TOML = ('name = "fuzz"\n'
+                 'map = { segments = [[0.0, 0.0, 10.0, 0.0], [0.0, 6.0, 10.0, 6.0]], '
+                 'bounds = [-1, -1, 11, 7] }\n\n') + toml_text({
+    "robots": [{"type": "Pioneer2DX", "x": 2.0, "y": 2.0, "goal": [8.0, 2.0]},
+               {"generator": "line", "type": "Small", "count": 2, "start": [1.0, 4.0],
+                "step": [1.0, 0.0], "goal_offset": [6.0, 0.0]}],
+    "types": {"Small": {"base": "Pioneer2DX", "width": 0.2}},
+    "settings": {"time_limit": 0.5}})
 
 BATTERY_TOML = """\
 [battery]

@@ -1,10 +1,15 @@
-"""Battery files and fault algorithms for the battery tests."""
+"""Battery files, fault algorithms, and killing a battery midway, for the battery tests."""
 
 from __future__ import annotations
 
+import contextlib
 import os
+import re
+import signal
+import sqlite3
 import subprocess
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -55,3 +60,44 @@ def alive(pid: int) -> bool:
             return False
         return True
 
+
+
+def done_count(db: Path) -> int:
+    """How many runs of a battery database have finished."""
+    with sqlite3.connect(db) as connection:
+        return int(connection.execute("SELECT count(*) FROM runs WHERE state = 'done'"
+                                      ).fetchone()[0])
+
+
+def kill_midway(battery: Path, out: Path, runs: int) -> list[int]:
+    """Run ``battery`` into ``out`` in a process of its own, SIGKILL it once ``runs`` runs
+    have finished (60 s at most; failing if it ends first), and return the process ids
+    of the workers its database names."""
+    process = start_battery_process(battery, out)
+    db = out / "battery.db"
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        with contextlib.suppress(sqlite3.Error):  # the database may be half made yet
+            if db.exists() and done_count(db) >= runs:
+                break
+        assert process.poll() is None, "the battery ended before it could be killed"
+        time.sleep(0.02)
+    os.kill(process.pid, signal.SIGKILL)
+    process.wait()
+    return worker_pids(db)
+
+
+def worker_pids(db: Path) -> list[int]:
+    """The process ids of the workers a battery database names."""
+    with sqlite3.connect(db) as connection:
+        return [int(pid) for (label,) in connection.execute(
+            "SELECT worker FROM runs WHERE worker IS NOT NULL")
+            for pid in re.findall(r"pid (\d+)", label)]
+
+
+def all_gone(pids: list[int], seconds: float = 5.0) -> bool:
+    """Whether every process of ``pids`` has ended within ``seconds``."""
+    stop = time.monotonic() + seconds
+    while any(alive(pid) for pid in pids) and time.monotonic() < stop:
+        time.sleep(0.05)
+    return not any(alive(pid) for pid in pids)

@@ -53,36 +53,39 @@ RAISED_TRACE = ('Traceback (most recent call last):\n  File "/class/submissions/
                 '12, in step\n    raise ValueError("boom")\nValueError: boom\n')
 
 
-def test_each_kind_of_failure_gets_its_own_sentence_with_its_line() -> None:
-    raised = error_site(_run("bob", 2, "error", error=RAISED, traceback=RAISED_TRACE),
-                        Path("/class"))
-    assert raised.sentence() == "raised ValueError at submissions/bob.py:12 on seed 2 (crossroads)"
-    hang = error_site(_run("eve", 1, "timeout", error=(
-        "wall-clock timeout: robot 0: step() did not return within the wall limit of 2 s; "
-        "stopped at step 0 (t=0 s), submissions/eve.py:7\n    while True:")), Path("/class"))
-    assert hang.sentence() == ("stopped: step did not return within 2 s "
-                               "(submissions/eve.py:7) on seed 1 (crossroads)")
-    syntax = error_site(_run("sam", 1, "error", error=(
-        "the run could not start: /class/submissions/sam.py, line 3: syntax error: "
-        "expected ':'")), Path("/class"))
-    assert syntax.sentence() == "file did not load: SyntaxError at line 3 (expected ':')"
-    imported = error_site(_run("ian", 1, "error", error=(
-        "the run could not start: /class/submissions/ian.py, line 1: importing it raised "
-        "ModuleNotFoundError: No module named 'torch'")), Path("/class"))
-    assert imported.sentence() == ("file did not load: ModuleNotFoundError at line 1 "
-                                   "(No module named 'torch')")
-    looping = error_site(_run("lou", 1, "timeout", error=(
-        "wall-clock timeout: /class/submissions/lou.py, line 5: importing it did not finish "
-        "within 8 s (an endless loop outside step()?)")), Path("/class"))
-    assert looping.sentence() == "stopped: loading the file did not finish within 8 s (line 5)"
-    killed = error_site(_run("kim", 3, "timeout", error=(
-        "wall-clock timeout: no result after 130.2 s (limit 120 s); the worker process was "
-        "killed")), Path("/class"))
-    assert killed.sentence() == ("stopped: the run took longer than 120 s of wall-clock time "
-                                 "on seed 3 (crossroads)")
+#: (student, seed, state, the error the battery records) -> the sentence that explains it
+FAILURES = {
+    ("eve", 1, "timeout", "wall-clock timeout: robot 0: step() did not return within the wall "
+     "limit of 2 s; stopped at step 0 (t=0 s), submissions/eve.py:7\n    while True:"):
+    "stopped: step did not return within 2 s (submissions/eve.py:7) on seed 1 (crossroads)",
+    ("sam", 1, "error", "the run could not start: /class/submissions/sam.py, line 3: syntax "
+     "error: expected ':'"): "file did not load: SyntaxError at line 3 (expected ':')",
+    ("ian", 1, "error", "the run could not start: /class/submissions/ian.py, line 1: importing "
+     "it raised ModuleNotFoundError: No module named 'torch'"):
+    "file did not load: ModuleNotFoundError at line 1 (No module named 'torch')",
+    ("lou", 1, "timeout", "wall-clock timeout: /class/submissions/lou.py, line 5: importing it "
+     "did not finish within 8 s (an endless loop outside step()?)"):
+    "stopped: loading the file did not finish within 8 s (line 5)",
+    ("kim", 3, "timeout", "wall-clock timeout: no result after 130.2 s (limit 120 s); the worker "
+     "process was killed"):
+    "stopped: the run took longer than 120 s of wall-clock time on seed 3 (crossroads)",
+}
+
+
+@pytest.mark.parametrize(("run", "sentence"), FAILURES.items(), ids=[k[0] for k in FAILURES])
+def test_each_kind_of_failure_gets_its_own_sentence_with_its_line(
+        run: tuple[str, int, str, str], sentence: str) -> None:
+    student, seed, state, error = run
+    site = error_site(_run(student, seed, state, error=error), Path("/class"))
+    assert site.sentence() == sentence
+
+
+def test_a_raised_exception_is_named_with_its_file_and_line() -> None:
+    raised = _run("bob", 2, "error", error=RAISED, traceback=RAISED_TRACE)
+    assert error_site(raised, Path("/class")).sentence() == (
+        "raised ValueError at submissions/bob.py:12 on seed 2 (crossroads)")
     # a submission outside the battery's folder is named by its file name alone
-    assert error_site(_run("bob", 2, "error", error=RAISED, traceback=RAISED_TRACE),
-                      Path("/elsewhere")).file == "bob.py"
+    assert error_site(raised, Path("/elsewhere")).file == "bob.py"
 
 
 def test_a_reason_counts_the_robots_home_the_collisions_and_the_failures() -> None:

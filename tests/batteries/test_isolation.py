@@ -12,12 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import io
-import os
-import re
-import signal
-import sqlite3
 import sys
-import time
 from pathlib import Path
 
 import pandas as pd
@@ -28,9 +23,10 @@ from mimics.batteries.spec import load_battery
 from mimics.interfaces.cli import main
 from tests.batteries.helpers import (
     OUTCOME_COLUMNS,
-    alive,
+    all_gone,
+    done_count,
     fault,
-    start_battery_process,
+    kill_midway,
     write_battery,
 )
 
@@ -102,27 +98,9 @@ def test_a_killed_run_isolated_battery_resumes_to_the_worker_isolated_results(
     path = write_battery(tmp_path / "b.toml", [fault("slow_go"), "go_to_goal"], seeds=4,
                          time=2.0, isolation="run")
     killed = tmp_path / "killed"
-    battery = start_battery_process(path, killed)
-    db = killed / "battery.db"
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        with contextlib.suppress(sqlite3.Error):
-            if db.exists() and _done(db) >= 2:
-                break
-        assert battery.poll() is None, "the battery ended before it could be killed"
-        time.sleep(0.02)
-    os.kill(battery.pid, signal.SIGKILL)
-    battery.wait()
-    before = _done(db)
-    assert 2 <= before < 8
-    with sqlite3.connect(db) as connection:
-        workers = [int(pid) for (label,) in connection.execute(
-            "SELECT worker FROM runs WHERE worker IS NOT NULL")
-            for pid in re.findall(r"pid (\d+)", label)]
-    stop = time.monotonic() + 5  # each run's process died with the battery
-    while any(alive(pid) for pid in workers) and time.monotonic() < stop:
-        time.sleep(0.05)
-    assert workers and not any(alive(pid) for pid in workers)
+    workers = kill_midway(path, killed, runs=2)
+    assert 2 <= done_count(killed / "battery.db") < 8
+    assert workers and all_gone(workers)  # each run's process died with the battery
     result = resume_battery(killed, workers=2, progress=False)
     assert result.counts == {"done": 8}
     worker_path = write_battery(tmp_path / "w.toml", [fault("slow_go"), "go_to_goal"], seeds=4,
@@ -130,13 +108,6 @@ def test_a_killed_run_isolated_battery_resumes_to_the_worker_isolated_results(
     run_battery(worker_path, tmp_path / "worker", workers=2, progress=False)
     pd.testing.assert_frame_equal(runs_table(killed)[[*OUTCOME_COLUMNS, "digest"]],
                                   runs_table(tmp_path / "worker")[[*OUTCOME_COLUMNS, "digest"]])
-
-
-
-def _done(db: Path) -> int:
-    with sqlite3.connect(db) as connection:
-        return int(connection.execute("SELECT count(*) FROM runs WHERE state = 'done'"
-                                      ).fetchone()[0])
 
 
 @pytest.mark.parametrize(("battery", "args", "expected"), [

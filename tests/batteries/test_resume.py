@@ -2,12 +2,9 @@
 
 from __future__ import annotations
 
-import os
 import re
-import signal
 import sqlite3
 import sys
-import time
 from collections import Counter
 from pathlib import Path
 
@@ -17,16 +14,9 @@ import pytest
 from mimics.batteries import resume_battery, run_battery, runs_table
 from mimics.batteries.status import battery_status
 from mimics.world.errors import MimicsError
-from tests.batteries.helpers import (
-    OUTCOME_COLUMNS,
-    alive,
-    fault,
-    start_battery_process,
-    write_battery,
-)
+from tests.batteries.helpers import OUTCOME_COLUMNS, all_gone, fault, kill_midway, write_battery
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL is POSIX")
-
 
 
 def done_rows(db_path: Path) -> dict[int, int]:
@@ -52,29 +42,14 @@ def test_killed_battery_resumes_without_losing_or_repeating_runs(tmp_path: Path)
     path = write_battery(tmp_path / "b.toml", [fault("slow_go"), "go_to_goal"], seeds=8,
                          time=2.0, scenarios=[{"name": "line", "robots": [1, 2]}])
     killed = tmp_path / "killed"
-    battery = start_battery_process(path, killed)
-    deadline = time.monotonic() + 60
+    workers = kill_midway(path, killed, runs=3)
     db = killed / "battery.db"
-    while time.monotonic() < deadline:
-        if db.exists() and len(done_rows(db)) >= 3:
-            break
-        assert battery.poll() is None, "the battery ended before it could be killed"
-        time.sleep(0.02)
-    os.kill(battery.pid, signal.SIGKILL)
-    battery.wait()
     before = done_rows(db)
     with sqlite3.connect(db) as connection:
-        workers = [int(w) for (w,) in connection.execute(
-            "SELECT worker FROM runs WHERE worker IS NOT NULL")
-            for w in re.findall(r"pid (\d+)", w)]
         total = connection.execute("SELECT count(*) FROM runs").fetchone()[0]
     assert 3 <= len(before) < total == 32
     outcome_before = {i: outcome_file(killed, i).read_text() for i in before}
-    # the workers die with the battery, even after a SIGKILL
-    stop = time.monotonic() + 5
-    while any(alive(pid) for pid in workers) and time.monotonic() < stop:
-        time.sleep(0.05)
-    assert not any(alive(pid) for pid in workers)
+    assert all_gone(workers)  # the workers die with the battery, even after a SIGKILL
     status = battery_status(killed)
     assert status.pid is None and status.left == total - len(before)
 

@@ -9,6 +9,7 @@ import pytest
 from mimics.batteries.spec import BatterySpec, battery_toml, load_battery, spec_from_dict
 from mimics.world.errors import MimicsError
 from tests.batteries.helpers import fault, write_battery
+from tests.file_errors import file_error
 
 
 def test_runs_are_every_combination_in_file_order() -> None:
@@ -83,14 +84,7 @@ def test_paths_are_relative_to_the_battery_file(tmp_path: Path) -> None:
 ])
 def test_bad_battery_files_are_one_line_naming_file_and_key(tmp_path: Path, text: str,
                                                              expected: str) -> None:
-    path = tmp_path / "bad.toml"
-    path.write_text(text)
-    with pytest.raises(MimicsError) as error:
-        load_battery(path)
-    message = str(error.value)
-    assert expected in message
-    assert message.startswith(str(path))
-    assert "\n" not in message
+    assert expected in file_error(load_battery, tmp_path / "bad.toml", text)
 
 
 def test_toml_scenarios_are_checked_by_building_each_point(tmp_path: Path) -> None:

@@ -36,6 +36,19 @@ def invoke(*args: str, input: str | None = None) -> object:
     return CliRunner().invoke(app, [str(a) for a in args], input=input)
 
 
+def refused_run(tmp_path: Path, text: str, *options: str) -> tuple[Path, str]:
+    """``battery run`` of a battery file holding ``text``: the file and the one error line,
+    after checking that it exits with status 2 and starts nothing."""
+    path = tmp_path / "battery.toml"
+    path.write_text(text)
+    result = invoke("run", path, "--out", tmp_path / "out", *options)
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mimics: error: "), lines
+    assert not (tmp_path / "out").exists()
+    return path, lines[0]
+
+
 def test_help_lists_the_commands() -> None:
     result = invoke("--help")
     assert result.exit_code == 0
@@ -53,14 +66,8 @@ def test_help_lists_the_commands() -> None:
 ])
 def test_bad_battery_files_stop_before_anything_starts(tmp_path: Path, text: str,
                                                        expected: str) -> None:
-    path = tmp_path / "battery.toml"
-    path.write_text(text)
-    result = invoke("run", path, "--out", tmp_path / "out")
-    assert result.exit_code == 2
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("mimics: error: ")
-    assert expected in lines[0] and str(path) in lines[0]
-    assert not (tmp_path / "out").exists()
+    path, line = refused_run(tmp_path, text)
+    assert expected in line and str(path) in line
 
 
 def test_usage_errors_are_one_line(tmp_path: Path) -> None:
@@ -204,13 +211,8 @@ half_width = 0.2
 ])
 def test_bad_until_tables_exit_2_naming_the_field(tmp_path: Path, text: str,
                                                   expected: str) -> None:
-    path = tmp_path / "battery.toml"
-    path.write_text(text)
-    result = invoke("run", path, "--out", tmp_path / "out")
-    assert result.exit_code == 2, result.output
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and expected in lines[0] and str(path) in lines[0]
-    assert not (tmp_path / "out").exists()
+    path, line = refused_run(tmp_path, text)
+    assert expected in line and str(path) in line
 
 
 @pytest.mark.parametrize(("option", "expected"), [
@@ -220,13 +222,8 @@ def test_bad_until_tables_exit_2_naming_the_field(tmp_path: Path, text: str,
     ("time_to_goal", "--until 'time_to_goal': expected METRIC:HALF_WIDTH"),
 ])
 def test_bad_until_options_exit_2(tmp_path: Path, option: str, expected: str) -> None:
-    path = tmp_path / "battery.toml"
-    path.write_text(GOOD)
-    result = invoke("run", path, "--out", tmp_path / "out", "--until", option)
-    assert result.exit_code == 2
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and expected in lines[0], lines
-    assert not (tmp_path / "out").exists()
+    _, line = refused_run(tmp_path, GOOD, "--until", option)
+    assert expected in line, line
 
 
 def test_until_option_runs_seeds_in_rounds_and_status_shows_them(tmp_path: Path) -> None:

@@ -1,11 +1,5 @@
 """`mimics map import/show` and `mimics data get` through Typer's test runner."""
 
-import contextlib
-import functools
-import http.server
-import shutil
-import threading
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -14,6 +8,7 @@ from typer.testing import CliRunner
 from mimics.interfaces.cli.maps import app, data_app
 from mimics.world.map_files import load_map
 from mimics.world.stage_data import STAGE_FILES
+from tests.local_servers import serve, stage_repository
 from tests.stage import stage_file
 
 runner = CliRunner()
@@ -81,29 +76,8 @@ def test_help_texts_come_from_docstrings() -> None:
     assert "Download a data set" in runner.invoke(data_app, ["--help"]).output
 
 
-class QuietHandler(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, format: str, *args: object) -> None:
-        pass  # keep the server's request log out of the command's output
-
-
-@contextlib.contextmanager
-def serve(root: Path) -> Iterator[str]:
-    handler = functools.partial(QuietHandler, directory=str(root))
-    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
-    threading.Thread(target=server.serve_forever, daemon=True).start()
-    try:
-        yield f"http://127.0.0.1:{server.server_address[1]}"
-    finally:
-        server.shutdown()
-        server.server_close()
-
-
 def test_data_get_stage_from_a_local_server(tmp_path: Path) -> None:
-    source = stage_file("cave.world").parent
-    repo = tmp_path / "repo"
-    for name, spec in STAGE_FILES.items():
-        (repo / spec.remote).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(source / name, repo / spec.remote)
+    repo = stage_repository(tmp_path / "repo")
     dest = tmp_path / "data" / "stage"
     with serve(repo) as url:
         result = runner.invoke(data_app, ["get", "stage", "--url", url, "--dest", str(dest)])

@@ -8,6 +8,7 @@ import pytest
 from mimics.world.errors import MimicsError
 from mimics.world.map_files import load_map, save_map
 from mimics.world.maps import DEFAULT_MARGIN, Map, bounds_around
+from tests.file_errors import file_error
 
 
 def awkward_map() -> Map:
@@ -54,14 +55,7 @@ def test_bounds_default_to_the_walls_box_plus_a_margin(tmp_path: Path) -> None:
 ])
 def test_plain_file_errors_name_file_and_line(tmp_path: Path, text: str, line: int,
                                               expected: str) -> None:
-    path = tmp_path / "bad.txt"
-    path.write_text(text)
-    with pytest.raises(MimicsError) as info:
-        load_map(path)
-    message = str(info.value)
-    assert message.startswith(f"{path}, line {line}: ")
-    assert expected in message
-    assert "\n" not in message
+    assert expected in file_error(load_map, tmp_path / "bad.txt", text, line=line)
 
 
 def test_empty_and_inverted_maps_are_errors(tmp_path: Path) -> None:

@@ -25,53 +25,24 @@ from mimics.world.scenario_files import (
     touching_walls,
     validate_scenario,
 )
+from tests.file_errors import file_error
+from tests.toml_text import toml_text
 
 ROOM = 'map = { segments = [[0.0, 0.0, 10.0, 0.0], [0.0, 6.0, 10.0, 6.0]], ' \
        'bounds = [-1.0, -1.0, 11.0, 7.0] }\n'
 
-FULL = ROOM + '''name = "demo"
-description = "every kind of robot entry"
-
-[[robots]]
-type = "Pioneer2DX"
-x = 1.0
-y = 1.0
-yaw = 0.5
-goal = [8.0, 1.0]
-
-[[robots]]
-generator = "line"
-type = "Small"
-count = 4
-start = [1.0, 2.0]
-step = [0.6, 0.0]
-goal_offset = [7.0, 0.0]
-
-[[robots]]
-generator = "grid"
-type = "Pioneer3AT"
-rows = 2
-columns = 3
-origin = [5.0, 3.0]
-spacing = [1.0, 1.2]
-
-[[robots]]
-generator = "random"
-type = "Pioneer2DX"
-count = 5
-seed = 3
-region = [0.5, 0.5, 9.5, 5.5]
-goal_region = [0.5, 0.5, 9.5, 5.5]
-
-[types.Small]
-base = "Pioneer2DX"
-width = 0.2
-ranger = { beams = 90 }
-
-[settings]
-time_limit = 120.0
-comm_range = 5.0
-'''
+FULL = ROOM + toml_text({
+    "name": "demo", "description": "every kind of robot entry",
+    "robots": [
+        {"type": "Pioneer2DX", "x": 1.0, "y": 1.0, "yaw": 0.5, "goal": [8.0, 1.0]},
+        {"generator": "line", "type": "Small", "count": 4, "start": [1.0, 2.0],
+         "step": [0.6, 0.0], "goal_offset": [7.0, 0.0]},
+        {"generator": "grid", "type": "Pioneer3AT", "rows": 2, "columns": 3,
+         "origin": [5.0, 3.0], "spacing": [1.0, 1.2]},
+        {"generator": "random", "type": "Pioneer2DX", "count": 5, "seed": 3,
+         "region": [0.5, 0.5, 9.5, 5.5], "goal_region": [0.5, 0.5, 9.5, 5.5]}],
+    "types": {"Small": {"base": "Pioneer2DX", "width": 0.2, "ranger": {"beams": 90}}},
+    "settings": {"time_limit": 120.0, "comm_range": 5.0}})
 
 
 def write(tmp_path: Path, text: str, name: str = "scenario.toml") -> Path:
@@ -197,12 +168,8 @@ ROBOT = '[[robots]]\ntype = "Pioneer2DX"\nx = 2.0\ny = 2.0\n'
 ])
 def test_schema_errors_are_one_line_naming_file_key_and_line(tmp_path: Path, text: str,
                                                               expected: str) -> None:
-    path = write(tmp_path, text)
-    with pytest.raises(ScenarioError, match=expected) as info:
-        load_scenario_toml(path)
-    message = str(info.value)
-    assert message.startswith(str(path)), message
-    assert "\n" not in message
+    file_error(load_scenario_toml, tmp_path / "scenario.toml", text, match=expected,
+               error=ScenarioError)
 
 
 def test_missing_file(tmp_path: Path) -> None:

@@ -1,51 +1,13 @@
 """Downloading the Stage data from a local HTTP server laid out like the Stage repository."""
 
-import contextlib
-import functools
-import http.server
-import shutil
 import socket
-import threading
-from collections.abc import Iterator
 from pathlib import Path
-from typing import ClassVar
 
 import pytest
 
 from mimics.world.errors import MimicsError
 from mimics.world.stage_data import STAGE_FILES, download_stage
-from tests.stage import stage_file
-
-
-def stage_repository(root: Path) -> Path:
-    """Copy the shared Stage files into ``root`` at their paths in the repository."""
-    source = stage_file("cave.world").parent
-    for name, spec in STAGE_FILES.items():
-        target = root / spec.remote
-        target.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(source / name, target)
-    return root
-
-
-class QuietHandler(http.server.SimpleHTTPRequestHandler):
-    requests: ClassVar[list[str]] = []  # paths asked for, to count downloads
-
-    def log_message(self, format: str, *args: object) -> None:
-        QuietHandler.requests.append(self.path)
-
-
-@contextlib.contextmanager
-def serve(root: Path) -> Iterator[str]:
-    """An HTTP server on 127.0.0.1 serving ``root``; yields its base URL."""
-    handler = functools.partial(QuietHandler, directory=str(root))
-    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    try:
-        yield f"http://127.0.0.1:{server.server_address[1]}"
-    finally:
-        server.shutdown()
-        server.server_close()
+from tests.local_servers import QuietHandler, serve, stage_repository
 
 
 def test_download_checks_and_writes_every_file(tmp_path: Path) -> None:

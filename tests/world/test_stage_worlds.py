@@ -5,8 +5,8 @@ from pathlib import Path
 
 import pytest
 
-from mimics.world.errors import MimicsError
 from mimics.world.stage_worlds import read_stage_world, stage_robot_poses
+from tests.file_errors import file_error
 from tests.stage import stage_file
 
 SMALL = '''# a world
@@ -37,20 +37,18 @@ def test_small_world(tmp_path: Path) -> None:
     assert with_commented.robots[2].commented and with_commented.robots[2].line == 10
 
 
-@pytest.mark.parametrize(("text", "line", "expected"), [
-    ("bot ( pose [1 2 0 0 )\n", 1, "inside"),
-    ("bot ( pose [1 2 0 0]\n\n", 1, "never closed"),
-    ("bot ( pose [a b c d] )\n", 1, "pose must be"),
-    (")\n", 1, "unexpected '\\)'"),
-    ("define bot\n", 1, "expected 'define NAME BASE"),
+@pytest.mark.parametrize(("text", "expected"), [
+    ("bot ( pose [1 2 0 0 )\n", "inside"),
+    ("bot ( pose [1 2 0 0]\n\n", "never closed"),
+    ("bot ( pose [a b c d] )\n", "pose must be"),
+    (")\n", "unexpected '\\)'"),
+    ("define bot\n", "expected 'define NAME BASE"),
 ])
-def test_syntax_errors_name_file_and_line(tmp_path: Path, text: str, line: int,
-                                          expected: str) -> None:
+def test_syntax_errors_name_file_and_line(tmp_path: Path, text: str, expected: str) -> None:
     path = tmp_path / "bad.world"
-    path.write_text(text)
-    with pytest.raises(MimicsError, match=expected) as info:
-        read_stage_world(path)
-    assert str(info.value).startswith(f"{path}, line {line}: ")
+    file_error(read_stage_world, path, text, match=expected, line=1)
+    # below a comment and a blank line, the same error is on line 3
+    file_error(read_stage_world, path, "# a world\n\n" + text, match=expected, line=3)
 
 
 def test_benchmark_worlds() -> None:

@@ -24,6 +24,8 @@ import imageio.v3 as imageio
 import numpy as np
 import pytest
 
+from tests.local_servers import stop_process
+
 CELL = """import mimics
 view = mimics.show("circle_swap", "wall_aware", robots=6, time=600, speed=1)
 view"""
@@ -70,11 +72,7 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, str, Pa
                                    + (root / "lab.log").read_text()[-3000:]) from None
             time.sleep(0.3)
     yield url, token, root
-    server.terminate()
-    try:
-        server.wait(20)
-    except subprocess.TimeoutExpired:
-        server.kill()
+    stop_process(server, grace=20)
     log.close()
 
 

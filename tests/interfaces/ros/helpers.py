@@ -18,6 +18,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from mimics.interfaces.ros.private_master import free_port as free_port
+from tests.local_servers import stop_process
 
 SYSTEM_PYTHON = "/usr/bin/python3"
 NODES = Path(__file__).parent / "nodes"
@@ -71,9 +72,4 @@ def running_master(ros_home: Path) -> Iterator[dict[str, str]]:
                 time.sleep(0.05)
         yield env
     finally:
-        master.terminate()
-        try:
-            master.wait(10)
-        except subprocess.TimeoutExpired:
-            master.kill()
-            master.wait()
+        stop_process(master, grace=10)
