@@ -183,7 +183,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="write nothing; fail if stale")
     args = parser.parse_args(argv)
     return write_or_check(((notebook_path(page), notebook_of(page)) for page in PAGES),
-                          args.check, "docs/gen_notebooks.py")
+                          args.check, "docs/gen_notebooks.py", DOCS.parent)
 
 
 if __name__ == "__main__":

@@ -8,8 +8,6 @@ import json
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-
 
 def cell(kind: str, source: str) -> dict[str, object]:
     """A Markdown or code cell without outputs."""
@@ -37,14 +35,15 @@ def notebook_text(cells: list[dict[str, object]], source: str, generator: str) -
 
 
 def write_or_check(notebooks: Iterable[tuple[Path, str]], check: bool, generator: str,
-                   also_stale: Callable[[Path], bool] = lambda path: False) -> int:
+                   root: Path, also_stale: Callable[[Path], bool] = lambda path: False) -> int:
     """Write each ``(path, text)``, or with ``check`` write nothing and list the notebooks
-    whose file differs (or for which ``also_stale`` says so): status 1 when any does."""
+    (relative to ``root``) whose file differs or for which ``also_stale`` says so: status
+    1 when any does."""
     stale = []
     for path, text in notebooks:
         if check:
             if not path.is_file() or path.read_text() != text or also_stale(path):
-                stale.append(str(path.relative_to(ROOT)))
+                stale.append(str(path.relative_to(root)))
         else:
             path.write_text(text)
     if stale:

@@ -77,7 +77,7 @@ def main(argv: list[str] | None = None) -> int:
             if LINK not in readme:
                 (HERE / name / "README.md").write_text(readme.rstrip("\n") + f"\n\n{LINK}\n")
     return write_or_check(((HERE / name / NOTEBOOK, notebook_of(name)) for name in EXAMPLES),
-                          check, "examples/gen_notebooks.py",
+                          check, "examples/gen_notebooks.py", HERE.parent,
                           lambda path: LINK not in (path.parent / "README.md").read_text())
 
 
