@@ -38,9 +38,9 @@ from typing import Any
 
 from common import add_run_options
 
+import mimics.engine.motion_checks as motion_checks_module
 import mimics.engine.ranging.scanner as scanner_module
 import mimics.engine.simulation as simulation_module
-import mimics.engine.step_checks as step_checks_module
 from mimics.catalog import find_algorithm, load_scenario
 from mimics.engine.simulation import Simulation
 from mimics.records.recorder import RunRecorder
@@ -50,7 +50,7 @@ STEP_PHASES = ["_move", "_check_moved", "_mark_departures_and_arrivals", "_check
                "_handle_failures"]
 # each kernel in the module that calls it (where the wrapper must replace it)
 KERNELS = {"trace_beams": scanner_module, "measure_positioning": simulation_module,
-           "_check_kernel": step_checks_module, "index_robots": simulation_module,
+           "_check_kernel": motion_checks_module, "index_robots": simulation_module,
            "update_odometry": simulation_module}
 RECORDER_HOOKS = ["on_step", "on_end"]
 

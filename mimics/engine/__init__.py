@@ -1,7 +1,7 @@
 """The simulation: state, step and kernels (knows nothing of files, terminals or screens).
 
 At this level, the step and its physics: ``simulation`` (the step), ``state``,
-``dynamics``, ``sensors``, ``collision``, ``step_checks``, ``stall``, ``deactivations``,
+``dynamics``, ``sensors``, ``collision``, ``motion_checks``, ``stall``, ``deactivations``,
 ``outcome``, ``messages``, ``edits`` and the indexes. Beside them, in folders with one
 face each: ``ranging/`` (the lasers, cast), ``helper_threads/`` (the step's work split
 over threads), ``user_code/`` (calling the user's algorithm: its views, time limit and

@@ -29,8 +29,8 @@ from collections.abc import Callable
 import numpy as np
 
 from mimics.engine.collision import NONE
+from mimics.engine.motion_checks import MotionChecks
 from mimics.engine.state import WorldState
-from mimics.engine.step_checks import StepChecks
 
 
 class StallOnCollision:
@@ -57,8 +57,8 @@ class StallOnCollision:
         np.copyto(self._path_length, state.path_length)
         self._remembered = True
 
-    def respond(self, state: WorldState, ids: np.ndarray, checks: StepChecks,
-                check_again: Callable[[np.ndarray], StepChecks]) -> StepChecks:
+    def respond(self, state: WorldState, ids: np.ndarray, checks: MotionChecks,
+                check_again: Callable[[np.ndarray], MotionChecks]) -> MotionChecks:
         """Put back the robots of ``ids`` whose move made them touch something, until
         none that moved does; set ``state.stalled`` and :attr:`contacts`.
 

@@ -15,9 +15,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mimics.engine.motion_checks import MotionChecks, check_moved
 from mimics.engine.outcome import Event
 from mimics.engine.state import Status
-from mimics.engine.step_checks import StepChecks, check_moved
 from mimics.engine.user_code import UserFailure
 
 if TYPE_CHECKING:
@@ -72,8 +72,8 @@ class RobotDeactivations:
                            other=other)
         return checks.distance, checks.quiet
 
-    def _checks(self, ids: np.ndarray, rebuild: bool = False) -> StepChecks:
-        """The collisions, goal distances and screen of robots ``ids`` (``step_checks``);
+    def _checks(self, ids: np.ndarray, rebuild: bool = False) -> MotionChecks:
+        """The collisions, goal distances and screen of robots ``ids`` (``motion_checks``);
         ``rebuild``: robots were put back within the step, the robot index is made again."""
         if rebuild:
             self._grid_key = None

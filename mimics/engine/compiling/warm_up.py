@@ -6,7 +6,7 @@ compiling. ``mimics run`` compiles ahead instead, one part per process, on
 the machine's cores at once:
 
 - ``"index"``: the walls' walking grid, the robots' index and the stall screen;
-- ``"motion"``: the checks after the robots move (``step_checks``: collisions,
+- ``"motion"``: the checks after the robots move (``motion_checks``: collisions,
   goals and bounds) and the dynamics;
 - ``"ray"``: the ranger's ray kernel, the largest part, which only a run that
   reads a scan needs (``WorldState.scan``), and the walls' near lists;
@@ -30,6 +30,7 @@ from numba import njit
 from mimics.engine.dynamics import advance_pose, move_robots
 from mimics.engine.helper_threads.chunks import LEAD
 from mimics.engine.helper_threads.threads import _finish_and_wait, _join, solo_arrays
+from mimics.engine.motion_checks import _check_kernel
 from mimics.engine.ranging.beam_fan import FAN_COLUMNS, beam_fans
 from mimics.engine.ranging.beam_sweep import PLAN
 from mimics.engine.ranging.point_cull import no_sight_lists
@@ -54,7 +55,6 @@ from mimics.engine.ranging.wall_occlusion import MARGIN, cull_hidden
 from mimics.engine.robot_index import RobotIndex, _bucket, empty_robot_index
 from mimics.engine.spatial_index import SegmentGrid, _build_csr, build_segment_grid
 from mimics.engine.stall import _record_and_screen
-from mimics.engine.step_checks import _check_kernel
 
 # a kernel of each part whose index file in Numba's cache tells the part was compiled (named
 # again in mimics/interfaces/cli/kernel_cache.py, which the CLI reads before importing Numba:

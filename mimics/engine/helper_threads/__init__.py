@@ -4,6 +4,6 @@
 (:class:`Flight`); ``chunks.py`` is the compiled side: how a kernel takes its
 chunks in turn, and how the caller and the helpers meet at its end. The ray
 kernel (``mimics.engine.ranging``), the collision checks
-(``mimics.engine.step_checks``) and the ranger's noise (``mimics.engine.ranging.ranger_noise``)
+(``mimics.engine.motion_checks``) and the ranger's noise (``mimics.engine.ranging.ranger_noise``)
 run on them.
 """

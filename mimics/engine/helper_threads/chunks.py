@@ -14,7 +14,7 @@ as its last arguments and loops::
 These helpers are inlined into the kernels that use them, and Numba's disk
 cache looks at a kernel's own file only: after an edit here, delete the
 cached kernels (``find mimics -name '*.nb[ic]' -delete``), or ``ray_kernel.py``,
-``step_checks.py`` and ``ranger_noise.py`` keep running the old code. An installed release is
+``motion_checks.py`` and ``ranger_noise.py`` keep running the old code. An installed release is
 never stale (every file is rewritten).
 """
 

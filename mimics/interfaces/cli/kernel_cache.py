@@ -38,7 +38,7 @@ WITNESSES: dict[str, tuple[tuple[str, str], ...]] = {
     "index": (("mimics.engine.spatial_index", "_build_csr"),
               ("mimics.engine.robot_index", "_bucket"),
               ("mimics.engine.stall", "_record_and_screen")),
-    "motion": (("mimics.engine.step_checks", "_check_kernel"),
+    "motion": (("mimics.engine.motion_checks", "_check_kernel"),
                ("mimics.engine.dynamics", "move_robots"),
                ("mimics.engine.helper_threads.threads", "_finish_and_wait"),
                ("mimics.engine.helper_threads.threads", "_join")),

@@ -39,7 +39,7 @@ CHUNK = 24
 MIN_ROBOTS_PER_THREAD = 32
 
 
-class StepChecks(NamedTuple):
+class MotionChecks(NamedTuple):
     """What :func:`check_moved` found.
 
     Attributes:
@@ -58,7 +58,7 @@ class StepChecks(NamedTuple):
 def check_moved(robots: RobotIndex, pose: np.ndarray, half_length: np.ndarray,
                 half_width: np.ndarray, ids: np.ndarray, wall_grid: SegmentGrid,
                 goal: np.ndarray, bounds: tuple[float, float, float, float],
-                tolerance: float) -> StepChecks:
+                tolerance: float) -> MotionChecks:
     """Check robots ``ids`` (ascending) for collisions, leaving the map and reaching
     their goals; ``robots``: the index of the solid robots at these poses.
 
@@ -80,7 +80,7 @@ def check_moved(robots: RobotIndex, pose: np.ndarray, half_length: np.ndarray,
         control, share = solo_arrays(chunks)
         _check_kernel(*args, control, share, LEAD, 0)
     touching, loud = share[TALLIES[0]], share[TALLIES[1]]
-    return StepChecks(with_whom, distance, int(touching), not loud)
+    return MotionChecks(with_whom, distance, int(touching), not loud)
 
 
 @njit(cache=True, nogil=True)

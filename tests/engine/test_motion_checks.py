@@ -9,9 +9,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mimics.engine.collision import Bodies, collide
+from mimics.engine.motion_checks import check_moved
 from mimics.engine.robot_index import index_robots
 from mimics.engine.spatial_index import build_segment_grid
-from mimics.engine.step_checks import check_moved
 from tests.threads import thread_count
 
 BOUNDS = (-4.0, -3.0, 5.0, 4.0)
