@@ -79,6 +79,8 @@ typedef struct mimics_robot {
     int inbox_count;
     const mimics_message *inbox;
     void *memory;               /* MIMICS_MEMORY_BYTES kept between this robot's calls */
+    int stalled;                /* 1: its last move was undone against a wall or a robot
+                                   (on_collision = "stall"; it stays active), else 0 */
 } mimics_robot;
 
 /* A message to send: filled by mimics_send. */
@@ -119,6 +121,7 @@ typedef struct mimics_team {
     int comms_count;
     const double *comms;        /* (comms_count, 6) all active robots */
     void *memory;               /* MIMICS_TEAM_MEMORY_BYTES kept between calls */
+    const int64_t *stalled;     /* (k) 1: stalled, as robot.stalled */
 } mimics_team;
 
 /* Entry points (define mimics_step or mimics_team_step; the resets are optional). */

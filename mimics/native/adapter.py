@@ -46,6 +46,8 @@ PROGRESS_ENV = "MIMICS_NATIVE_PROGRESS"
 _STEP, _RESET, _TEAM_STEP, _TEAM_RESET = 1, 2, 4, 8  # mimics_host_entry_points() bits
 _ERROR, _NOT_FINITE, _LOG, _SENT = 1, 2, 4, 8  # flags of mimics_host_run, as in host.c
 _BROADCAST = -1
+#: The C pointer type of each world array's dtype (cffi casts the buffer; no copy).
+_POINTER = {"int64": "int64_t *", "float64": "double *", "bool": "unsigned char *"}
 #: The signal that cuts a compiled call running past the wall limit (its handler is
 #: installed by runs with a wall limit only).
 CUT_SIGNAL = getattr(signal, "SIGUSR2", 0)
@@ -197,15 +199,16 @@ class NativeRobotController(Controller):
             "goal": state.goal, "scan": state.scan, "beam_offsets": types.beam_offsets,
             "beam_count": types.beam_count, "max_range": types.max_range,
             "half_length": types.half_length, "half_width": types.half_width,
-            "kv": types.plant.kv, "reference": state.reference, "user_time": state.user_time}
+            "kv": types.plant.kv, "stalled": state.stalled, "reference": state.reference,
+            "user_time": state.user_time}
         ffi = self._ffi
         for field, array in arrays.items():
             if self._pointed.get(field) is array:
                 continue
             if not array.flags.c_contiguous:
                 raise AlgorithmError(f"native algorithm: world array {field} is not contiguous")
-            kind = "int64_t *" if array.dtype == np.int64 else "double *"
-            setattr(self._world, field, ffi.cast(kind, ffi.from_buffer(array)))
+            pointer = ffi.cast(_POINTER[array.dtype.name], ffi.from_buffer(array))
+            setattr(self._world, field, pointer)
             self._pointed[field] = array
 
     def _fill_inboxes(self, sim: Simulation, ids: np.ndarray) -> None:
@@ -313,7 +316,8 @@ class NativeTeam:
             "angles": angles,
             "beam_count": np.count_nonzero(~np.isnan(angles), axis=1).astype(np.int64),
             "max_range": team.scan.max_range, "max_speed": team.max_speed,
-            "length": team.length, "width": team.width, "comms": team.comms}
+            "length": team.length, "width": team.width, "comms": team.comms,
+            "stalled": np.asarray(team.stalled, dtype=np.int64)}
         struct = ffi.new("mimics_team *")
         kept = []
         for field, array in arrays.items():

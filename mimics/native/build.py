@@ -58,7 +58,7 @@ CDEF = """
 typedef struct mimics_message { int sender; int size; const unsigned char *data; ...; }
     mimics_message;
 typedef struct mimics_robot { int id; int inbox_count; const mimics_message *inbox;
-    void *memory; ...; } mimics_robot;
+    void *memory; int stalled; ...; } mimics_robot;
 typedef struct mimics_outgoing { int to; int size; unsigned char data[...]; ...; }
     mimics_outgoing;
 typedef struct mimics_output { double speed; double heading; int log_size; char log[...];
@@ -69,14 +69,15 @@ typedef struct mimics_team {
     const double *odometry; const double *goal; const double *ranges; const double *angles;
     const int64_t *beam_count; const double *max_range; const double *max_speed;
     const double *length; const double *width; int comms_count; const double *comms;
-    void *memory; ...; } mimics_team;
+    void *memory; const int64_t *stalled; ...; } mimics_team;
 typedef struct mimics_host_world {
     int beams; double time; double dt; double comm_range;
     const double *measured_pose; const double *pose; const double *measured_velocity;
     const double *velocity; const double *measured_acceleration; const double *odometry;
     const double *goal; const double *scan; const double *beam_offsets;
     const int64_t *beam_count; const double *max_range; const double *half_length;
-    const double *half_width; const double *kv; int comms_count; const double *comms;
+    const double *half_width; const double *kv; const unsigned char *stalled;
+    int comms_count; const double *comms;
     double *comms_scratch; double *reference; double *user_time; int64_t *current;
     ...; } mimics_host_world;
 int mimics_host_entry_points(void);

@@ -29,6 +29,7 @@ typedef struct mimics_host_world {
     const double *odometry, *goal, *scan, *beam_offsets;
     const int64_t *beam_count;
     const double *max_range, *half_length, *half_width, *kv;
+    const unsigned char *stalled;  /* (n) booleans */
     int comms_count;
     const double *comms;        /* the whole comms table of this step */
     double *comms_scratch;      /* rows within range of the robot being called */
@@ -106,6 +107,7 @@ static void fill_robot(const mimics_host_world *w, mimics_robot *r, int64_t i) {
     r->ranges = w->scan + (int64_t)w->beams * i;
     r->angles = w->beam_offsets + (int64_t)w->beams * i;
     r->max_range = w->max_range[i];
+    r->stalled = w->stalled[i] != 0;
     if (isinf(w->comm_range)) {
         r->comms = w->comms;
         r->comms_count = w->comms_count;
