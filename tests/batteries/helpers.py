@@ -62,23 +62,25 @@ def alive(pid: int) -> bool:
 
 
 
-def done_count(db: Path) -> int:
-    """How many runs of a battery database have finished."""
+def done_count(db: Path, where: str = "1") -> int:
+    """How many runs of a battery database have finished (of those ``where`` selects)."""
     with sqlite3.connect(db) as connection:
-        return int(connection.execute("SELECT count(*) FROM runs WHERE state = 'done'"
-                                      ).fetchone()[0])
+        return int(connection.execute(f"SELECT count(*) FROM runs WHERE state = 'done' "
+                                      f"AND ({where})").fetchone()[0])
 
 
-def kill_midway(battery: Path, out: Path, runs: int) -> list[int]:
+def kill_midway(battery: Path, out: Path, runs: int, where: str = "1",
+                seconds: float = 60.0) -> list[int]:
     """Run ``battery`` into ``out`` in a process of its own, SIGKILL it once ``runs`` runs
-    have finished (60 s at most; failing if it ends first), and return the process ids
-    of the workers its database names."""
+    (of those the SQL condition ``where`` selects) have finished (``seconds`` at most;
+    failing if it ends first), and return the process ids of the workers its database
+    names."""
     process = start_battery_process(battery, out)
     db = out / "battery.db"
-    deadline = time.monotonic() + 60
+    deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
         with contextlib.suppress(sqlite3.Error):  # the database may be half made yet
-            if db.exists() and done_count(db) >= runs:
+            if db.exists() and done_count(db, where) >= runs:
                 break
         assert process.poll() is None, "the battery ended before it could be killed"
         time.sleep(0.02)

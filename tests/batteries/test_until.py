@@ -5,11 +5,8 @@ sample without spread nor on a rare value seen once or twice, and a kill mid-rou
 from __future__ import annotations
 
 import math
-import os
-import signal
 import sqlite3
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -28,7 +25,7 @@ from mimics.batteries.until import (
     next_round,
 )
 from mimics.world.errors import MimicsError
-from tests.batteries.helpers import fault, start_battery_process, write_battery
+from tests.batteries.helpers import fault, kill_midway, write_battery
 from tests.batteries.test_resume import executions
 from tests.batteries.test_skew_corrected_interval import hall_by_root_finding
 
@@ -183,21 +180,9 @@ def test_a_killed_stopping_rule_battery_resumes_to_the_same_seeds(tmp_path: Path
         pytest.skip("SIGKILL is POSIX")
     path = until_battery(tmp_path / "b.toml", [fault("stand_still"), fault("slow_random")])
     killed = tmp_path / "killed"
-    battery = start_battery_process(path, killed)
     db = killed / "battery.db"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:  # kill in slow_random's second round (seeds 5..8)
-        if db.exists():
-            with sqlite3.connect(db) as connection:
-                done = connection.execute(
-                    "SELECT count(*) FROM runs WHERE state = 'done' AND algorithm = "
-                    "'slow_random' AND seed > 4").fetchone()[0]
-            if done >= 1:
-                break
-        assert battery.poll() is None, "the battery ended before it could be killed"
-        time.sleep(0.02)
-    os.kill(battery.pid, signal.SIGKILL)
-    battery.wait()
+    # killed in slow_random's second round (seeds 5..8)
+    kill_midway(path, killed, 1, "algorithm = 'slow_random' AND seed > 4", seconds=120)
     with sqlite3.connect(db) as connection:
         left = connection.execute("SELECT count(*) FROM runs WHERE state IN ('pending', "
                                   "'running')").fetchone()[0]
