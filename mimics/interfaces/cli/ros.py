@@ -8,8 +8,9 @@ stderr, status 1.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -71,12 +72,13 @@ def ros_command(
     if bad is not None:
         raise fail(f"{bad!r}: expected one argument, SCENARIO, then only ROS arguments "
                    "NAME:=VALUE (remaps such as base_scan:=scan, __name:=, __ns:=)")
-    lockstep = common.check_bridge_arguments(
+    options = common.check_bridge_arguments(
         lockstep=lockstep, strict_lockstep=strict_lockstep, names=names, robots=robots,
         time=time, timeout=timeout, grace=grace, startup_grace=startup_grace,
-        watchdog=watchdog, map_resolution=map_resolution, robot_logs=robot_logs)
+        watchdog=watchdog, map_resolution=map_resolution, robot_logs=robot_logs,
+        publish_map_odom=publish_map_odom)
     params = common.run_inputs(scenario, names=names, param=param, robots=robots, time=time,
-                        out=out, view=view)
+                               out=out, view=view)
     from mimics.interfaces.ros.system_ros import require_master, require_ros
 
     try:
@@ -84,37 +86,15 @@ def ros_command(
         require_master()
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    from mimics.interfaces.cli.compiling.first_run import compiles_started, kernels_compiled_ahead
 
-    with compiles_started():  # a fresh install's compiles start before Numba is imported
-        from mimics.interfaces.live_view import make_live_view
+    def load_runner() -> Callable[..., Any]:
         from mimics.interfaces.ros.bridge import run_ros
-        from mimics.interfaces.ros.stopping import RunInterrupted, StopRequest, exit_status
-        from mimics.records.naming import new_run_folder
 
-        live = make_live_view(view)
-    try:
-        # the default name, never one taken (-2, -3...): a run never replaces another;
-        # absolute, so that the message says where it is (roslaunch runs us in $ROS_HOME)
-        folder = out or new_run_folder("runs", Path(scenario).stem, "ros", seed).absolute()
-        options = common.bridge_options(
-            lockstep=lockstep, strict_lockstep=strict_lockstep, timeout=timeout,
-            map_resolution=map_resolution, watchdog=watchdog, names=names, grace=grace,
-            startup_grace=startup_grace, publish_map_odom=publish_map_odom)
-        folders: list[Path] = []  # more than one after a reset (/mimics/reset)
-        stop = StopRequest()  # SIGINT, SIGTERM: the run ends at a step boundary
-        with kernels_compiled_ahead():
-            result = run_ros(scenario, folder, options=options, params=params, time=time,
-                             seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
-                             observers=(live,) if live is not None else (),
-                             record_scans=record_scans, folders=folders,
-                             ros_args=list(ros_args or []), stop=stop)
-    except RunInterrupted as exc:
-        fail(str(exc))
-        raise typer.Exit(exit_status(exc.signum)) from None
-    except MimicsError as exc:
-        raise fail(str(exc)) from None
-    common.report_end(result, folder, folders, video, stop)
+        return run_ros
+
+    common.run_bridge(scenario, "ros", load_runner, options, out=out, seed=seed, view=view,
+                      video=video, params=params, time=time, robot_logs=robot_logs,
+                      record_scans=record_scans, ros_args=list(ros_args or []))
 
 
 def ros_files_command(

@@ -7,8 +7,9 @@ lockstep time-out ended: its summary, then one line on stderr, status 1.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -57,12 +58,13 @@ def ros2_command(
     (status interrupted, summary written). Needs the ros2 extra (cyclonedds).
     See docs/how-to/ros2.md.
     """
-    lockstep = common.check_bridge_arguments(
+    options = common.check_bridge_arguments(
         lockstep=lockstep, strict_lockstep=strict_lockstep, names=names, robots=robots,
         time=time, timeout=timeout, grace=grace, startup_grace=startup_grace,
-        watchdog=watchdog, map_resolution=map_resolution, robot_logs=robot_logs)
+        watchdog=watchdog, map_resolution=map_resolution, robot_logs=robot_logs,
+        publish_map_odom=publish_map_odom)
     params = common.run_inputs(scenario, names=names, param=param, robots=robots, time=time,
-                        out=out, view=view)
+                               out=out, view=view)
     from mimics.interfaces.ros2 import require_cyclonedds
 
     try:
@@ -72,36 +74,12 @@ def ros2_command(
         domain = domain_id()
     except MimicsError as exc:
         raise fail(str(exc)) from None
-    from mimics.interfaces.cli.compiling.first_run import (
-        compiles_started,
-        kernels_compiled_ahead,
-    )
 
-    with compiles_started():  # a fresh install's compiles start before Numba is imported
-        from mimics.interfaces.live_view import make_live_view
-        from mimics.interfaces.ros.stopping import RunInterrupted, StopRequest, exit_status
+    def load_runner() -> Callable[..., Any]:
         from mimics.interfaces.ros2.bridge import run_ros2
-        from mimics.records.naming import new_run_folder
 
-        live = make_live_view(view)
+        return run_ros2
 
-    stop = StopRequest()  # SIGINT, SIGTERM: the run ends at a step boundary
-    try:
-        folder = out or new_run_folder("runs", Path(scenario).stem, "ros2", seed).absolute()
-        options = common.bridge_options(
-            lockstep=lockstep, strict_lockstep=strict_lockstep, timeout=timeout,
-            map_resolution=map_resolution, watchdog=watchdog, names=names, grace=grace,
-            startup_grace=startup_grace, publish_map_odom=publish_map_odom)
-        folders: list[Path] = []  # more than one after a reset (/mimics/reset)
-        with kernels_compiled_ahead():
-            result = run_ros2(scenario, folder, options=options, params=params, time=time,
-                              seed=seed, robot_logs=robot_logs,  # type: ignore[arg-type]
-                              observers=(live,) if live is not None else (),
-                              record_scans=record_scans, folders=folders, stop=stop,
-                              domain=domain)
-    except RunInterrupted as exc:
-        fail(str(exc))
-        raise typer.Exit(exit_status(exc.signum)) from None
-    except MimicsError as exc:
-        raise fail(str(exc)) from None
-    common.report_end(result, folder, folders, video, stop)
+    common.run_bridge(scenario, "ros2", load_runner, options, out=out, seed=seed, view=view,
+                      video=video, params=params, time=time, robot_logs=robot_logs,
+                      record_scans=record_scans, domain=domain)

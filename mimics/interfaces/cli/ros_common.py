@@ -4,6 +4,7 @@ inputs are read and its end reported."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -14,7 +15,6 @@ from mimics.world.errors import MimicsError
 
 if TYPE_CHECKING:
     from mimics.engine.outcome import RunResult
-    from mimics.interfaces.ros.bridge_core import BridgeOptions
     from mimics.interfaces.ros.stopping import StopRequest
 
 Robots = Annotated[int | None, typer.Option(help="Number of robots (scenario parameter).")]
@@ -58,8 +58,11 @@ Names = Annotated[str, typer.Option(
 def check_bridge_arguments(*, lockstep: bool | None, strict_lockstep: bool, names: str,
                            robots: int | None, time: float | None, timeout: float,
                            grace: float, startup_grace: float, watchdog: float,
-                           map_resolution: float, robot_logs: str) -> bool:
-    """Check the options both bridges share; returns whether the run is lockstep.
+                           map_resolution: float, robot_logs: str,
+                           publish_map_odom: bool | None) -> dict[str, Any]:
+    """Check the options both bridges share; returns the fields of the run's
+    :class:`~mimics.interfaces.ros.bridge_core.BridgeOptions` (built once the compiles
+    have started, see :func:`run_bridge`).
 
     Raises:
         typer.Exit: status 2, after one line naming the option and what was expected.
@@ -85,7 +88,10 @@ def check_bridge_arguments(*, lockstep: bool | None, strict_lockstep: bool, name
                    f"got {map_resolution}")
     if robot_logs not in ("auto", "on", "off"):
         raise fail(f"--robot-logs: expected auto, on or off, got {robot_logs!r}")
-    return lockstep
+    return {"lockstep": lockstep, "timeout": timeout, "map_resolution": map_resolution,
+            "watchdog": watchdog, "names": names,
+            "grace": None if strict_lockstep else grace, "startup_grace": startup_grace,
+            "publish_map_odom": publish_map_odom}
 
 
 View = Annotated[str, typer.Option(help="Live view: step, 1s, 10s or off.")]
@@ -126,16 +132,46 @@ def run_inputs(scenario: str, *, names: str, param: list[str] | None, robots: in
     return params
 
 
-def bridge_options(*, lockstep: bool, strict_lockstep: bool, timeout: float,
-                   map_resolution: float, watchdog: float, names: str, grace: float,
-                   startup_grace: float, publish_map_odom: bool | None) -> BridgeOptions:
-    """The bridge's options from the checked command-line options."""
-    from mimics.interfaces.ros.bridge_core import BridgeOptions
+def run_bridge(scenario: str, tag: str, load_runner: Callable[[], Callable[..., RunResult]],
+               options: dict[str, Any], *, out: Path | None, seed: int, view: str,
+               video: Path | None, **run_args: Any) -> None:
+    """Run a bridge and report its end, as both commands do: the first run's compiles
+    started before Numba is imported, the live view, a new run folder, SIGINT and SIGTERM
+    at a step boundary.
 
-    return BridgeOptions(lockstep=lockstep, timeout=timeout, map_resolution=map_resolution,
-                         watchdog=watchdog, names=names,
-                         grace=None if strict_lockstep else grace,
-                         startup_grace=startup_grace, publish_map_odom=publish_map_odom)
+    Args:
+        tag: the run folder's middle name (``runs/SCENARIO-TAG-sSEED``).
+        load_runner: imports and returns the bridge's run function (``run_ros``...),
+            called once the compiles have started.
+        options: :func:`check_bridge_arguments`' fields of the bridge's options.
+        run_args: passed on to the run function (params, time, robot_logs...).
+    """
+    from mimics.interfaces.cli.compiling.first_run import compiles_started, kernels_compiled_ahead
+
+    with compiles_started():  # a fresh install's compiles start before Numba is imported
+        from mimics.interfaces.live_view import make_live_view
+        from mimics.interfaces.ros.bridge_core import BridgeOptions
+        from mimics.interfaces.ros.stopping import RunInterrupted, StopRequest, exit_status
+        from mimics.records.naming import new_run_folder
+
+        run = load_runner()
+        live = make_live_view(view)
+    stop = StopRequest()  # SIGINT, SIGTERM: the run ends at a step boundary
+    try:
+        # the default name, never one taken (-2, -3...): a run never replaces another;
+        # absolute, so that the message says where it is (roslaunch runs us in $ROS_HOME)
+        folder = out or new_run_folder("runs", Path(scenario).stem, tag, seed).absolute()
+        folders: list[Path] = []  # more than one after a reset (/mimics/reset)
+        with kernels_compiled_ahead():
+            result = run(scenario, folder, options=BridgeOptions(**options), seed=seed,
+                         observers=(live,) if live is not None else (), folders=folders,
+                         stop=stop, **run_args)
+    except RunInterrupted as exc:
+        fail(str(exc))
+        raise typer.Exit(exit_status(exc.signum)) from None
+    except MimicsError as exc:
+        raise fail(str(exc)) from None
+    report_end(result, folder, folders, video, stop)
 
 
 def report_end(result: RunResult, folder: Path, folders: list[Path], video: Path | None,
