@@ -174,6 +174,8 @@ def test_run_live_from_the_scenarios_page_a_battery_row_and_an_error_shown(
     call(f"{url}/api/scenarios/file", "PUT", scenario_body(settings={"time_limit": 60.0}))
     page.goto(f"{url}/#/scenarios")
     page.get_by_role("button", name="scenarios/two.toml").click()
+    # the file's editor replaces the empty one once opened: act on it, not on the old one
+    expect(page.get_by_role("status")).to_contain_text("opened scenarios/two.toml")
     page.get_by_label("Algorithm", exact=True).select_option("go_to_goal")
     page.get_by_role("button", name="Run live").click()
     expect(page).to_have_url(re.compile(r"#/live/\d+$"), timeout=120_000)
